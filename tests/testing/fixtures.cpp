@@ -1,0 +1,60 @@
+#include "testing/fixtures.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+
+namespace rgbdi::test {
+namespace {
+std::string envOr(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  return (v && *v) ? std::string(v) : fallback;
+}
+}  // namespace
+
+std::string sharedDataDir() { return envOr("RGBDI_SHARED_DATA", RGBDI_DEFAULT_SHARED_DATA); }
+
+std::string fixturePath(const std::string& relative) { return sharedDataDir() + "/" + relative; }
+
+bool inCi() {
+  const char* v = std::getenv("CI");
+  if (!v) return false;
+  const std::string s(v);
+  return !(s.empty() || s == "0" || s == "false");
+}
+
+std::string binDir() { return envOr("RGBDI_BIN_DIR", RGBDI_DEFAULT_BIN_DIR); }
+
+std::string sourceDir() { return RGBDI_SOURCE_DIR; }
+
+std::string makeTempDir(const std::string& prefix) {
+  static std::atomic<int> counter{0};
+  namespace fs = std::filesystem;
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    const fs::path p = fs::temp_directory_path() /
+                       (prefix + "_" + std::to_string(::getpid()) + "_" +
+                        std::to_string(counter++));
+    if (fs::create_directory(p)) return p.string();
+  }
+  throw std::runtime_error("cannot create temp dir for " + prefix);
+}
+
+int runCommand(const std::string& cmd, std::string* output) {
+  FILE* pipe = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buf{};
+  std::string out;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  if (output) *output = out;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace rgbdi::test
