@@ -1,0 +1,282 @@
+#include "rgbdi/io/mrpt_conversions.h"
+
+#include <mrpt/img/CImage.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+
+namespace rgbdi::io {
+namespace {
+
+/// MRPT stores rangeUnits as float; 0.001f widened to double is 0.0010000000474974513. Return
+/// the shortest decimal that maps back to the same float, so that millimetre depth is exactly
+/// 1e-3 m downstream and toMrpt() reproduces the original float bit for bit.
+double cleanFloat(float f) {
+  for (int digits = 6; digits <= 9; ++digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(f));
+    const double d = std::strtod(buf, nullptr);
+    if (static_cast<float>(d) == f) return d;
+  }
+  return static_cast<double>(f);
+}
+
+cv::Mat colorToRgb(const mrpt::img::CImage& img, const std::string& label) {
+  // asCvMatRef() triggers the lazy load of externally stored images.
+  const cv::Mat& m = img.asCvMatRef();
+  if (m.empty()) throw ConversionError(label + ": intensity image is empty");
+  if (m.depth() != CV_8U) {
+    throw ConversionError(label + ": intensity image has " + std::to_string(m.elemSize1() * 8) +
+                          "-bit pixels; only 8-bit grey or colour images are supported");
+  }
+  cv::Mat rgb;
+  switch (m.channels()) {
+    case 1: cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB); break;
+    case 3: cv::cvtColor(m, rgb, cv::COLOR_BGR2RGB); break;   // CImage keeps OpenCV's BGR
+    case 4: cv::cvtColor(m, rgb, cv::COLOR_BGRA2RGB); break;
+    default:
+      throw ConversionError(label + ": intensity image has " + std::to_string(m.channels()) +
+                            " channels; expected 1, 3 or 4");
+  }
+  return rgb;
+}
+
+cv::Mat rangeToDepth(const mrpt::obs::CObservation3DRangeScan& obs, const PinholeCamera& cam_depth,
+                     const std::string& label) {
+  const auto& ri = obs.rangeImage;
+  const int rows = static_cast<int>(ri.rows()), cols = static_cast<int>(ri.cols());
+  if (rows == 0 || cols == 0) throw ConversionError(label + ": range image is empty (0x0)");
+  cv::Mat depth(rows, cols, CV_16UC1);
+  if (obs.range_is_depth) {
+    for (int r = 0; r < rows; ++r) {
+      auto* row = depth.ptr<std::uint16_t>(r);
+      for (int c = 0; c < cols; ++c) row[c] = ri(r, c);
+    }
+    return depth;
+  }
+  // Euclidean ranges along each pixel's ray: depth = range / |(xn, yn, 1)|.
+  if (!cam_depth.valid()) {
+    throw ConversionError(label +
+                          ": range image holds 3-D ranges (range_is_depth = false) but the depth "
+                          "camera intrinsics (cameraParams) are missing, so they cannot be "
+                          "converted to depth");
+  }
+  for (int r = 0; r < rows; ++r) {
+    auto* row = depth.ptr<std::uint16_t>(r);
+    for (int c = 0; c < cols; ++c) {
+      const std::uint16_t range = ri(r, c);
+      if (range == 0) {
+        row[c] = 0;
+        continue;
+      }
+      const Eigen::Vector2d xn = cam_depth.pixelToNormalized(Eigen::Vector2d(c, r));
+      row[c] = static_cast<std::uint16_t>(std::lround(range / std::sqrt(1.0 + xn.squaredNorm())));
+    }
+  }
+  return depth;
+}
+
+}  // namespace
+
+double toSeconds(mrpt::Clock::time_point t) { return mrpt::Clock::toDouble(t); }
+
+mrpt::Clock::time_point fromSeconds(double t) { return mrpt::Clock::fromDouble(t); }
+
+Eigen::Isometry3d toIsometry(const mrpt::poses::CPose3D& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const auto& R = p.getRotationMatrix();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) T.linear()(r, c) = R(r, c);
+  T.translation() = Eigen::Vector3d(p.x(), p.y(), p.z());
+  return T;
+}
+
+mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& T) {
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+  return mrpt::poses::CPose3D::FromRotationAndTranslation(R, t);
+}
+
+Eigen::Isometry3d mrptDepthFromOptical() {
+  // Columns: optical x (right) = -Y_mrpt, optical y (down) = -Z_mrpt, optical z = +X_mrpt.
+  // Written out exactly instead of via yaw/pitch/roll so that cos(90deg) round-off never leaks in.
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() << 0, 0, 1,  //
+      -1, 0, 0,           //
+      0, -1, 0;
+  return T;
+}
+
+PinholeCamera fromMrpt(const mrpt::img::TCamera& cam, const std::string& label) {
+  for (size_t i = 5; i < cam.dist.size(); ++i) {
+    if (cam.dist[i] != 0.0) {
+      throw ConversionError(label + ": camera '" + cam.cameraName + "' uses distortion coefficient " +
+                            std::to_string(i) +
+                            " (beyond k1 k2 p1 p2 k3); only the radial-tangential model is supported");
+    }
+  }
+  PinholeCamera c;
+  c.width = static_cast<int>(cam.ncols);
+  c.height = static_cast<int>(cam.nrows);
+  c.fx = cam.fx();
+  c.fy = cam.fy();
+  c.cx = cam.cx();
+  c.cy = cam.cy();
+  for (size_t i = 0; i < 5; ++i) c.dist[i] = cam.dist[i];
+  return c;
+}
+
+mrpt::img::TCamera toMrpt(const PinholeCamera& cam) {
+  mrpt::img::TCamera c;
+  c.ncols = static_cast<uint32_t>(cam.width);
+  c.nrows = static_cast<uint32_t>(cam.height);
+  c.setIntrinsicParamsFromValues(cam.fx, cam.fy, cam.cx, cam.cy);
+  c.dist.fill(0.0);
+  for (size_t i = 0; i < 5; ++i) c.dist[i] = cam.dist[i];
+  return c;
+}
+
+RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label) {
+  if (!obs.hasIntensityImage && !obs.hasRangeImage)
+    throw ConversionError(label + ": 3-D range scan has neither an intensity nor a range image");
+
+  RgbdFrame f;
+  f.t = toSeconds(obs.timestamp);
+  f.source_label = label;
+  try {
+    // Externally stored range matrices are only read by load(); images load lazily on access.
+    obs.load();
+    f.cam_depth = fromMrpt(obs.cameraParams, label + " cameraParams");
+    f.cam_color = fromMrpt(obs.cameraParamsIntensity, label + " cameraParamsIntensity");
+    if (obs.hasRangeImage) {
+      // MRPT "auto-fixes" the depth intrinsics' size to the serialised matrix size, which is 0x0
+      // for externally stored range images: restore it from the loaded matrix.
+      if (obs.rangeImage_isExternallyStored() && f.cam_depth.width == 0 && f.cam_depth.height == 0) {
+        f.cam_depth.width = static_cast<int>(obs.rangeImage.cols());
+        f.cam_depth.height = static_cast<int>(obs.rangeImage.rows());
+      }
+      f.depth = rangeToDepth(obs, f.cam_depth, label);
+      f.depth_unit_m = cleanFloat(obs.rangeUnits);
+      if (!(f.depth_unit_m > 0.0) || !std::isfinite(f.depth_unit_m)) {
+        std::ostringstream os;
+        os << label << ": rangeUnits = " << obs.rangeUnits << " is not a positive length in metres";
+        throw ConversionError(os.str());
+      }
+    }
+    if (obs.hasIntensityImage) f.rgb = colorToRgb(obs.intensityImage, label);
+  } catch (const ConversionError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // MRPT reports missing external files etc. with multi-line traces: keep the first line.
+    std::string what = e.what();
+    const auto nl = what.find('\n');
+    if (nl != std::string::npos) what.resize(nl);
+    throw ConversionError(label + ": cannot load the observation's images: " + what);
+  }
+
+  f.depth_aligned_to_color = obs.doDepthAndIntensityCamerasCoincide();
+  const Eigen::Isometry3d T_mrptdepth_color = toIsometry(obs.relativePoseIntensityWRTDepth);
+  if (f.depth_aligned_to_color) {
+    // Coinciding cameras: identity by definition (avoids 1e-17 noise from MRPT's yaw/pitch/roll).
+    f.T_color_depth = Eigen::Isometry3d::Identity();
+    f.source_T_body_cam = toIsometry(obs.sensorPose) * mrptDepthFromOptical();
+  } else {
+    f.T_color_depth = T_mrptdepth_color.inverse() * mrptDepthFromOptical();
+    f.source_T_body_cam = toIsometry(obs.sensorPose) * T_mrptdepth_color;
+  }
+  f.has_source_T_body_cam = true;
+  return f;
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr toMrpt(const RgbdFrame& frame,
+                                               const Eigen::Isometry3d& T_body_cam,
+                                               const std::string& sensorLabel) {
+  auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+  obs->sensorLabel = sensorLabel;
+  obs->timestamp = fromSeconds(frame.t);
+  obs->cameraParams = toMrpt(frame.cam_depth);
+  obs->cameraParamsIntensity = toMrpt(frame.cam_color);
+
+  if (frame.depth_aligned_to_color) {
+    const Eigen::Isometry3d& T = frame.T_color_depth;
+    const double rot_err = (T.linear() - Eigen::Matrix3d::Identity()).norm();
+    if (rot_err > 1e-9 || T.translation().norm() > 1e-9) {
+      throw ConversionError(frame.source_label +
+                            ": depth is declared aligned to colour but T_color_depth is not the "
+                            "identity");
+    }
+    // Keep MRPT's own default value so that doDepthAndIntensityCamerasCoincide() holds exactly.
+    obs->relativePoseIntensityWRTDepth = mrpt::obs::CObservation3DRangeScan().relativePoseIntensityWRTDepth;
+    obs->sensorPose = toCPose3D(T_body_cam * mrptDepthFromOptical().inverse());
+  } else {
+    const Eigen::Isometry3d T_mrptdepth_color =
+        mrptDepthFromOptical() * frame.T_color_depth.inverse();
+    obs->relativePoseIntensityWRTDepth = toCPose3D(T_mrptdepth_color);
+    obs->sensorPose = toCPose3D(T_body_cam * T_mrptdepth_color.inverse());
+  }
+
+  if (frame.hasDepth()) {
+    if (frame.depth.type() != CV_16UC1)
+      throw ConversionError(frame.source_label + ": depth image must be CV_16UC1");
+    obs->hasRangeImage = true;
+    obs->range_is_depth = true;
+    obs->rangeUnits = static_cast<float>(frame.depth_unit_m);
+    obs->rangeImage_setSize(frame.depth.rows, frame.depth.cols);
+    for (int r = 0; r < frame.depth.rows; ++r) {
+      const auto* row = frame.depth.ptr<std::uint16_t>(r);
+      for (int c = 0; c < frame.depth.cols; ++c) obs->rangeImage(r, c) = row[c];
+    }
+  }
+  if (frame.hasColor()) {
+    if (frame.rgb.type() != CV_8UC3)
+      throw ConversionError(frame.source_label + ": colour image must be CV_8UC3 (R,G,B)");
+    cv::Mat bgr;
+    cv::cvtColor(frame.rgb, bgr, cv::COLOR_RGB2BGR);
+    obs->hasIntensityImage = true;
+    obs->intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
+    obs->intensityImage = mrpt::img::CImage(bgr, mrpt::img::DEEP_COPY);
+  }
+  return obs;
+}
+
+ImuSample fromMrpt(const mrpt::obs::CObservationIMU& obs) {
+  using namespace mrpt::obs;
+  const TIMUDataIndex needed[] = {IMU_X_ACC, IMU_Y_ACC, IMU_Z_ACC, IMU_WX, IMU_WY, IMU_WZ};
+  const char* names[] = {"IMU_X_ACC", "IMU_Y_ACC", "IMU_Z_ACC", "IMU_WX", "IMU_WY", "IMU_WZ"};
+  std::string missing;
+  for (size_t i = 0; i < 6; ++i)
+    if (!obs.has(needed[i])) missing += (missing.empty() ? "" : " ") + std::string(names[i]);
+  if (!missing.empty()) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "IMU observation '" << obs.sensorLabel << "' at t = " << toSeconds(obs.timestamp)
+       << " s lacks accelerometer/gyroscope data: " << missing;
+    throw ConversionError(os.str());
+  }
+  ImuSample s;
+  s.t = toSeconds(obs.timestamp);
+  s.acc = Eigen::Vector3d(obs.get(IMU_X_ACC), obs.get(IMU_Y_ACC), obs.get(IMU_Z_ACC));
+  s.gyr = Eigen::Vector3d(obs.get(IMU_WX), obs.get(IMU_WY), obs.get(IMU_WZ));
+  return s;
+}
+
+mrpt::obs::CObservationIMU::Ptr toMrpt(const ImuSample& imu, const std::string& sensorLabel) {
+  using namespace mrpt::obs;
+  auto obs = CObservationIMU::Create();
+  obs->sensorLabel = sensorLabel;
+  obs->timestamp = fromSeconds(imu.t);
+  obs->set(IMU_X_ACC, imu.acc.x());
+  obs->set(IMU_Y_ACC, imu.acc.y());
+  obs->set(IMU_Z_ACC, imu.acc.z());
+  obs->set(IMU_WX, imu.gyr.x());
+  obs->set(IMU_WY, imu.gyr.y());
+  obs->set(IMU_WZ, imu.gyr.z());
+  return obs;
+}
+
+}  // namespace rgbdi::io
