@@ -1,0 +1,68 @@
+// Marginalisation of old states into a linear(ised) Gaussian prior by the Schur complement.
+//
+// Residual blocks touching the states to remove are linearised at the current estimate; the
+// Hessian of those residuals is split into removed (m) and kept (r) parameters and the kept part
+// becomes the prior  || J_p (x - x0) + r_p ||^2  with J_p^T J_p = H_rr - H_rm H_mm^-1 H_mr.
+//
+// Blocks declared constant (e.g. inverse depths fixed by depth verification) are not variables:
+// they take part in residual evaluation but contribute no rows/columns and are never marginalised.
+// Pose blocks (7 ambient doubles) use the 6-dim tangent of PoseManifold.
+#pragma once
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <set>
+#include <unordered_map>
+#include <vector>
+
+namespace rgbdi::estimator {
+
+struct MarginalizationResidual {
+  std::shared_ptr<ceres::CostFunction> cost;
+  std::shared_ptr<ceres::LossFunction> loss;  ///< may be null
+  std::vector<double*> blocks;                ///< parameter block addresses, in cost order
+};
+
+class MarginalizationInfo {
+ public:
+  void add(MarginalizationResidual r) { residuals_.push_back(std::move(r)); }
+  /// Linearises all residuals and computes the prior on the blocks not in `remove`.
+  /// `constant` lists blocks that are held constant (not variables).
+  /// Returns false when nothing remains to keep.
+  bool marginalize(const std::set<const double*>& remove, const std::set<const double*>& constant);
+
+  /// Kept blocks (addresses at marginalisation time), their ambient sizes and linearisation points.
+  const std::vector<double*>& keptBlocks() const { return kept_blocks_; }
+  const std::vector<int>& keptSizes() const { return kept_sizes_; }
+  const std::vector<Eigen::VectorXd>& keptValues() const { return kept_values_; }
+  const Eigen::MatrixXd& jacobian() const { return lin_jacobian_; }
+  const Eigen::VectorXd& residual() const { return lin_residual_; }
+  /// Rewrites the kept block addresses after the window shifted (old address -> new address).
+  void remapBlocks(const std::unordered_map<const double*, double*>& remap);
+
+  static int tangentSize(int ambient) { return ambient == 7 ? 6 : ambient; }
+
+ private:
+  std::vector<MarginalizationResidual> residuals_;
+  std::vector<double*> kept_blocks_;
+  std::vector<int> kept_sizes_;
+  std::vector<Eigen::VectorXd> kept_values_;
+  Eigen::MatrixXd lin_jacobian_;
+  Eigen::VectorXd lin_residual_;
+};
+
+/// The prior as a Ceres cost function on the kept blocks.
+class MarginalizationFactor final : public ceres::CostFunction {
+ public:
+  explicit MarginalizationFactor(std::shared_ptr<const MarginalizationInfo> info);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  std::shared_ptr<const MarginalizationInfo> info_;
+};
+
+}  // namespace rgbdi::estimator

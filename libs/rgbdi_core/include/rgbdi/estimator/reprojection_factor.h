@@ -1,0 +1,39 @@
+// Reprojection residual of a feature observed in frames i (its reference frame, where its inverse
+// depth lives) and j, on the normalised image plane, with the camera-IMU time offset correction of
+// VINS: an observation taken while the feature moved with image velocity v is shifted by
+// -(td - td_at_stamping) * v, so td is observable from feature motion.
+//
+// Parameter blocks: pose_i [7], pose_j [7], inverse depth in frame i [1], td [1].
+// The camera-IMU extrinsic T_body_cam is fixed (calibrated offline).
+#pragma once
+
+#include <ceres/sized_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace rgbdi::estimator {
+
+struct FeatureMeasurement {
+  Eigen::Vector3d xn;        ///< undistorted normalised point (x, y, 1)
+  Eigen::Vector2d velocity;  ///< d(xn)/dt [1/s]
+  double td_at_stamp = 0.0;  ///< time offset used when this frame was stamped [s]
+};
+
+class ReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 7, 1, 1> {
+ public:
+  /// sqrt_info: 1 / sigma on the normalised plane (e.g. 460 / 1.5).
+  ReprojectionFactor(const FeatureMeasurement& obs_i, const FeatureMeasurement& obs_j,
+                     const Eigen::Isometry3d& T_body_cam, double sqrt_info);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  FeatureMeasurement obs_i_, obs_j_;
+  Eigen::Matrix3d R_bc_;
+  Eigen::Vector3d t_bc_;
+  double sqrt_info_;
+};
+
+}  // namespace rgbdi::estimator

@@ -1,0 +1,136 @@
+// Depth-aided sliding-window visual-inertial estimator (paper section 4.3, eq. 10).
+//
+// Push-based: feedImu() for every IMU sample, processFrame() for every tracked image (after the
+// IMU has reached the image time). Each processed frame returns the state of that frame as
+// estimated when it was the newest (causal output, as a robot would use it).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "rgbdi/common/sensor_options.h"
+#include "rgbdi/common/types.h"
+#include "rgbdi/estimator/estimator_options.h"
+#include "rgbdi/estimator/feature_manager.h"
+#include "rgbdi/frontend/feature_frame.h"
+
+namespace rgbdi::imu {
+class Preintegration;
+class ImuBuffer;
+}  // namespace rgbdi::imu
+
+namespace rgbdi::estimator {
+
+class MarginalizationInfo;
+
+enum class EstimatorStatus { kInitializing, kTracking, kLost };
+const char* toString(EstimatorStatus s);
+
+/// Per-frame output.
+struct FrameEstimate {
+  double t_imu = 0.0;          ///< state time on the IMU clock (= image stamp + time offset) [s]
+  double t_image = 0.0;        ///< image stamp as received [s]
+  bool has_pose = false;
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bias_gyr = Eigen::Vector3d::Zero();
+  double time_offset_s = 0.0;
+  EstimatorStatus status = EstimatorStatus::kInitializing;
+  bool just_initialised = false;
+  bool reset = false;          ///< a failure was detected and the estimator restarted
+  int n_features_used = 0;
+  int n_depth_verified = 0;
+  double ms_optimisation = 0.0;
+  double ms_marginalisation = 0.0;
+  double ms_preintegration = 0.0;
+};
+
+/// A keyframe leaving the window (its pose is final for the odometry): for the mapper/pose graph.
+struct KeyframeState {
+  double t_imu = 0.0;
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  std::uint64_t frame_index = 0;
+};
+
+struct EstimatorStats {
+  int frames = 0;
+  int resets = 0;
+  int static_initialisations = 0;
+  int moving_initialisations = 0;
+  double first_pose_t_image = -1.0;
+  double sum_ms_optimisation = 0.0, sum_ms_marginalisation = 0.0, sum_ms_preintegration = 0.0;
+};
+
+class SlidingWindowEstimator {
+ public:
+  SlidingWindowEstimator(const EstimatorOptions& opt, const ImuOptions& imu,
+                         const ExtrinsicOptions& ext);
+  ~SlidingWindowEstimator();
+
+  /// IMU samples in time order.
+  void feedImu(const ImuSample& s);
+  /// Latest IMU time received (frames must wait until this passes their time).
+  double latestImuTime() const;
+  /// Current time offset estimate: t_imu = t_image + timeOffset().
+  double timeOffset() const { return td_; }
+  /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().
+  FrameEstimate processFrame(const frontend::FeatureFrame& frame);
+
+  /// Keyframes that left the window since the last call (oldest first).
+  std::vector<KeyframeState> takeFinishedKeyframes();
+  /// States of the keyframes still in the window (for flushing at the end of a run).
+  std::vector<KeyframeState> windowKeyframes() const;
+  const EstimatorStats& stats() const { return stats_; }
+  EstimatorStatus status() const { return status_; }
+
+ private:
+  struct Slot;
+
+  bool tryStaticInit(const frontend::FeatureFrame& frame, double t);
+  bool tryMovingInit();
+  void addSlot(const frontend::FeatureFrame& frame, double t, bool predict_from_previous);
+  void optimise(FrameEstimate* out);
+  void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
+  bool failureDetected() const;
+  void reset(bool keep_anchor);
+  SlotPoses slotPoses() const;
+  void rejectOutliers();
+  std::vector<std::pair<std::uint64_t, TrackObservation>> toObservations(
+      const frontend::FeatureFrame& frame) const;
+
+  EstimatorOptions opt_;
+  ImuOptions imu_opt_;
+  Eigen::Isometry3d T_bc_;
+  double td_;
+  double sqrt_info_;
+  DepthCheckOptions depth_opt_;
+
+  std::unique_ptr<imu::ImuBuffer> imu_;
+  std::vector<Slot> window_;  ///< capacity window_size + 1, never reallocated
+  FeatureManager features_;
+  std::shared_ptr<MarginalizationInfo> prior_;
+  double td_param_[1] = {0.0};
+  // Prior on the first state's speed and biases from the initialisation (until marginalised).
+  bool use_init_prior_ = false;
+  Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();
+  Eigen::Matrix<double, 9, 1> init_prior_sigma_ = Eigen::Matrix<double, 9, 1>::Ones();
+  bool newest_but_one_keyframe_ = true;
+
+  EstimatorStatus status_ = EstimatorStatus::kInitializing;
+  // Anchor for re-initialisation after a failure: the trajectory continues from the last pose.
+  bool have_anchor_ = false;
+  Eigen::Vector3d anchor_p_ = Eigen::Vector3d::Zero();
+  double anchor_yaw_ = 0.0;
+  Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
+  std::vector<KeyframeState> finished_keyframes_;
+  EstimatorStats stats_;
+};
+
+}  // namespace rgbdi::estimator

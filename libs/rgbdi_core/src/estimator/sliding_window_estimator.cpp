@@ -1,0 +1,638 @@
+#include "rgbdi/estimator/sliding_window_estimator.h"
+
+#include <ceres/ceres.h>
+
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <unordered_map>
+
+#include "rgbdi/estimator/initializer.h"
+#include "rgbdi/estimator/marginalization.h"
+#include "rgbdi/estimator/pose_manifold.h"
+#include "rgbdi/estimator/reprojection_factor.h"
+#include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/imu/imu_buffer.h"
+#include "rgbdi/imu/imu_factor.h"
+#include "rgbdi/imu/imu_init.h"
+#include "rgbdi/imu/preintegration.h"
+
+namespace rgbdi::estimator {
+
+const char* toString(EstimatorStatus s) {
+  switch (s) {
+    case EstimatorStatus::kInitializing: return "initialising";
+    case EstimatorStatus::kTracking: return "tracking";
+    case EstimatorStatus::kLost: return "lost";
+  }
+  return "?";
+}
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+/// One frame in the window: its optimisation variables and the IMU interval leading to it.
+struct SlidingWindowEstimator::Slot {
+  double t = 0.0;        ///< IMU-clock time
+  double t_image = 0.0;  ///< image stamp
+  std::uint64_t frame_index = 0;
+  double pose[7] = {0, 0, 0, 0, 0, 0, 1};
+  double sb[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  std::unique_ptr<imu::Preintegration> preint;  ///< previous slot -> this slot (null for slot 0)
+  /// Camera pose of this frame relative to the first frame of a moving initialisation (PnP).
+  Eigen::Isometry3d T_c0_c = Eigen::Isometry3d::Identity();
+  std::vector<frontend::FeatureObservation> raw_features;  ///< for PnP during initialisation
+
+  Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
+  Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }
+  Eigen::Vector3d v() const { return Eigen::Vector3d(sb[0], sb[1], sb[2]); }
+  Eigen::Vector3d ba() const { return Eigen::Vector3d(sb[3], sb[4], sb[5]); }
+  Eigen::Vector3d bg() const { return Eigen::Vector3d(sb[6], sb[7], sb[8]); }
+  Eigen::Isometry3d T() const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = q().normalized().toRotationMatrix();
+    T.translation() = p();
+    return T;
+  }
+  void setPose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+    const Eigen::Quaterniond qn = q.normalized();
+    pose[0] = p.x(); pose[1] = p.y(); pose[2] = p.z();
+    pose[3] = qn.x(); pose[4] = qn.y(); pose[5] = qn.z(); pose[6] = qn.w();
+  }
+  void setV(const Eigen::Vector3d& v) { sb[0] = v.x(); sb[1] = v.y(); sb[2] = v.z(); }
+  void setBiases(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg) {
+    for (int i = 0; i < 3; ++i) {
+      sb[3 + i] = ba[i];
+      sb[6 + i] = bg[i];
+    }
+  }
+};
+
+SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, const ImuOptions& imu,
+                                               const ExtrinsicOptions& ext)
+    : opt_(opt),
+      imu_opt_(imu),
+      T_bc_(ext.T_body_cam),
+      td_(ext.time_offset_s),
+      sqrt_info_(EstimatorOptions::kVirtualFocalPx / opt.reprojection_sigma_px),
+      imu_(std::make_unique<imu::ImuBuffer>()) {
+  depth_opt_.tolerance_norm = opt.depth_verify_tolerance_px / EstimatorOptions::kVirtualFocalPx;
+  depth_opt_.min_depth_m = opt.depth_verify_min_m;
+  depth_opt_.max_depth_m = opt.depth_verify_max_m;
+  td_param_[0] = td_;
+  window_.reserve(static_cast<size_t>(opt.window_size) + 2);
+}
+
+SlidingWindowEstimator::~SlidingWindowEstimator() = default;
+
+void SlidingWindowEstimator::feedImu(const ImuSample& s) {
+  if (!imu_->empty() && s.t <= imu_->newestTime()) return;  // the stream stage already reports these
+  imu_->push(s);
+}
+
+double SlidingWindowEstimator::latestImuTime() const {
+  return imu_->empty() ? -1e300 : imu_->newestTime();
+}
+
+std::vector<std::pair<std::uint64_t, TrackObservation>> SlidingWindowEstimator::toObservations(
+    const frontend::FeatureFrame& frame) const {
+  std::vector<std::pair<std::uint64_t, TrackObservation>> out;
+  out.reserve(frame.features.size());
+  for (const auto& f : frame.features) {
+    TrackObservation o;
+    o.meas.xn = Eigen::Vector3d(f.xn.x(), f.xn.y(), 1.0);
+    o.meas.velocity = f.velocity_xn;
+    o.meas.td_at_stamp = td_;
+    o.uv = f.uv;
+    o.depth_m = f.depth_m;
+    out.emplace_back(f.id, o);
+  }
+  return out;
+}
+
+SlotPoses SlidingWindowEstimator::slotPoses() const {
+  SlotPoses poses;
+  poses.reserve(window_.size());
+  for (const auto& s : window_) poses.push_back(s.T());
+  return poses;
+}
+
+void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double t,
+                                     bool predict_from_previous) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Slot s;
+  s.t = t;
+  s.t_image = frame.t;
+  s.frame_index = frame.frame_index;
+  s.raw_features = frame.features;
+  if (!window_.empty()) {
+    const Slot& prev = window_.back();
+    s.preint = std::make_unique<imu::Preintegration>(prev.ba(), prev.bg(),
+                                                     imu::ImuNoise::fromOptions(imu_opt_));
+    for (const ImuSample& m : imu_->between(prev.t, t)) s.preint->push(m);
+    std::copy(prev.sb, prev.sb + 9, s.sb);
+    std::copy(prev.pose, prev.pose + 7, s.pose);
+    if (predict_from_previous) {
+      Eigen::Vector3d Pj, Vj;
+      Eigen::Quaterniond Qj;
+      s.preint->predict(prev.p(), prev.q(), prev.v(),
+                        Eigen::Vector3d(0, 0, -imu_opt_.gravity_m_s2), Pj, Qj, Vj);
+      s.setPose(Pj, Qj);
+      s.setV(Vj);
+    }
+  }
+  window_.push_back(std::move(s));
+  double parallax = 0.0;
+  int n_tracked = 0;
+  features_.addFrame(static_cast<int>(window_.size()) - 1, toObservations(frame), &parallax,
+                     &n_tracked);
+  const double min_parallax = opt_.keyframe_parallax_px / EstimatorOptions::kVirtualFocalPx;
+  newest_but_one_keyframe_ = window_.size() < 3 || n_tracked < opt_.keyframe_min_tracked ||
+                             parallax >= min_parallax;
+  imu_->popOlderThan(window_.front().t);
+  stats_.sum_ms_preintegration += msSince(t0);
+}
+
+bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, double t) {
+  const double t_start = t - opt_.init_static_window_s;
+  if (imu_->empty() || imu_->oldestTime() > t_start || imu_->newestTime() < t) return false;
+  // IMU: mean gyro small, |mean acc| close to g, and little spread of 50 ms means.
+  Eigen::Vector3d sum_acc = Eigen::Vector3d::Zero(), sum_gyr = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> bins;
+  Eigen::Vector3d bin_sum = Eigen::Vector3d::Zero();
+  int bin_n = 0, n = 0;
+  double bin_start = t_start;
+  constexpr double kBin = 0.05;  // averaging interval for the spread test [s]
+  for (const ImuSample& m : imu_->samples()) {
+    if (m.t < t_start || m.t > t) continue;
+    sum_acc += m.acc;
+    sum_gyr += m.gyr;
+    ++n;
+    if (m.t - bin_start > kBin && bin_n > 0) {
+      bins.push_back(bin_sum / bin_n);
+      bin_sum.setZero();
+      bin_n = 0;
+      bin_start = m.t;
+    }
+    bin_sum += m.acc;
+    ++bin_n;
+  }
+  if (n < 10 || bins.size() < 3) return false;
+  const Eigen::Vector3d mean_acc = sum_acc / n, mean_gyr = sum_gyr / n;
+  if (mean_gyr.norm() > opt_.init_static_max_gyro_rad_s) return false;
+  if (std::abs(mean_acc.norm() - imu_opt_.gravity_m_s2) > opt_.init_static_max_acc_dev_m_s2)
+    return false;
+  double var = 0.0;
+  for (const auto& b : bins) var += (b - mean_acc).squaredNorm();
+  if (std::sqrt(var / static_cast<double>(bins.size())) > opt_.init_static_max_acc_std_m_s2)
+    return false;
+  // Vision: the features of the oldest frame within the window must not have moved.
+  const Slot* oldest = nullptr;
+  for (const auto& s : window_)
+    if (s.t >= t_start - 1e-9) {
+      oldest = &s;
+      break;
+    }
+  if (!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s) return false;
+  std::unordered_map<std::uint64_t, Eigen::Vector2d> old_pos;
+  for (const auto& f : oldest->raw_features) old_pos[f.id] = f.xn;
+  double motion = 0.0;
+  int matched = 0;
+  for (const auto& f : frame.features) {
+    const auto it = old_pos.find(f.id);
+    if (it == old_pos.end()) continue;
+    motion += (f.xn - it->second).norm();
+    ++matched;
+  }
+  if (matched < opt_.keyframe_min_tracked ||
+      motion / matched > opt_.init_static_max_motion_px / EstimatorOptions::kVirtualFocalPx)
+    return false;
+
+  // Still: attitude from gravity, zero velocity, gyro bias from the mean rate.
+  const double yaw = have_anchor_ ? anchor_yaw_ : 0.0;
+  const Eigen::Matrix3d R = attitudeFromGravity(mean_acc, yaw);
+  window_.clear();
+  features_.clear();
+  prior_.reset();
+  addSlot(frame, t, false);
+  Slot& s = window_.front();
+  s.setPose(have_anchor_ ? anchor_p_ : Eigen::Vector3d::Zero(), Eigen::Quaterniond(R));
+  s.setV(Eigen::Vector3d::Zero());
+  s.setBiases(Eigen::Vector3d::Zero(), mean_gyr);
+  init_prior_mean_.setZero();
+  init_prior_mean_.tail<3>() = mean_gyr;
+  init_prior_sigma_ << Eigen::Vector3d::Constant(opt_.init_static_velocity_sigma_m_s),
+      Eigen::Vector3d::Constant(opt_.init_acc_bias_sigma_m_s2),
+      Eigen::Vector3d::Constant(opt_.init_gyr_bias_sigma_rad_s);
+  use_init_prior_ = true;
+  ++stats_.static_initialisations;
+  return true;
+}
+
+bool SlidingWindowEstimator::tryMovingInit() {
+  // PnP of the newest frame against the previous one (metric points from the previous depth).
+  const size_t n = window_.size();
+  if (n >= 2) {
+    const Slot& prev = window_[n - 2];
+    Slot& cur = window_[n - 1];
+    std::unordered_map<std::uint64_t, const frontend::FeatureObservation*> prev_by_id;
+    for (const auto& f : prev.raw_features)
+      if (f.depth_m > 0.0 && f.depth_m <= opt_.init_depth_max_m) prev_by_id[f.id] = &f;
+    std::vector<Eigen::Vector3d> pts;
+    std::vector<Eigen::Vector2d> xn;
+    for (const auto& f : cur.raw_features) {
+      const auto it = prev_by_id.find(f.id);
+      if (it == prev_by_id.end()) continue;
+      pts.push_back(Eigen::Vector3d(it->second->xn.x(), it->second->xn.y(), 1.0) *
+                    it->second->depth_m);
+      xn.push_back(f.xn);
+    }
+    PnpOptions popt;
+    popt.min_inliers = opt_.init_min_correspondences;
+    popt.seed = cur.frame_index + 1;
+    const auto pnp = relativePoseByPnP(pts, xn, popt);
+    if (!pnp) {
+      // The chain is broken: start the initialisation window again from this frame.
+      Slot keep = std::move(window_.back());
+      window_.clear();
+      features_.clear();
+      keep.preint.reset();
+      keep.T_c0_c = Eigen::Isometry3d::Identity();
+      window_.push_back(std::move(keep));
+      double parallax;
+      int tracked;
+      frontend::FeatureFrame ff;
+      ff.features = window_.front().raw_features;
+      features_.addFrame(0, toObservations(ff), &parallax, &tracked);
+      return false;
+    }
+    cur.T_c0_c = prev.T_c0_c * pnp->T_curr_prev.inverse();
+  }
+  if (static_cast<int>(window_.size()) < opt_.init_min_frames ||
+      window_.back().t - window_.front().t < opt_.init_min_span_s) {
+    return false;
+  }
+  // Enough parallax, or a full window (depth makes the problem metric, so excitation is not
+  // needed: waiting longer only delays the first pose).
+  double max_parallax = 0.0;
+  {
+    std::unordered_map<std::uint64_t, Eigen::Vector2d> first;
+    for (const auto& f : window_.front().raw_features) first[f.id] = f.xn;
+    double sum = 0.0;
+    int cnt = 0;
+    for (const auto& f : window_.back().raw_features) {
+      const auto it = first.find(f.id);
+      if (it == first.end()) continue;
+      sum += (f.xn - it->second).norm();
+      ++cnt;
+    }
+    max_parallax = cnt > 0 ? sum / cnt * EstimatorOptions::kVirtualFocalPx : 0.0;
+  }
+  if (max_parallax < opt_.init_min_parallax_px &&
+      static_cast<int>(window_.size()) < opt_.window_size) {
+    return false;
+  }
+
+  // Body poses in the first camera's frame.
+  std::vector<Eigen::Isometry3d> T_ref_body;
+  std::vector<const imu::Preintegration*> pre;
+  const Eigen::Isometry3d T_cb = T_bc_.inverse();
+  for (const auto& s : window_) {
+    T_ref_body.push_back(s.T_c0_c * T_cb);
+    pre.push_back(s.preint.get());
+  }
+  // Gyro bias from the visual rotations.
+  std::vector<imu::GyroBiasPair> pairs;
+  for (size_t k = 1; k < window_.size(); ++k) {
+    const Eigen::Quaterniond q_rel(T_ref_body[k - 1].rotation().transpose() *
+                                   T_ref_body[k].rotation());
+    pairs.emplace_back(q_rel, pre[k]);
+  }
+  Eigen::Vector3d bg = window_.front().bg();
+  try {
+    bg += imu::solveGyroBias(pairs);
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (bg.norm() > opt_.fail_max_gyr_bias_rad_s) return false;
+  for (size_t k = 1; k < window_.size(); ++k)
+    window_[k].preint->repropagate(Eigen::Vector3d::Zero(), bg);
+  const auto align = alignVelocitiesAndGravity(T_ref_body, pre, imu_opt_.gravity_m_s2);
+  if (!align) return false;
+
+  const double yaw0 = have_anchor_ ? anchor_yaw_ : 0.0;
+  const Eigen::Matrix3d R_w_ref = worldFromGravity(align->g_ref, T_ref_body[0].rotation(), yaw0);
+  const Eigen::Vector3d p0 = have_anchor_ ? anchor_p_ : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d shift = p0 - R_w_ref * T_ref_body[0].translation();
+  for (size_t k = 0; k < window_.size(); ++k) {
+    Slot& s = window_[k];
+    s.setPose(R_w_ref * T_ref_body[k].translation() + shift,
+              Eigen::Quaterniond(R_w_ref * T_ref_body[k].rotation()));
+    s.setV(R_w_ref * align->v_ref[k]);
+    s.setBiases(Eigen::Vector3d::Zero(), bg);
+  }
+  init_prior_mean_.setZero();
+  init_prior_mean_.head<3>() = window_.front().v();
+  init_prior_mean_.tail<3>() = bg;
+  init_prior_sigma_ << Eigen::Vector3d::Constant(1.0),  // velocity: weak, the IMU factors decide
+      Eigen::Vector3d::Constant(opt_.init_acc_bias_sigma_m_s2),
+      Eigen::Vector3d::Constant(opt_.init_gyr_bias_sigma_rad_s);
+  use_init_prior_ = true;
+  ++stats_.moving_initialisations;
+  return true;
+}
+
+FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame& frame) {
+  FrameEstimate out;
+  out.t_image = frame.t;
+  const double t = frame.t + td_;
+  out.t_imu = t;
+  ++stats_.frames;
+  if (!window_.empty() && t <= window_.back().t) return out;  // stale frame: ignore
+  if (!imu_->covers(window_.empty() ? t : window_.back().t, t)) {
+    // No IMU for this interval (start of stream or an IMU gap): restart initialisation.
+    if (status_ == EstimatorStatus::kTracking) reset(true);
+    out.status = status_;
+    return out;
+  }
+
+  if (status_ != EstimatorStatus::kTracking) {
+    bool ok = tryStaticInit(frame, t);
+    if (!ok) {
+      addSlot(frame, t, false);
+      ok = tryMovingInit();
+      if (!ok && static_cast<int>(window_.size()) > opt_.window_size) {
+        // Keep the initialisation window bounded: forget the oldest frame.
+        features_.removeOldest(slotPoses(), T_bc_);
+        window_.erase(window_.begin());
+        window_.front().preint.reset();
+      }
+    }
+    if (!ok) {
+      out.status = status_;
+      return out;
+    }
+    status_ = EstimatorStatus::kTracking;
+    out.just_initialised = true;
+    prior_.reset();
+    features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
+    if (window_.size() >= 2) optimise(&out);
+  } else {
+    addSlot(frame, t, true);
+    features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
+    optimise(&out);
+    if (failureDetected()) {
+      ++stats_.resets;
+      reset(true);
+      out.reset = true;
+      out.status = status_;
+      return out;
+    }
+    rejectOutliers();
+    if (static_cast<int>(window_.size()) > opt_.window_size) {
+      marginaliseAndSlide(newest_but_one_keyframe_, &out);
+    }
+  }
+
+  const Slot& s = window_.back();
+  out.has_pose = true;
+  out.T_world_body = s.T();
+  out.v_world = s.v();
+  out.bias_acc = s.ba();
+  out.bias_gyr = s.bg();
+  out.time_offset_s = td_;
+  out.status = status_;
+  out.t_imu = s.t;
+  prev_newest_p_ = s.p();
+  last_bg_ = s.bg();
+  have_anchor_ = true;
+  anchor_p_ = s.p();
+  anchor_yaw_ = yawOf(s.T().rotation());
+  if (stats_.first_pose_t_image < 0.0) stats_.first_pose_t_image = frame.t;
+  return out;
+}
+
+void SlidingWindowEstimator::optimise(FrameEstimate* out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Eigen::Vector3d g_w(0, 0, -imu_opt_.gravity_m_s2);
+  ceres::Problem::Options popt;
+  popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popt.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(popt);
+  PoseManifold pose_manifold;
+  ceres::CauchyLoss cauchy(opt_.cauchy_loss_sigma);
+
+  for (auto& s : window_) {
+    problem.AddParameterBlock(s.pose, 7, &pose_manifold);
+    problem.AddParameterBlock(s.sb, 9);
+  }
+  problem.AddParameterBlock(td_param_, 1);
+  td_param_[0] = td_;
+  if (!opt_.estimate_time_offset) problem.SetParameterBlockConstant(td_param_);
+  if (prior_) {
+    problem.AddResidualBlock(new MarginalizationFactor(prior_), nullptr, prior_->keptBlocks());
+  } else {
+    // Gauge: without a prior the first pose anchors position and yaw.
+    problem.SetParameterBlockConstant(window_.front().pose);
+  }
+  if (use_init_prior_) {
+    problem.AddResidualBlock(new SpeedBiasPrior(init_prior_mean_, init_prior_sigma_), nullptr,
+                             window_.front().sb);
+  }
+  for (size_t k = 1; k < window_.size(); ++k) {
+    Slot& a = window_[k - 1];
+    Slot& b = window_[k];
+    if (b.preint->needsRepropagation(a.ba(), a.bg(), opt_.repropagate_acc_bias_m_s2,
+                                     opt_.repropagate_gyr_bias_rad_s)) {
+      b.preint->repropagate(a.ba(), a.bg());
+    }
+    problem.AddResidualBlock(new imu::ImuFactor(b.preint.get(), g_w), nullptr, a.pose, a.sb,
+                             b.pose, b.sb);
+  }
+  const int newest = static_cast<int>(window_.size()) - 1;
+  int used = 0, verified = 0;
+  for (auto& [id, f] : features_.tracks()) {
+    if (!FeatureManager::usable(f, newest)) continue;
+    ++used;
+    const int i = f.start_slot;
+    for (size_t k = 1; k < f.obs.size(); ++k) {
+      const int j = i + static_cast<int>(k);
+      problem.AddResidualBlock(
+          new ReprojectionFactor(f.obs.front().meas, f.obs[k].meas, T_bc_, sqrt_info_), &cauchy,
+          window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose,
+          &f.inv_depth, td_param_);
+    }
+    if (f.depthConstant()) {
+      problem.SetParameterBlockConstant(&f.inv_depth);
+      ++verified;
+    } else {
+      problem.SetParameterLowerBound(&f.inv_depth, 0, 1e-3);
+    }
+  }
+
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.trust_region_strategy_type = ceres::DOGLEG;
+  so.max_num_iterations = opt_.max_iterations;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  if (opt_.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = opt_.max_solver_time_s;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  td_ = td_param_[0];
+  for (auto& s : window_) s.setPose(s.p(), s.q());  // keep quaternions exactly unit
+
+  out->n_features_used = used;
+  out->n_depth_verified = verified;
+  out->ms_optimisation = msSince(t0);
+  stats_.sum_ms_optimisation += out->ms_optimisation;
+}
+
+void SlidingWindowEstimator::rejectOutliers() {
+  const double thresh = opt_.outlier_reprojection_px / EstimatorOptions::kVirtualFocalPx;
+  const int newest = static_cast<int>(window_.size()) - 1;
+  for (auto& [id, f] : features_.tracks()) {
+    if (!FeatureManager::usable(f, newest)) continue;
+    const Eigen::Isometry3d T_w_ci = window_[static_cast<size_t>(f.start_slot)].T() * T_bc_;
+    const Eigen::Vector3d p_w = T_w_ci * (f.obs.front().meas.xn / f.inv_depth);
+    double err = 0.0;
+    for (size_t k = 1; k < f.obs.size(); ++k) {
+      const Eigen::Isometry3d T_w_cj =
+          window_[static_cast<size_t>(f.start_slot) + k].T() * T_bc_;
+      const Eigen::Vector3d p_c = T_w_cj.inverse() * p_w;
+      err += p_c.z() > 0 ? (p_c.head<2>() / p_c.z() - f.obs[k].meas.xn.head<2>()).norm() : 1.0;
+    }
+    if (err / static_cast<double>(f.obs.size() - 1) > thresh) f.outlier = true;
+  }
+  features_.removeOutliers();
+}
+
+bool SlidingWindowEstimator::failureDetected() const {
+  const Slot& s = window_.back();
+  if (s.ba().norm() > opt_.fail_max_acc_bias_m_s2) return true;
+  if (s.bg().norm() > opt_.fail_max_gyr_bias_rad_s) return true;
+  const Eigen::Vector3d jump = s.p() - prev_newest_p_;
+  if (jump.norm() > opt_.fail_max_jump_m) return true;
+  if (std::abs(jump.z()) > opt_.fail_max_vertical_jump_m) return true;
+  for (const auto& w : window_)
+    if (!w.p().allFinite() || !w.q().coeffs().allFinite()) return true;
+  return false;
+}
+
+void SlidingWindowEstimator::reset(bool keep_anchor) {
+  if (!keep_anchor) have_anchor_ = false;
+  window_.clear();
+  features_.clear();
+  prior_.reset();
+  use_init_prior_ = false;
+  status_ = EstimatorStatus::kInitializing;
+}
+
+void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe,
+                                                 FrameEstimate* out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Eigen::Vector3d g_w(0, 0, -imu_opt_.gravity_m_s2);
+  std::set<const double*> constant;
+  if (!opt_.estimate_time_offset) constant.insert(td_param_);
+  const size_t N = window_.size() - 1;  // index of the newest slot
+
+  auto priorTouches = [&](const double* block) {
+    if (!prior_) return false;
+    for (const double* b : prior_->keptBlocks())
+      if (b == block) return true;
+    return false;
+  };
+  std::unordered_map<const double*, double*> remap;
+
+  if (newest_but_one_is_keyframe) {
+    // Marginalise the oldest keyframe with everything that observes it.
+    auto info = std::make_shared<MarginalizationInfo>();
+    Slot& s0 = window_[0];
+    std::set<const double*> remove{s0.pose, s0.sb};
+    if (prior_ && (priorTouches(s0.pose) || priorTouches(s0.sb))) {
+      info->add({std::make_shared<MarginalizationFactor>(prior_), nullptr, prior_->keptBlocks()});
+    }
+    if (use_init_prior_) {
+      info->add({std::make_shared<SpeedBiasPrior>(init_prior_mean_, init_prior_sigma_), nullptr,
+                 {s0.sb}});
+      use_init_prior_ = false;  // from now on it lives inside the marginalisation prior
+    }
+    info->add({std::make_shared<imu::ImuFactor>(window_[1].preint.get(), g_w), nullptr,
+               {s0.pose, s0.sb, window_[1].pose, window_[1].sb}});
+    auto loss = std::make_shared<ceres::CauchyLoss>(opt_.cauchy_loss_sigma);
+    const int newest = static_cast<int>(N);
+    for (auto& [id, f] : features_.tracks()) {
+      if (f.start_slot != 0 || !FeatureManager::usable(f, newest)) continue;
+      for (size_t k = 1; k < f.obs.size(); ++k) {
+        info->add({std::make_shared<ReprojectionFactor>(f.obs.front().meas, f.obs[k].meas, T_bc_,
+                                                        sqrt_info_),
+                   loss,
+                   {s0.pose, window_[k].pose, &f.inv_depth, td_param_}});
+      }
+      // Depth-verified features are constants, not variables: nothing to marginalise for them.
+      (f.depthConstant() ? constant : remove).insert(&f.inv_depth);
+    }
+    const bool kept = info->marginalize(remove, constant);
+    finished_keyframes_.push_back({s0.t, s0.T(), s0.frame_index});
+    features_.removeOldest(slotPoses(), T_bc_);
+    for (size_t k = 1; k <= N; ++k) {
+      remap[window_[k].pose] = window_[k - 1].pose;
+      remap[window_[k].sb] = window_[k - 1].sb;
+    }
+    window_.erase(window_.begin());
+    window_.front().preint.reset();
+    if (kept) {
+      info->remapBlocks(remap);
+      prior_ = info;
+    } else {
+      prior_.reset();
+    }
+  } else {
+    // The newest-but-one frame is not a keyframe: drop its visual measurements, merge its IMU
+    // interval into the next one, and remove its pose from the prior if the prior holds it.
+    Slot& s1 = window_[N - 1];
+    if (prior_ && priorTouches(s1.pose)) {
+      auto info = std::make_shared<MarginalizationInfo>();
+      info->add({std::make_shared<MarginalizationFactor>(prior_), nullptr, prior_->keptBlocks()});
+      if (info->marginalize({s1.pose}, constant)) {
+        prior_ = info;
+      } else {
+        prior_.reset();
+      }
+    }
+    // Merge pre-integrations: (N-2 -> N-1) followed by (N-1 -> N).
+    auto merged = std::make_unique<imu::Preintegration>(
+        s1.preint->biasAcc(), s1.preint->biasGyr(), imu::ImuNoise::fromOptions(imu_opt_));
+    for (const auto& m : s1.preint->samples()) merged->push(m);
+    const auto& next = window_[N].preint->samples();
+    for (size_t k = 1; k < next.size(); ++k) merged->push(next[k]);
+    window_[N].preint = std::move(merged);
+    features_.removeSlot(static_cast<int>(N) - 1);
+    remap[window_[N].pose] = window_[N - 1].pose;
+    remap[window_[N].sb] = window_[N - 1].sb;
+    window_.erase(window_.begin() + static_cast<std::ptrdiff_t>(N) - 1);
+    if (prior_) prior_->remapBlocks(remap);
+  }
+  out->ms_marginalisation = msSince(t0);
+  stats_.sum_ms_marginalisation += out->ms_marginalisation;
+}
+
+std::vector<KeyframeState> SlidingWindowEstimator::takeFinishedKeyframes() {
+  std::vector<KeyframeState> out;
+  out.swap(finished_keyframes_);
+  return out;
+}
+
+std::vector<KeyframeState> SlidingWindowEstimator::windowKeyframes() const {
+  std::vector<KeyframeState> out;
+  if (status_ != EstimatorStatus::kTracking) return out;
+  for (const auto& s : window_) out.push_back({s.t, s.T(), s.frame_index});
+  return out;
+}
+
+}  // namespace rgbdi::estimator
