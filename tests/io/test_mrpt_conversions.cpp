@@ -259,7 +259,7 @@ TEST(MrptConversions, ImuRoundTripAndMissingFields) {
     fromMrpt(only_acc);
     FAIL() << "expected ConversionError";
   } catch (const ConversionError& e) {
-    EXPECT_STREQ(e.what(), "IMU observation 'XSENS' at t = 12.5 s lacks accelerometer/gyroscope data: IMU_WX IMU_WY");
+    EXPECT_STREQ(e.what(), "IMU observation 'XSENS' at t = 12.500000 s lacks accelerometer/gyroscope data: IMU_WX IMU_WY");
   }
 }
 

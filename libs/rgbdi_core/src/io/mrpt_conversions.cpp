@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <iomanip>
 #include <sstream>
 
 namespace rgbdi::io {
@@ -253,7 +254,7 @@ ImuSample fromMrpt(const mrpt::obs::CObservationIMU& obs) {
     if (!obs.has(needed[i])) missing += (missing.empty() ? "" : " ") + std::string(names[i]);
   if (!missing.empty()) {
     std::ostringstream os;
-    os.precision(17);
+    os << std::fixed << std::setprecision(6);
     os << "IMU observation '" << obs.sensorLabel << "' at t = " << toSeconds(obs.timestamp)
        << " s lacks accelerometer/gyroscope data: " << missing;
     throw ConversionError(os.str());

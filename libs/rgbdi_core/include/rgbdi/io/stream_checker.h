@@ -1,0 +1,83 @@
+// Accumulates StreamDiagnostics while a source reads its data: arrival-order problems, what is
+// delivered (rates, gaps), per-frame checks (sizes, intrinsics, depth units, sensorPose) and
+// stream-level checks at the end (image gaps against the median period, IMU units and rate).
+// Messages name the source and the record; each kind of issue lists at most
+// StreamOptions::max_listed_issues messages, further occurrences are counted and summarised.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rgbdi/io/stream_diagnostics.h"
+#include "rgbdi/io/stream_options.h"
+#include "rgbdi/io/time_ordering_buffer.h"
+
+namespace rgbdi::io {
+
+class StreamChecker {
+ public:
+  /// `on_warning` (optional) is called with every listed warning as soon as it is found.
+  StreamChecker(std::string source, const StreamConfig& cfg,
+                std::function<void(const std::string&)> on_warning = {});
+
+  /// Direct access for the counters the source keeps itself (records, skipped, error, ...).
+  StreamDiagnostics& counters() { return diag_; }
+
+  /// A measurement (IMU sample if `imu`, else RGB-D frame, stamped `t`) offered to the ordering
+  /// buffer, with the buffer's verdict and the newest stamp of the same kind before it (NaN if none).
+  void onArrival(bool imu, double t, std::size_t record, TimeOrderingBuffer::Verdict verdict,
+                 double newest_same_kind);
+  /// A measurement handed to the consumer.
+  void onDelivered(const Measurement& m, std::size_t record);
+  /// An RGB-D/IMU observation that could not be converted (message from the converter).
+  void onUnusable(std::size_t record, const std::string& why);
+  /// An entry of a type the stream does not use.
+  void onSkipped(std::size_t record, const std::string& class_name);
+
+  /// Stream-level checks; call once at the end (further calls do nothing).
+  void finish();
+  const StreamDiagnostics& diagnostics() const { return diag_; }
+
+  /// Prefix of every message: "<source> record <n>".
+  std::string at(std::size_t record) const;
+
+ private:
+  struct IssueKind {
+    std::size_t count = 0;
+    std::size_t unlisted = 0;
+    std::size_t first_unlisted = 0, last_unlisted = 0;
+  };
+  /// Lists `message` unless this kind already has max_listed_issues messages.
+  void issue(const std::string& kind, std::size_t record, const std::string& message);
+  void warn(const std::string& message);
+  void checkFrame(const RgbdFrame& f, std::size_t record);
+  void checkDepthUnits(const RgbdFrame& f, std::size_t record);
+  void checkExtrinsic(const RgbdFrame& f, std::size_t record);
+  void finishImu();
+  void finishImages();
+  std::string records(std::size_t a, std::size_t b) const;
+
+  std::string source_;
+  StreamConfig cfg_;
+  std::function<void(const std::string&)> on_warning_;
+  StreamDiagnostics diag_;
+  bool finished_ = false;
+
+  std::map<std::string, IssueKind> issues_;
+  std::vector<std::string> issue_order_;
+
+  double prev_arrival_[2];
+  double prev_delivered_imu_t_;
+  double acc_norm_sum_ = 0.0;
+  std::size_t first_imu_record_ = 0, last_imu_record_ = 0;
+  std::size_t first_frame_record_ = 0, last_frame_record_ = 0;
+  std::vector<std::pair<double, std::size_t>> frame_stamps_;  ///< (t, record) of delivered frames
+  std::vector<double> frame_median_depths_;                   ///< [m] per frame with valid depth
+  bool extrinsic_checked_mismatch_ = false;
+};
+
+}  // namespace rgbdi::io

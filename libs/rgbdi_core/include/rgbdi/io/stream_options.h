@@ -1,0 +1,37 @@
+// Options of the measurement stream ([stream] section) and the bundle of everything a source
+// needs to order and check a stream (stream + [imu] rate/gravity + [extrinsic] camera pose).
+#pragma once
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/common/sensor_options.h"
+
+namespace rgbdi::io {
+
+/// [stream]: ordering windows and the thresholds of the data checks.
+struct StreamOptions {
+  double imu_reorder_window_s = 0.05;    ///< [s] late IMU samples within this are reordered
+  double image_reorder_window_s = 0.1;   ///< [s] same for RGB-D frames (also cross-kind lateness)
+  double imu_gap_factor = 3.0;           ///< gap when dt > factor / [imu] rate_hz
+  double image_gap_factor = 2.5;         ///< gap when dt > factor * median frame period
+  double imu_rate_tolerance = 0.2;       ///< warn when measured rate deviates more (fraction)
+  double g_units_min_m_s2 = 0.5;         ///< [m/s^2] mean |acc| in [min, max] looks like g units
+  double g_units_max_m_s2 = 2.0;         ///< [m/s^2]
+  double acc_magnitude_tolerance = 0.5;  ///< warn when mean |acc| deviates from g more (fraction)
+  double depth_median_min_m = 0.05;      ///< [m] lower median valid depth: unit suspected wrong
+  double depth_median_max_m = 20.0;      ///< [m] higher median valid depth: unit suspected wrong
+  int depth_check_step_px = 4;           ///< [px] sampling step of the per-frame depth median
+  int max_listed_issues = 10;            ///< messages per kind of issue; further ones only counted
+
+  static StreamOptions load(IniReader& ini);
+};
+
+/// Everything a measurement source needs from the configuration.
+struct StreamConfig {
+  StreamOptions stream;
+  ImuOptions imu;              ///< rate_hz (gap threshold) and gravity_m_s2 (unit check)
+  ExtrinsicOptions extrinsic;  ///< T_body_cam and tolerances (sensorPose check)
+
+  static StreamConfig load(IniReader& ini);
+};
+
+}  // namespace rgbdi::io

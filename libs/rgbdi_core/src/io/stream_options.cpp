@@ -1,0 +1,37 @@
+#include "rgbdi/io/stream_options.h"
+
+namespace rgbdi::io {
+
+StreamOptions StreamOptions::load(IniReader& ini) {
+  StreamOptions o;
+  const std::string s = "stream";
+  o.imu_reorder_window_s = ini.getDouble(s, "imu_reorder_window_s", o.imu_reorder_window_s, 0.0, 10.0);
+  o.image_reorder_window_s =
+      ini.getDouble(s, "image_reorder_window_s", o.image_reorder_window_s, 0.0, 10.0);
+  o.imu_gap_factor = ini.getDouble(s, "imu_gap_factor", o.imu_gap_factor, 1.0, 1000.0);
+  o.image_gap_factor = ini.getDouble(s, "image_gap_factor", o.image_gap_factor, 1.0, 1000.0);
+  o.imu_rate_tolerance = ini.getDouble(s, "imu_rate_tolerance", o.imu_rate_tolerance, 0.0, 10.0);
+  o.g_units_min_m_s2 = ini.getDouble(s, "g_units_min_m_s2", o.g_units_min_m_s2, 0.0, 9.0);
+  o.g_units_max_m_s2 = ini.getDouble(s, "g_units_max_m_s2", o.g_units_max_m_s2, 0.0, 9.0);
+  if (o.g_units_max_m_s2 < o.g_units_min_m_s2)
+    ini.fail(s, "g_units_max_m_s2", "must not be smaller than g_units_min_m_s2");
+  o.acc_magnitude_tolerance =
+      ini.getDouble(s, "acc_magnitude_tolerance", o.acc_magnitude_tolerance, 0.0, 10.0);
+  o.depth_median_min_m = ini.getDouble(s, "depth_median_min_m", o.depth_median_min_m, 0.0, 1000.0);
+  o.depth_median_max_m = ini.getDouble(s, "depth_median_max_m", o.depth_median_max_m, 0.0, 1e6);
+  if (o.depth_median_max_m <= o.depth_median_min_m)
+    ini.fail(s, "depth_median_max_m", "must be larger than depth_median_min_m");
+  o.depth_check_step_px = ini.getInt(s, "depth_check_step_px", o.depth_check_step_px, 1, 64);
+  o.max_listed_issues = ini.getInt(s, "max_listed_issues", o.max_listed_issues, 0, 100000);
+  return o;
+}
+
+StreamConfig StreamConfig::load(IniReader& ini) {
+  StreamConfig c;
+  c.stream = StreamOptions::load(ini);
+  c.imu = ImuOptions::load(ini);
+  c.extrinsic = ExtrinsicOptions::load(ini);
+  return c;
+}
+
+}  // namespace rgbdi::io

@@ -1,0 +1,64 @@
+// [stream] options: defaults equal share/config.ini, ranges are enforced.
+#include <gtest/gtest.h>
+
+#include "rgbdi/io/stream_options.h"
+#include "testing/fixtures.h"
+
+namespace rgbdi::io {
+namespace {
+
+TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  const StreamOptions o = StreamOptions::load(ini);
+  const StreamOptions d;
+  EXPECT_EQ(o.imu_reorder_window_s, d.imu_reorder_window_s);
+  EXPECT_EQ(o.image_reorder_window_s, d.image_reorder_window_s);
+  EXPECT_EQ(o.imu_gap_factor, d.imu_gap_factor);
+  EXPECT_EQ(o.image_gap_factor, d.image_gap_factor);
+  EXPECT_EQ(o.imu_rate_tolerance, d.imu_rate_tolerance);
+  EXPECT_EQ(o.g_units_min_m_s2, d.g_units_min_m_s2);
+  EXPECT_EQ(o.g_units_max_m_s2, d.g_units_max_m_s2);
+  EXPECT_EQ(o.acc_magnitude_tolerance, d.acc_magnitude_tolerance);
+  EXPECT_EQ(o.depth_median_min_m, d.depth_median_min_m);
+  EXPECT_EQ(o.depth_median_max_m, d.depth_median_max_m);
+  EXPECT_EQ(o.depth_check_step_px, d.depth_check_step_px);
+  EXPECT_EQ(o.max_listed_issues, d.max_listed_issues);
+  // Every key of [stream] is one that StreamOptions reads.
+  for (const char* s : {"camera", "imu", "extrinsic", "frontend", "estimator", "loop", "mapping",
+                        "output", "sim"})
+    ini.acceptSection(s);
+  EXPECT_NO_THROW(ini.checkNoUnknownKeys());
+}
+
+TEST(StreamOptions, LoadsValuesAndRejectsBadOnes) {
+  IniReader ini = IniReader::fromText("[stream]\nimu_reorder_window_s = 0.02\nmax_listed_issues = 0\n", "t.ini");
+  const StreamOptions o = StreamOptions::load(ini);
+  EXPECT_EQ(o.imu_reorder_window_s, 0.02);
+  EXPECT_EQ(o.max_listed_issues, 0);
+
+  IniReader bad = IniReader::fromText("[stream]\nimage_gap_factor = 0.5\n", "bad.ini");
+  try {
+    StreamOptions::load(bad);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "bad.ini [stream] image_gap_factor: value 0.5 is out of the accepted range [1, 1000]");
+  }
+  IniReader inverted = IniReader::fromText("[stream]\ndepth_median_min_m = 30\n", "inv.ini");
+  try {
+    StreamOptions::load(inverted);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "inv.ini [stream] depth_median_max_m: must be larger than depth_median_min_m");
+  }
+}
+
+TEST(StreamConfig, LoadsStreamImuAndExtrinsic) {
+  IniReader ini = IniReader::fromText("[imu]\nrate_hz = 400\n[extrinsic]\nsensor_pose_tolerance_m = 0.05\n", "c.ini");
+  const StreamConfig c = StreamConfig::load(ini);
+  EXPECT_EQ(c.imu.rate_hz, 400.0);
+  EXPECT_EQ(c.extrinsic.sensor_pose_tolerance_m, 0.05);
+  EXPECT_EQ(c.stream.imu_gap_factor, 3.0);
+}
+
+}  // namespace
+}  // namespace rgbdi::io
