@@ -1,0 +1,77 @@
+// KLT feature tracker of the visual front end: one colour image in, the tracked features out.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdint>
+#include <vector>
+
+#include "rgbdi/common/camera.h"
+#include "rgbdi/common/types.h"
+#include "rgbdi/frontend/depth_registration.h"
+#include "rgbdi/frontend/feature_frame.h"
+#include "rgbdi/frontend/frontend_options.h"
+
+namespace rgbdi::frontend {
+
+/// Tracks Shi-Tomasi corners with pyramidal KLT across consecutive colour images.
+///
+/// Per image: grey conversion; forward KLT from the previous image and a backward KLT check
+/// (dropped when the round trip misses the start by more than klt_max_forward_backward_px);
+/// border check; fundamental-matrix RANSAC on undistorted points scaled to the camera's focal
+/// length; the survivors are kept longest-tracked first at least min_distance_px apart, and new
+/// corners are detected outside their neighbourhoods up to max_features. Each feature gets its
+/// undistorted normalised position, its velocity in normalised coordinates and a robust depth
+/// (sampleDepth on the depth registered to colour, when the frame has depth).
+///
+/// Deterministic: the same images give the same ids and positions (ids start at 0).
+/// Not thread-safe; use one tracker per camera stream.
+class FeatureTracker {
+ public:
+  /// `cam_color` is the colour camera used for undistortion and depth registration (the
+  /// intrinsics stored in frames are not used). Throws ConfigError for invalid options and
+  /// std::invalid_argument for invalid intrinsics.
+  FeatureTracker(const FrontendOptions& options, const PinholeCamera& cam_color);
+
+  /// Throws std::invalid_argument (naming frame.source_label) when the frame has no colour image,
+  /// an unsupported image type, a size different from the camera's, or a stamp not after the
+  /// previous frame's.
+  FeatureFrame track(const RgbdFrame& frame);
+
+  /// Forgets all tracks (e.g. after the estimator resets); ids keep increasing.
+  void reset();
+
+  const FrontendOptions& options() const { return options_; }
+  const PinholeCamera& camera() const { return cam_; }
+
+ private:
+  /// State of one feature between images.
+  struct Track {
+    std::uint64_t id;
+    cv::Point2f uv;
+    Eigen::Vector2d xn;
+    int length;
+    Eigen::Vector2d xn_velocity_from;  ///< xn in the previous image (for the velocity)
+  };
+
+  cv::Mat toGrey(const RgbdFrame& frame);
+  /// Forward/backward KLT, border and RANSAC checks; returns the surviving tracks moved to the
+  /// current image (positions updated, lengths incremented).
+  std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid, FeatureFrame& out);
+  /// Keeps features min_distance_px apart (longest-tracked first), then tops up with new corners.
+  void distributeAndDetect(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out);
+
+  FrontendOptions options_;
+  PinholeCamera cam_;
+  DepthRegistrar registrar_;
+  cv::Ptr<cv::CLAHE> clahe_;  ///< only when clahe_clip_limit > 0
+
+  bool has_previous_ = false;
+  double previous_t_ = 0.0;
+  std::vector<cv::Mat> previous_pyramid_;
+  std::vector<Track> previous_tracks_;
+  std::uint64_t next_id_ = 0;
+};
+
+}  // namespace rgbdi::frontend

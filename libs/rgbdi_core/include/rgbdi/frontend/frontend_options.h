@@ -1,0 +1,46 @@
+// Options of the visual front end: the [frontend] section of the configuration.
+#pragma once
+
+#include "rgbdi/common/ini_reader.h"
+
+namespace rgbdi::frontend {
+
+/// Tracker, outlier-rejection and depth-sampling parameters. Defaults equal share/config.ini.
+struct FrontendOptions {
+  // --- feature count and distribution ---
+  int max_features = 150;                 ///< [count] features kept per frame
+  double min_distance_px = 15.0;          ///< [px] no two features closer than this
+  double shi_tomasi_quality = 0.01;       ///< [unitless] corner threshold relative to the best corner
+  int shi_tomasi_block_size = 3;          ///< [px] window of the corner (min eigenvalue) measure
+  int border_px = 1;                      ///< [px] features closer than this to the image edge are dropped
+  /// [unitless] CLAHE contrast limit applied to the grey image before tracking; 0 disables it.
+  double clahe_clip_limit = 0.0;
+
+  // --- KLT tracking ---
+  int klt_window_px = 21;                 ///< [px] side of the KLT window
+  int klt_pyramid_levels = 3;             ///< [count] pyramid levels above the base image
+  int klt_max_iterations = 30;            ///< [count] Gauss-Newton iterations per level
+  double klt_epsilon_px = 0.01;           ///< [px] stop iterating when the update is smaller
+  /// [px] a feature is dropped when tracking it back to the previous image misses its start by more.
+  double klt_max_forward_backward_px = 0.5;
+
+  // --- geometric outlier rejection ---
+  double ransac_threshold_px = 1.0;       ///< [px] epipolar distance at the camera's focal length
+  double ransac_confidence = 0.99;        ///< [unitless] RANSAC success probability
+
+  // --- per-feature depth ---
+  double depth_min_m = 0.1;               ///< [m] nearest accepted feature depth
+  double depth_max_m = 3.0;               ///< [m] farthest accepted feature depth
+  int depth_neighbourhood_px = 2;         ///< [px] half-size of the hole/edge check window
+  double depth_max_relative_spread = 0.03;  ///< [unitless] (max-min)/median allowed in that window
+  /// [unitless] depth registration: a crack pixel is filled only when its two opposite neighbours
+  /// agree within this fraction of their depth.
+  double registration_fill_max_relative_diff = 0.02;
+
+  /// Throws ConfigError when fields are inconsistent with each other or out of their ranges.
+  void validate() const;
+  /// Reads [frontend]; missing keys keep the defaults above.
+  static FrontendOptions load(IniReader& ini);
+};
+
+}  // namespace rgbdi::frontend

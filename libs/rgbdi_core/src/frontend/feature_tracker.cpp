@@ -1,0 +1,243 @@
+#include "rgbdi/frontend/feature_tracker.h"
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "frontend/epipolar_ransac.h"
+#include "frontend/feature_spacing.h"
+#include "frontend/stopwatch.h"
+#include "rgbdi/frontend/depth_sampling.h"
+
+namespace rgbdi::frontend {
+namespace {
+
+[[noreturn]] void failFrame(const RgbdFrame& frame, const std::string& what) {
+  const std::string where =
+      frame.source_label.empty() ? "frame " + std::to_string(frame.index) : frame.source_label;
+  throw std::invalid_argument("FeatureTracker: " + where + ": " + what);
+}
+
+// CLAHE tiles: the usual 8x8 grid, only used when clahe_clip_limit enables equalisation.
+const cv::Size kClaheTiles(8, 8);
+
+}  // namespace
+
+FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCamera& cam_color)
+    : options_(options), cam_(cam_color), registrar_(options) {
+  options_.validate();
+  if (!cam_.valid())
+    throw std::invalid_argument("FeatureTracker: colour camera intrinsics are not valid (size " +
+                                std::to_string(cam_.width) + "x" + std::to_string(cam_.height) +
+                                ", fx " + std::to_string(cam_.fx) + ", fy " + std::to_string(cam_.fy) + ")");
+  if (options_.clahe_clip_limit > 0.0) clahe_ = cv::createCLAHE(options_.clahe_clip_limit, kClaheTiles);
+}
+
+void FeatureTracker::reset() {
+  has_previous_ = false;
+  previous_pyramid_.clear();
+  previous_tracks_.clear();
+}
+
+cv::Mat FeatureTracker::toGrey(const RgbdFrame& frame) {
+  cv::Mat grey;
+  if (frame.rgb.type() == CV_8UC3)
+    cv::cvtColor(frame.rgb, grey, cv::COLOR_RGB2GRAY);
+  else
+    grey = frame.rgb;  // already grey (checked by the caller)
+  if (clahe_) {
+    cv::Mat equalised;
+    clahe_->apply(grey, equalised);
+    return equalised;
+  }
+  return grey;
+}
+
+std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vector<cv::Mat>& pyramid,
+                                                                 FeatureFrame& out) {
+  Stopwatch watch;
+  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                  options_.klt_max_iterations, options_.klt_epsilon_px);
+  const size_t n = previous_tracks_.size();
+  std::vector<cv::Point2f> previous_uv(n), current_uv;
+  for (size_t i = 0; i < n; ++i) previous_uv[i] = previous_tracks_[i].uv;
+  std::vector<std::uint8_t> status;
+  std::vector<float> error;
+  if (n > 0)
+    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_uv, current_uv, status, error, window,
+                             options_.klt_pyramid_levels, criteria);
+
+  // Forward success and border check first, so the backward pass only runs on candidates.
+  std::vector<size_t> candidates;
+  for (size_t i = 0; i < n; ++i) {
+    if (!status[i]) {
+      ++out.n_klt_lost;
+      continue;
+    }
+    if (!cam_.inImage({current_uv[i].x, current_uv[i].y}, options_.border_px)) {
+      ++out.n_border_rejected;
+      continue;
+    }
+    candidates.push_back(i);
+  }
+
+  // Backward check: track the new positions back, starting from the old ones.
+  std::vector<cv::Point2f> forward(candidates.size()), backward(candidates.size());
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    forward[k] = current_uv[candidates[k]];
+    backward[k] = previous_uv[candidates[k]];
+  }
+  std::vector<std::uint8_t> back_status;
+  if (!forward.empty())
+    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status, error, window,
+                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const double max_fb2 = options_.klt_max_forward_backward_px * options_.klt_max_forward_backward_px;
+  std::vector<Track> survivors;
+  std::vector<Eigen::Vector2d> previous_xn, current_xn;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    const cv::Point2f miss = backward[k] - previous_uv[candidates[k]];
+    if (!back_status[k] || double(miss.dot(miss)) > max_fb2) {
+      ++out.n_klt_lost;
+      continue;
+    }
+    const Track& old = previous_tracks_[candidates[k]];
+    Track moved{old.id, forward[k], cam_.pixelToNormalized({forward[k].x, forward[k].y}),
+                old.length + 1, old.xn};
+    previous_xn.push_back(old.xn);
+    current_xn.push_back(moved.xn);
+    survivors.push_back(moved);
+  }
+  out.timings.klt_ms = watch.lapMs();
+
+  const std::vector<std::uint8_t> inlier = epipolarInliers(
+      previous_xn, current_xn, cam_, options_.ransac_threshold_px, options_.ransac_confidence);
+  std::vector<Track> kept;
+  kept.reserve(survivors.size());
+  for (size_t k = 0; k < survivors.size(); ++k) {
+    if (!inlier[k]) {
+      ++out.n_ransac_rejected;
+      continue;
+    }
+    kept.push_back(survivors[k]);
+  }
+  out.timings.ransac_ms = watch.lapMs();
+  return kept;
+}
+
+void FeatureTracker::distributeAndDetect(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out) {
+  // Longest-tracked features claim their neighbourhood first: they carry the most constraints
+  // for the estimator. Ties go to the older (smaller) id, which keeps the result deterministic.
+  std::vector<size_t> order(tracks.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (tracks[a].length != tracks[b].length) return tracks[a].length > tracks[b].length;
+    return tracks[a].id < tracks[b].id;
+  });
+  FeatureSpacing spacing(grey.cols, grey.rows, options_.min_distance_px);
+  std::vector<bool> keep(tracks.size(), false);
+  for (size_t i : order) {
+    if (spacing.isFree(tracks[i].uv)) {
+      spacing.accept(tracks[i].uv);
+      keep[i] = true;
+    } else {
+      ++out.n_too_close;
+    }
+  }
+  std::vector<Track> kept;
+  for (size_t i = 0; i < tracks.size(); ++i)
+    if (keep[i]) kept.push_back(tracks[i]);  // stays in id order
+  tracks.swap(kept);
+  out.n_tracked = static_cast<int>(tracks.size());
+
+  const int missing = options_.max_features - static_cast<int>(tracks.size());
+  if (missing <= 0) return;
+  // The mask keeps the detector away from the border band and from existing features; its
+  // circles are one pixel wider than min_distance_px because they are drawn around rounded
+  // centres. The exact distance test below has the last word.
+  cv::Mat mask(grey.size(), CV_8UC1, cv::Scalar(0));
+  const int b = options_.border_px;
+  if (grey.cols > 2 * b && grey.rows > 2 * b)
+    mask(cv::Rect(b, b, grey.cols - 2 * b, grey.rows - 2 * b)).setTo(255);
+  const int radius = static_cast<int>(std::ceil(options_.min_distance_px)) + 1;
+  for (const Track& t : tracks)
+    cv::circle(mask, cv::Point(cvRound(t.uv.x), cvRound(t.uv.y)), radius, cv::Scalar(0), cv::FILLED);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(grey, corners, missing, options_.shi_tomasi_quality, options_.min_distance_px,
+                          mask, options_.shi_tomasi_block_size, false);
+  for (const cv::Point2f& c : corners) {
+    if (!spacing.isFree(c) || !cam_.inImage({c.x, c.y}, options_.border_px)) continue;
+    spacing.accept(c);
+    tracks.push_back(Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
+    ++out.n_new;
+  }
+}
+
+FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
+  Stopwatch total, step;
+  if (!frame.hasColor()) failFrame(frame, "no colour image (the front end tracks colour images)");
+  if (frame.rgb.type() != CV_8UC3 && frame.rgb.type() != CV_8UC1)
+    failFrame(frame, "colour image must be CV_8UC3 (RGB) or CV_8UC1, got OpenCV type " +
+                         std::to_string(frame.rgb.type()));
+  if (frame.rgb.cols != cam_.width || frame.rgb.rows != cam_.height)
+    failFrame(frame, "colour image is " + std::to_string(frame.rgb.cols) + "x" +
+                         std::to_string(frame.rgb.rows) + " but the camera is " +
+                         std::to_string(cam_.width) + "x" + std::to_string(cam_.height));
+  if (!std::isfinite(frame.t)) failFrame(frame, "timestamp is not finite");
+  if (has_previous_ && !(frame.t > previous_t_)) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "timestamp " << frame.t << " s is not after the previous image's " << previous_t_ << " s";
+    failFrame(frame, os.str());
+  }
+
+  FeatureFrame out;
+  out.t = frame.t;
+  out.frame_index = frame.index;
+
+  const cv::Mat grey = toGrey(frame);
+  out.timings.grey_ms = step.lapMs();
+  std::vector<cv::Mat> pyramid;
+  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
+  // Derivatives are stored with the pyramid: this image is the source of the backward check now
+  // and of the forward pass next time, so they are computed once instead of twice.
+  cv::buildOpticalFlowPyramid(grey, pyramid, window, options_.klt_pyramid_levels, true);
+  out.timings.pyramid_ms = step.lapMs();
+
+  std::vector<Track> tracks;
+  if (has_previous_) tracks = trackPrevious(pyramid, out);
+  step.lapMs();  // klt_ms and ransac_ms were taken inside
+  distributeAndDetect(grey, tracks, out);
+  out.timings.detect_ms = step.lapMs();
+
+  const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
+  cv::Mat depth_m;
+  if (frame.hasDepth()) depth_m = registrar_.registerDepth(frame, cam_);
+  out.features.reserve(tracks.size());
+  for (const Track& t : tracks) {
+    FeatureObservation obs;
+    obs.id = t.id;
+    obs.uv = Eigen::Vector2d(t.uv.x, t.uv.y);
+    obs.xn = t.xn;
+    obs.track_length = t.length;
+    if (t.length > 1) obs.velocity_xn = (t.xn - t.xn_velocity_from) / dt;
+    if (!depth_m.empty()) obs.depth_m = sampleDepth(depth_m, obs.uv, options_);
+    if (obs.depth_m > 0.0) ++out.n_with_depth;
+    out.features.push_back(obs);
+  }
+  out.timings.depth_ms = step.lapMs();
+
+  previous_pyramid_ = std::move(pyramid);
+  previous_tracks_ = std::move(tracks);
+  previous_t_ = frame.t;
+  has_previous_ = true;
+  out.timings.total_ms = total.lapMs();
+  return out;
+}
+
+}  // namespace rgbdi::frontend

@@ -1,0 +1,406 @@
+// FeatureTracker on synthetic images with exact truth: a textured image moved by known sub-pixel
+// homographies, and a rendered 3-D scene with an independently moving patch.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <set>
+
+#include "rgbdi/frontend/feature_tracker.h"
+#include "synthetic_scene.h"
+
+using rgbdi::PinholeCamera;
+using rgbdi::RgbdFrame;
+using namespace rgbdi::frontend;
+using namespace rgbdi::test;
+
+namespace {
+
+/// Image motion of frame k: a small rotation and zoom about the image centre, a sub-pixel
+/// translation and a slight perspective term.
+Eigen::Matrix3d imageMotion(int k, double zoom_per_frame = 0.003) {
+  const double a = 0.15 * M_PI / 180 * k, s = 1.0 + zoom_per_frame * k;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Identity(), Ci = Eigen::Matrix3d::Identity();
+  C(0, 2) = 319.5;
+  C(1, 2) = 239.5;
+  Ci(0, 2) = -319.5;
+  Ci(1, 2) = -239.5;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  M.topLeftCorner<2, 2>() << s * std::cos(a), -s * std::sin(a), s * std::sin(a), s * std::cos(a);
+  M(0, 2) = 0.37 * k;
+  M(1, 2) = -0.61 * k;
+  M(2, 0) = 2e-6 * k;
+  M(2, 1) = -1e-6 * k;
+  return C * M * Ci;
+}
+
+Eigen::Vector2d apply(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
+  const Eigen::Vector3d q = H * p.homogeneous();
+  return q.head<2>() / q.z();
+}
+
+/// Frames of a texture seen through imageMotion(k); the texture is larger than the image so
+/// every pixel shows real texture.
+struct HomographySequence {
+  cv::Mat texture;
+  Eigen::Matrix3d texture_to_image0 = Eigen::Matrix3d::Identity();
+  std::vector<cv::Mat> images;
+  std::vector<Eigen::Matrix3d> motions;
+
+  explicit HomographySequence(int frames, double zoom_per_frame = 0.003) {
+    texture = randomRectangleTexture(960, 760, 7);
+    texture_to_image0(0, 2) = -160;
+    texture_to_image0(1, 2) = -140;
+    for (int k = 0; k < frames; ++k) {
+      motions.push_back(imageMotion(k, zoom_per_frame));
+      const Eigen::Matrix3d H = motions.back() * texture_to_image0;
+      cv::Mat Hcv(3, 3, CV_64F);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) Hcv.at<double>(r, c) = H(r, c);
+      cv::Mat warped;
+      cv::warpPerspective(texture, warped, Hcv, cv::Size(640, 480), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+      images.push_back(toGrey8(warped));
+    }
+  }
+};
+
+double minPairDistance(const FeatureFrame& f) {
+  double best = 1e9;
+  for (size_t i = 0; i < f.features.size(); ++i)
+    for (size_t j = i + 1; j < f.features.size(); ++j)
+      best = std::min(best, (f.features[i].uv - f.features[j].uv).norm());
+  return best;
+}
+
+constexpr double kDt = 1.0 / 30.0;
+
+}  // namespace
+
+TEST(FeatureTracker, SubPixelHomographyIsTrackedToATenthOfAPixel) {
+  const PinholeCamera cam = simpleCamera();
+  const FrontendOptions options;
+  const HomographySequence seq(8);
+  FeatureTracker tracker(options, cam);
+
+  struct Birth {
+    int frame;
+    Eigen::Vector2d uv;
+  };
+  std::map<std::uint64_t, Birth> born;
+  std::map<std::uint64_t, Eigen::Vector2d> previous_uv;
+  std::uint64_t max_id_so_far = 0;
+  // Frame-to-frame error, split by whether the KLT window lies inside the image (near the border
+  // part of the window sees the pyramid's reflected border, which does not move with the scene).
+  const double half_window = options.klt_window_px / 2 + 1;
+  double worst_step = 0.0, worst_step_border = 0.0, worst_drift = 0.0, sum_step = 0.0;
+  int steps = 0, border_steps = 0;
+  for (int k = 0; k < static_cast<int>(seq.images.size()); ++k) {
+    const FeatureFrame f = tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, 100 + k, cam));
+    EXPECT_EQ(f.frame_index, static_cast<std::uint64_t>(100 + k));
+    EXPECT_DOUBLE_EQ(f.t, k * kDt);
+    ASSERT_EQ(static_cast<int>(f.features.size()), options.max_features) << "frame " << k;
+    EXPECT_EQ(f.n_tracked + f.n_new, static_cast<int>(f.features.size()));
+    EXPECT_GE(minPairDistance(f), options.min_distance_px) << "frame " << k;
+    if (k == 0) {
+      EXPECT_EQ(f.n_new, options.max_features);
+      for (size_t i = 0; i < f.features.size(); ++i) EXPECT_EQ(f.features[i].id, i);  // ids start at 0
+    } else {
+      // Almost every feature survives a smooth sub-pixel motion of a textured plane.
+      EXPECT_GE(f.n_tracked, options.max_features * 95 / 100) << "frame " << k;
+    }
+    std::map<std::uint64_t, Eigen::Vector2d> uv_now;
+    for (size_t i = 0; i < f.features.size(); ++i) {
+      const FeatureObservation& o = f.features[i];
+      if (i > 0) {
+        EXPECT_GT(o.id, f.features[i - 1].id);  // ordered by id
+      }
+      uv_now[o.id] = o.uv;
+      EXPECT_TRUE(cam.inImage(o.uv, options.border_px));
+      if (o.track_length == 1) {
+        if (k > 0) {
+          EXPECT_GT(o.id, max_id_so_far);  // new ids are fresh
+        }
+        born[o.id] = {k, o.uv};
+        EXPECT_EQ(o.velocity_xn, Eigen::Vector2d::Zero());
+        continue;
+      }
+      // A continued track keeps its id from the previous frame and its length counts frames.
+      ASSERT_TRUE(previous_uv.count(o.id)) << "id " << o.id << " appeared with length " << o.track_length;
+      const Birth& b = born.at(o.id);
+      EXPECT_EQ(o.track_length, k - b.frame + 1);
+      const auto& M = seq.motions;
+      const Eigen::Vector2d from = previous_uv.at(o.id);
+      const double step_err = (o.uv - apply(M[size_t(k)] * M[size_t(k - 1)].inverse(), from)).norm();
+      if (cam.inImage(from, half_window) && cam.inImage(o.uv, half_window)) {
+        worst_step = std::max(worst_step, step_err);
+        sum_step += step_err;
+        ++steps;
+        const double drift = (o.uv - apply(M[size_t(k)] * M[size_t(b.frame)].inverse(), b.uv)).norm();
+        worst_drift = std::max(worst_drift, drift);
+      } else {
+        worst_step_border = std::max(worst_step_border, step_err);
+        ++border_steps;
+      }
+    }
+    for (const auto& [id, uv] : uv_now) max_id_so_far = std::max(max_id_so_far, id);
+    previous_uv = uv_now;
+  }
+  std::cout << "KLT frame-to-frame error over " << steps << " steps: mean " << sum_step / steps << " px, worst "
+            << worst_step << " px; " << border_steps << " steps near the border: worst " << worst_step_border
+            << " px; drift over up to 7 frames: worst " << worst_drift << " px\n";
+  EXPECT_GT(steps, 800);
+  EXPECT_LT(worst_step, 0.1);
+  EXPECT_LT(worst_step_border, 0.5);
+  // KLT's translation-only window model is slightly biased under rotation + zoom, so frame-to-frame
+  // errors add up along a track (about 0.02 px per frame here).
+  EXPECT_LT(worst_drift, 0.3);
+}
+
+TEST(FeatureTracker, NormalisedPositionsAndVelocitiesFollowTheCameraModel) {
+  PinholeCamera cam = simpleCamera();
+  cam.dist = {-0.21, 0.05, 0.001, -0.0005, 0.0};
+  const HomographySequence seq(3);
+  FeatureTracker tracker(FrontendOptions(), cam);
+  std::map<std::uint64_t, Eigen::Vector2d> previous_xn;
+  int with_velocity = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double t = 5.0 + k * kDt;
+    const FeatureFrame f = tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], t, k, cam));
+    std::map<std::uint64_t, Eigen::Vector2d> xn;
+    for (const FeatureObservation& o : f.features) {
+      EXPECT_LT((o.xn - cam.pixelToNormalized(o.uv)).norm(), 1e-12);
+      xn[o.id] = o.xn;
+      if (o.track_length > 1) {
+        const Eigen::Vector2d expected = (o.xn - previous_xn.at(o.id)) / kDt;
+        EXPECT_LT((o.velocity_xn - expected).norm(), 1e-9 * (1.0 + expected.norm()));
+        ++with_velocity;
+      }
+    }
+    previous_xn = xn;
+  }
+  EXPECT_GT(with_velocity, 200);
+}
+
+TEST(FeatureTracker, ZoomingOutKeepsFeaturesApartAndTopsUp) {
+  // Zooming out by 4 % per frame pulls features together: some must be dropped (longest tracks
+  // kept) and new ones detected, and the minimum distance must hold in every frame.
+  const PinholeCamera cam = simpleCamera();
+  const FrontendOptions options;
+  const HomographySequence seq(8, -0.04);
+  FeatureTracker tracker(options, cam);
+  int too_close = 0;
+  for (int k = 0; k < 8; ++k) {
+    const FeatureFrame f = tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam));
+    too_close += f.n_too_close;
+    EXPECT_GE(minPairDistance(f), options.min_distance_px) << "frame " << k;
+    EXPECT_EQ(static_cast<int>(f.features.size()), options.max_features) << "frame " << k;
+    if (k > 0) {
+      EXPECT_GT(f.n_tracked, 100) << "frame " << k;
+    }
+  }
+  EXPECT_GT(too_close, 0);
+}
+
+TEST(FeatureTracker, SameInputGivesIdenticalOutput) {
+  const PinholeCamera cam = simpleCamera();
+  const HomographySequence seq(4);
+  auto run = [&]() {
+    FeatureTracker tracker(FrontendOptions(), cam);
+    std::vector<FeatureFrame> out;
+    for (int k = 0; k < 4; ++k)
+      out.push_back(tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam)));
+    return out;
+  };
+  const auto a = run(), b = run();
+  for (size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a[k].features.size(), b[k].features.size());
+    for (size_t i = 0; i < a[k].features.size(); ++i) {
+      EXPECT_EQ(a[k].features[i].id, b[k].features[i].id);
+      EXPECT_EQ(a[k].features[i].uv, b[k].features[i].uv);  // bit-identical
+      EXPECT_EQ(a[k].features[i].track_length, b[k].features[i].track_length);
+    }
+  }
+}
+
+TEST(FeatureTracker, ResetStartsNewTracksWithFreshIds) {
+  const PinholeCamera cam = simpleCamera();
+  const HomographySequence seq(3);
+  FeatureTracker tracker(FrontendOptions(), cam);
+  const FeatureFrame f0 = tracker.track(colourFrame(seq.images[0], 0.0, 0, cam));
+  tracker.reset();
+  const FeatureFrame f1 = tracker.track(colourFrame(seq.images[1], kDt, 1, cam));
+  EXPECT_EQ(f1.n_tracked, 0);
+  EXPECT_EQ(f1.features.front().id, f0.features.back().id + 1);
+  for (const FeatureObservation& o : f1.features) EXPECT_EQ(o.track_length, 1);
+}
+
+TEST(FeatureTracker, BadFramesAreReportedWithTheirLabel) {
+  const PinholeCamera cam = simpleCamera();
+  FeatureTracker tracker(FrontendOptions(), cam);
+  const cv::Mat grey = toGrey8(randomRectangleTexture(640, 480, 3));
+  auto expectMessage = [&](const RgbdFrame& f, const std::string& part) {
+    try {
+      tracker.track(f);
+      FAIL() << "expected std::invalid_argument containing " << part;
+    } catch (const std::invalid_argument& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(f.source_label), std::string::npos) << msg;
+      EXPECT_NE(msg.find(part), std::string::npos) << msg;
+    }
+  };
+  RgbdFrame no_colour = colourFrame(grey, 1.0, 1, cam);
+  no_colour.rgb = cv::Mat();
+  expectMessage(no_colour, "no colour image");
+  RgbdFrame small = colourFrame(grey(cv::Rect(0, 0, 320, 240)).clone(), 1.0, 1, cam);
+  expectMessage(small, "320x240");
+  RgbdFrame wrong_type = colourFrame(grey, 1.0, 1, cam);
+  wrong_type.rgb.convertTo(wrong_type.rgb, CV_16UC3);
+  expectMessage(wrong_type, "CV_8UC3");
+
+  // A grey CV_8UC1 image is accepted; then time must move forward.
+  EXPECT_NO_THROW(tracker.track(colourFrame(grey, 1.0, 1, cam)));
+  RgbdFrame grey_frame = colourFrame(grey, 2.0, 2, cam);
+  grey_frame.rgb = grey;
+  EXPECT_NO_THROW(tracker.track(grey_frame));
+  expectMessage(colourFrame(grey, 2.0, 3, cam), "not after the previous");
+
+  EXPECT_THROW(FeatureTracker(FrontendOptions(), PinholeCamera()), std::invalid_argument);
+  FrontendOptions bad;
+  bad.max_features = -3;
+  EXPECT_THROW(FeatureTracker(bad, cam), rgbdi::ConfigError);
+}
+
+// --- rendered 3-D scene with an independently moving object ---------------------------------
+
+namespace {
+
+struct LayeredScene {
+  Scene scene;
+  int patch = -1;  ///< surface index of the moving patch
+  std::vector<double> surface_depth;
+};
+
+LayeredScene makeLayeredScene(const Eigen::Vector3d& patch_offset) {
+  LayeredScene s;
+  auto addPlane = [&](double z, double x0, double x1, double y0, double y1, std::uint64_t seed) {
+    const double texel = z / 500.0;  // about one texel per pixel
+    const int tw = static_cast<int>((x1 - x0) / texel) + 4, th = static_cast<int>((y1 - y0) / texel) + 4;
+    s.scene.textures.push_back(randomRectangleTexture(tw, th, seed, tw * th / 500));
+    TexturedRect r{{x0, y0, z}, {x1 - x0, 0, 0}, {0, y1 - y0, 0}, static_cast<int>(s.scene.textures.size()) - 1, texel};
+    s.scene.rects.push_back(r);
+    s.surface_depth.push_back(z);
+    return static_cast<int>(s.scene.rects.size()) - 1;
+  };
+  addPlane(4.0, -4.0, 4.0, -3.0, 3.0, 11);    // back wall: beyond depth_max_m (3 m)
+  addPlane(2.5, -1.6, -0.1, -1.2, 1.2, 12);   // left panel
+  addPlane(1.6, 0.15, 0.9, -0.2, 0.7, 13);    // near panel, lower right
+  s.patch = addPlane(2.0, -0.05 + patch_offset.x(), 0.65 + patch_offset.x(), -0.9 + patch_offset.y(),
+                     -0.3 + patch_offset.y(), 14);  // the independently moving object, upper middle
+  return s;
+}
+
+RgbdFrame renderFrame(const LayeredScene& s, const PinholeCamera& cam, const Eigen::Isometry3d& T_world_cam,
+                      double t, std::uint64_t index, RenderOutput* truth) {
+  *truth = render(s.scene, cam, T_world_cam);
+  RgbdFrame f = colourFrame(toGrey8(truth->grey), t, index, cam);
+  f.depth_aligned_to_color = true;
+  f.depth_unit_m = 1e-3;
+  truth->depth.convertTo(f.depth, CV_16UC1, 1000.0);
+  return f;
+}
+
+}  // namespace
+
+TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
+  const PinholeCamera cam = simpleCamera();
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
+  T1.linear() = Eigen::AngleAxisd(0.5 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T1.translation() = Eigen::Vector3d(0.04, 0.005, 0.03);
+  const LayeredScene s0 = makeLayeredScene(Eigen::Vector3d::Zero());
+  // The patch moves 3 cm down while the camera moves mostly sideways: about 7 px off every
+  // epipolar line.
+  const LayeredScene s1 = makeLayeredScene(Eigen::Vector3d(0, 0.03, 0));
+  RenderOutput truth0, truth1;
+  const RgbdFrame f0 = renderFrame(s0, cam, Eigen::Isometry3d::Identity(), 0.0, 0, &truth0);
+  const RgbdFrame f1 = renderFrame(s1, cam, T1, kDt, 1, &truth1);
+
+  auto runPair = [&](const FrontendOptions& options, FeatureFrame* out0) {
+    FeatureTracker tracker(options, cam);
+    *out0 = tracker.track(f0);
+    return tracker.track(f1);
+  };
+
+  const FrontendOptions options;
+  FeatureFrame a0;
+  const FeatureFrame a1 = runPair(options, &a0);
+
+  // Classify frame-0 features by what their whole KLT window shows.
+  const int half_window = options.klt_window_px / 2;
+  std::set<std::uint64_t> patch_ids, static_ids;
+  for (const FeatureObservation& o : a0.features) {
+    const int u = static_cast<int>(std::lround(o.uv.x())), v = static_cast<int>(std::lround(o.uv.y()));
+    if (!uniformSurface(truth0.surface, u, v, half_window)) continue;
+    (truth0.surface.at<int>(v, u) == s0.patch ? patch_ids : static_ids).insert(o.id);
+  }
+  ASSERT_GE(patch_ids.size(), 8u) << "the patch must carry features for this test to mean anything";
+  ASSERT_GE(static_ids.size(), 60u);
+
+  std::map<std::uint64_t, FeatureObservation> in1;
+  for (const FeatureObservation& o : a1.features) in1[o.id] = o;
+  std::map<std::uint64_t, FeatureObservation> in0;
+  for (const FeatureObservation& o : a0.features) in0[o.id] = o;
+
+  for (std::uint64_t id : patch_ids) EXPECT_FALSE(in1.count(id)) << "patch feature " << id << " survived";
+  EXPECT_GE(a1.n_ransac_rejected, static_cast<int>(patch_ids.size()) / 2);
+  int static_survivors = 0;
+  double worst = 0.0;
+  for (std::uint64_t id : static_ids) {
+    if (!in1.count(id)) continue;
+    ++static_survivors;
+    // Truth: back-project with the rendered depth, move into camera 1, project.
+    const Eigen::Vector2d uv0 = in0.at(id).uv;
+    const double z = truth0.depth.at<double>(static_cast<int>(uv0.y()), static_cast<int>(uv0.x()));
+    Eigen::Vector2d uv1;
+    ASSERT_TRUE(cam.project(T1.inverse() * cam.backProject(uv0, z), uv1));
+    worst = std::max(worst, (in1.at(id).uv - uv1).norm());
+  }
+  std::cout << "patch features " << patch_ids.size() << ", RANSAC rejected " << a1.n_ransac_rejected
+            << ", static survivors " << static_survivors << "/" << static_ids.size() << ", worst static error "
+            << worst << " px\n";
+  EXPECT_GE(static_survivors, static_cast<int>(static_ids.size()) * 9 / 10);
+  EXPECT_LT(worst, 0.3);
+
+  // Without the epipolar check the patch features are tracked (so RANSAC is what removed them).
+  FrontendOptions loose = options;
+  loose.ransac_threshold_px = 20.0;
+  FeatureFrame b0;
+  const FeatureFrame b1 = runPair(loose, &b0);
+  int patch_kept_without_ransac = 0;
+  for (const FeatureObservation& o : b1.features) patch_kept_without_ransac += patch_ids.count(o.id) ? 1 : 0;
+  EXPECT_GE(patch_kept_without_ransac, static_cast<int>(patch_ids.size()) * 3 / 4);
+
+  // Depth: exact on a surface interior within range, 0 beyond depth_max_m (the 4 m wall) and
+  // 0 when the 5x5 window crosses an edge (all surfaces here differ by far more than 3 %).
+  int exact = 0, edge_rejected = 0;
+  for (const FeatureObservation& o : a0.features) {
+    const int u = static_cast<int>(std::lround(o.uv.x())), v = static_cast<int>(std::lround(o.uv.y()));
+    if (!uniformSurface(truth0.surface, u, v, options.depth_neighbourhood_px)) {
+      EXPECT_EQ(o.depth_m, 0.0) << "feature on a depth edge at " << o.uv.transpose();
+      ++edge_rejected;
+      continue;
+    }
+    const double z = s0.surface_depth[static_cast<size_t>(truth0.surface.at<int>(v, u))];
+    if (z > options.depth_max_m) {
+      EXPECT_EQ(o.depth_m, 0.0);
+    } else {
+      EXPECT_NEAR(o.depth_m, z, 1e-6);  // float registration buffer
+      ++exact;
+    }
+  }
+  EXPECT_GT(exact, 20);
+  EXPECT_GT(edge_rejected, 3);
+  EXPECT_EQ(a0.n_with_depth, exact);
+}
