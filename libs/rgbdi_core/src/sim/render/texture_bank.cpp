@@ -1,0 +1,79 @@
+#include <cmath>
+#include <stdexcept>
+
+#include "rgbdi/sim/texture.h"
+#include "sim/render/det_random.h"
+
+namespace rgbdi::sim {
+
+std::string toString(TextureStyle style) {
+  switch (style) {
+    case TextureStyle::Posters: return "posters";
+    case TextureStyle::Bricks: return "bricks";
+    case TextureStyle::Tiles: return "tiles";
+    case TextureStyle::Shelves: return "shelves";
+    case TextureStyle::Speckle: return "speckle";
+    case TextureStyle::Planks: return "planks";
+  }
+  return "unknown";
+}
+
+TextureBank::TextureBank(std::uint64_t seed, const TextureOptions& options)
+    : seed_(seed), options_(options) {
+  if (!(options.texel_size_m > 0.0) || !std::isfinite(options.texel_size_m))
+    throw std::invalid_argument("TextureOptions: texel_size_m must be positive");
+  if (options.size_log2 < 4 || options.size_log2 > 13)
+    throw std::invalid_argument("TextureOptions: size_log2 must be in [4, 13]");
+  if (options.variants_per_style < 1 || options.variants_per_style > 64)
+    throw std::invalid_argument("TextureOptions: variants_per_style must be in [1, 64]");
+}
+
+MaterialAppearance TextureBank::resolve(const Material& material) {
+  detail::DetRandom rnd(material.seed);
+  const int variant = rnd.integer(0, options_.variants_per_style - 1);
+  const auto key = std::make_pair(static_cast<int>(material.style), variant);
+  auto it = index_.find(key);
+  if (it == index_.end()) {
+    const int size = 1 << options_.size_log2;
+    const std::uint64_t tex_seed =
+        detail::mixSeed(seed_, static_cast<std::uint64_t>(key.first * 64 + key.second));
+    textures_.emplace_back(generateTexture(material.style, size, options_.texel_size_m, tex_seed));
+    it = index_.emplace(key, static_cast<int>(textures_.size() - 1)).first;
+  }
+  MaterialAppearance a;
+  a.texture = it->second;
+  const double period = options_.texel_size_m * (1 << options_.size_log2);
+  a.offset_m = {rnd.uniform(0.0, period), rnd.uniform(0.0, period)};
+  // Styles with a natural "up" (brick courses, shelves, planks, poster text) are only mirrored
+  // left-right; the others may also be turned by quarter turns.
+  const bool upright = material.style == TextureStyle::Bricks ||
+                       material.style == TextureStyle::Shelves ||
+                       material.style == TextureStyle::Planks ||
+                       material.style == TextureStyle::Posters;
+  a.orientation = upright ? (rnd.chance(0.5) ? 4 : 0) : rnd.integer(0, 7);
+  const float brightness = static_cast<float>(rnd.uniform(0.9, 1.1));
+  for (int c = 0; c < 3; ++c) a.gain[c] = brightness * static_cast<float>(rnd.uniform(0.9, 1.1));
+  return a;
+}
+
+Eigen::Vector3f TextureBank::sample(const MaterialAppearance& appearance,
+                                    const Eigen::Vector2d& uv_m, double footprint_m) const {
+  double a = uv_m.x(), b = uv_m.y();
+  if (appearance.orientation & 4) a = -a;
+  switch (appearance.orientation & 3) {
+    case 1: std::swap(a, b); a = -a; break;
+    case 2: a = -a; b = -b; break;
+    case 3: std::swap(a, b); b = -b; break;
+    default: break;
+  }
+  const double inv_texel = 1.0 / options_.texel_size_m;
+  // Surface v points up (world z on vertical faces) while image rows go down: negate v so the
+  // texture is upright.
+  const double u = (a + appearance.offset_m.x()) * inv_texel;
+  const double v = (appearance.offset_m.y() - b) * inv_texel;
+  const float lod = std::log2(static_cast<float>(footprint_m * inv_texel));
+  const Eigen::Vector3f c = textures_[static_cast<std::size_t>(appearance.texture)].sample(u, v, lod);
+  return c.cwiseProduct(appearance.gain);
+}
+
+}  // namespace rgbdi::sim

@@ -1,0 +1,265 @@
+#include "rgbdi/sim/scene.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "sim/render/det_random.h"
+
+namespace rgbdi::sim {
+
+Scene::Scene(std::uint64_t seed, const TextureOptions& texture_options)
+    : seed_(seed), textures_(seed, texture_options) {}
+
+MaterialId Scene::addMaterial(TextureStyle style) {
+  const MaterialId id = static_cast<MaterialId>(materials_.size());
+  materials_.push_back({style, detail::mixSeed(seed_, 0x6d61746cULL + id)});
+  built_ = false;
+  return id;
+}
+
+const Material& Scene::material(MaterialId id) const {
+  if (id >= materials_.size())
+    throw std::out_of_range("Scene::material: unknown material id " + std::to_string(id));
+  return materials_[id];
+}
+
+std::uint32_t Scene::addRef(Kind kind, std::size_t index) {
+  refs_.push_back({kind, static_cast<std::uint32_t>(index)});
+  built_ = false;
+  return static_cast<std::uint32_t>(refs_.size() - 1);
+}
+
+std::uint32_t Scene::addBox(const Eigen::Isometry3d& T_world_box,
+                            const Eigen::Vector3d& half_extents, TextureStyle style) {
+  std::array<MaterialId, Box::kFaces> m{};
+  for (auto& id : m) id = addMaterial(style);
+  return addBox(T_world_box, half_extents, m);
+}
+
+std::uint32_t Scene::addBox(const Eigen::Isometry3d& T_world_box,
+                            const Eigen::Vector3d& half_extents,
+                            const std::array<MaterialId, Box::kFaces>& materials) {
+  for (MaterialId id : materials) material(id);  // validates
+  boxes_.emplace_back(T_world_box, half_extents, materials);
+  return addRef(Kind::Box, boxes_.size() - 1);
+}
+
+std::uint32_t Scene::addCylinder(const Eigen::Vector2d& center_xy, double radius, double z_min,
+                                 double z_max, TextureStyle style) {
+  std::array<MaterialId, Cylinder::kFaces> m{};
+  for (auto& id : m) id = addMaterial(style);
+  cylinders_.emplace_back(center_xy, radius, z_min, z_max, m);
+  return addRef(Kind::Cylinder, cylinders_.size() - 1);
+}
+
+std::uint32_t Scene::addPrism(const Eigen::Isometry3d& T_world_prism,
+                              const std::array<Eigen::Vector2d, 3>& profile_xz, double half_width,
+                              TextureStyle style) {
+  std::array<MaterialId, Prism::kFaces> m{};
+  for (auto& id : m) id = addMaterial(style);
+  prisms_.emplace_back(T_world_prism, profile_xz, half_width, m);
+  return addRef(Kind::Prism, prisms_.size() - 1);
+}
+
+namespace {
+
+// Frame whose x axis runs horizontally from `from` to `to`, z up, origin at `from` on base_z.
+Eigen::Isometry3d rampFrame(const Eigen::Vector2d& from_xy, const Eigen::Vector2d& to_xy,
+                            double base_z, double& length) {
+  const Eigen::Vector2d d = to_xy - from_xy;
+  length = d.norm();
+  if (!(length > 0.0) || !std::isfinite(length))
+    throw std::invalid_argument("Scene: ramp start and end must be distinct finite points");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(std::atan2(d.y(), d.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(from_xy.x(), from_xy.y(), base_z);
+  return T;
+}
+
+void checkRampSize(double width, double height) {
+  if (!(width > 0.0) || !(height > 0.0) || !std::isfinite(width) || !std::isfinite(height))
+    throw std::invalid_argument("Scene: ramp width and height must be positive and finite");
+}
+
+}  // namespace
+
+std::uint32_t Scene::addRamp(const Eigen::Vector2d& from_xy, const Eigen::Vector2d& to_xy,
+                             double base_z, double width, double height, TextureStyle style) {
+  checkRampSize(width, height);
+  double length = 0.0;
+  const Eigen::Isometry3d T = rampFrame(from_xy, to_xy, base_z, length);
+  return addPrism(T, {Eigen::Vector2d(0, 0), Eigen::Vector2d(length, 0), Eigen::Vector2d(length, height)},
+                  0.5 * width, style);
+}
+
+std::uint32_t Scene::addSymmetricRamp(const Eigen::Vector2d& from_xy, const Eigen::Vector2d& to_xy,
+                                      double base_z, double width, double height,
+                                      TextureStyle style) {
+  checkRampSize(width, height);
+  double length = 0.0;
+  const Eigen::Isometry3d T = rampFrame(from_xy, to_xy, base_z, length);
+  return addPrism(T,
+                  {Eigen::Vector2d(0, 0), Eigen::Vector2d(length, 0), Eigen::Vector2d(0.5 * length, height)},
+                  0.5 * width, style);
+}
+
+std::uint32_t Scene::addStep(const Eigen::Vector2d& center_xy, const Eigen::Vector2d& size_xy,
+                             double yaw, double base_z, double height, TextureStyle style) {
+  if (!(size_xy.array() > 0.0).all() || !(height > 0.0))
+    throw std::invalid_argument("Scene::addStep: size and height must be positive");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(center_xy.x(), center_xy.y(), base_z + 0.5 * height);
+  return addBox(T, Eigen::Vector3d(0.5 * size_xy.x(), 0.5 * size_xy.y(), 0.5 * height), style);
+}
+
+std::array<std::uint32_t, 6> Scene::addRoom(const Eigen::Vector3d& min_corner,
+                                            const Eigen::Vector3d& max_corner,
+                                            const RoomStyles& styles, double wall_thickness) {
+  if (!((max_corner - min_corner).array() > 0.0).all() || !min_corner.allFinite() ||
+      !max_corner.allFinite())
+    throw std::invalid_argument("Scene::addRoom: need finite min_corner < max_corner on every axis");
+  if (!(wall_thickness > 0.0)) throw std::invalid_argument("Scene::addRoom: wall thickness must be positive");
+  const double w = wall_thickness;
+  // Slabs extend by the wall thickness beyond the interior on every side so corners are closed.
+  auto slab = [&](Eigen::Vector3d lo, Eigen::Vector3d hi, TextureStyle style) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = 0.5 * (lo + hi);
+    return addBox(T, 0.5 * (hi - lo), style);
+  };
+  const Eigen::Vector3d lo = min_corner - Eigen::Vector3d::Constant(w);
+  const Eigen::Vector3d hi = max_corner + Eigen::Vector3d::Constant(w);
+  std::array<std::uint32_t, 6> ids{};
+  ids[0] = slab(lo, {hi.x(), hi.y(), min_corner.z()}, styles.floor);
+  ids[1] = slab({lo.x(), lo.y(), max_corner.z()}, hi, styles.ceiling);
+  ids[2] = slab({lo.x(), lo.y(), min_corner.z()}, {min_corner.x(), hi.y(), max_corner.z()}, styles.walls[0]);
+  ids[3] = slab({max_corner.x(), lo.y(), min_corner.z()}, {hi.x(), hi.y(), max_corner.z()}, styles.walls[1]);
+  ids[4] = slab({min_corner.x(), lo.y(), min_corner.z()}, {max_corner.x(), min_corner.y(), max_corner.z()},
+                styles.walls[2]);
+  ids[5] = slab({min_corner.x(), max_corner.y(), min_corner.z()}, {max_corner.x(), hi.y(), max_corner.z()},
+                styles.walls[3]);
+  return ids;
+}
+
+void Scene::build() {
+  std::vector<Eigen::AlignedBox3d> boxes;
+  boxes.reserve(refs_.size());
+  for (const Ref& r : refs_) {
+    switch (r.kind) {
+      case Kind::Box: boxes.push_back(boxes_[r.index].bounds()); break;
+      case Kind::Cylinder: boxes.push_back(cylinders_[r.index].bounds()); break;
+      case Kind::Prism: boxes.push_back(prisms_[r.index].bounds()); break;
+    }
+  }
+  bvh_.build(boxes);
+  appearances_.clear();
+  appearances_.reserve(materials_.size());
+  for (const Material& m : materials_) appearances_.push_back(textures_.resolve(m));
+  built_ = true;
+}
+
+void Scene::requireBuilt(const char* what) const {
+  if (!built_)
+    throw std::logic_error(std::string("Scene::") + what +
+                           ": call build() after adding primitives and before using the scene");
+}
+
+Eigen::AlignedBox3d Scene::bounds() const {
+  Eigen::AlignedBox3d b;
+  for (const Box& x : boxes_) b.extend(x.bounds());
+  for (const Cylinder& x : cylinders_) b.extend(x.bounds());
+  for (const Prism& x : prisms_) b.extend(x.bounds());
+  return b;
+}
+
+bool Scene::intersectRef(std::uint32_t prim, const Eigen::Vector3d& origin,
+                         const Eigen::Vector3d& dir, double t_max, PrimitiveHit& hit) const {
+  const Ref r = refs_[prim];
+  switch (r.kind) {
+    case Kind::Box: return boxes_[r.index].intersect(origin, dir, t_max, hit);
+    case Kind::Cylinder: return cylinders_[r.index].intersect(origin, dir, t_max, hit);
+    case Kind::Prism: return prisms_[r.index].intersect(origin, dir, t_max, hit);
+  }
+  return false;
+}
+
+void Scene::fillHit(std::uint32_t prim, const PrimitiveHit& ph, const Eigen::Vector3d& origin,
+                    const Eigen::Vector3d& dir, Hit& hit) const {
+  hit.t = ph.t;
+  hit.point = origin + ph.t * dir;
+  hit.primitive = prim;
+  hit.face = ph.face;
+  const Ref r = refs_[prim];
+  SurfaceInfo s;
+  switch (r.kind) {
+    case Kind::Box:
+      s = boxes_[r.index].surface(hit.point, ph.face);
+      hit.material = boxes_[r.index].material(ph.face);
+      break;
+    case Kind::Cylinder:
+      s = cylinders_[r.index].surface(hit.point, ph.face);
+      hit.material = cylinders_[r.index].material(ph.face);
+      break;
+    case Kind::Prism:
+      s = prisms_[r.index].surface(hit.point, ph.face);
+      hit.material = prisms_[r.index].material(ph.face);
+      break;
+  }
+  // Seen from inside a solid the outward normal points away from the viewer: flip it.
+  hit.normal = s.normal.dot(dir) > 0.0 ? Eigen::Vector3d(-s.normal) : s.normal;
+  hit.uv = s.uv;
+}
+
+namespace {
+// Equal distances (e.g. a ray through an edge shared by two slabs) go to the lower primitive
+// index, so the BVH and the brute-force search agree whatever order they visit primitives in.
+bool closer(const PrimitiveHit& h, std::uint32_t prim, const PrimitiveHit& best,
+            std::uint32_t best_prim) {
+  return best.face < 0 || h.t < best.t || (h.t == best.t && prim < best_prim);
+}
+}  // namespace
+
+bool Scene::raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_range,
+                    Hit& hit) const {
+  requireBuilt("raycast");
+  PrimitiveHit best;
+  std::uint32_t best_prim = 0;
+  bvh_.traverse(origin, dir, max_range, [&](std::uint32_t prim, double& t_max) {
+    PrimitiveHit ph;
+    if (intersectRef(prim, origin, dir, t_max, ph) && closer(ph, prim, best, best_prim)) {
+      best = ph;
+      best_prim = prim;
+      t_max = ph.t;
+    }
+  });
+  if (best.face < 0) return false;
+  fillHit(best_prim, best, origin, dir, hit);
+  return true;
+}
+
+bool Scene::raycastBruteForce(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                              double max_range, Hit& hit) const {
+  requireBuilt("raycastBruteForce");
+  PrimitiveHit best;
+  std::uint32_t best_prim = 0;
+  double t_max = max_range;
+  for (std::uint32_t prim = 0; prim < refs_.size(); ++prim) {
+    PrimitiveHit ph;
+    if (intersectRef(prim, origin, dir, t_max, ph) && closer(ph, prim, best, best_prim)) {
+      best = ph;
+      best_prim = prim;
+      t_max = ph.t;
+    }
+  }
+  if (best.face < 0) return false;
+  fillHit(best_prim, best, origin, dir, hit);
+  return true;
+}
+
+Eigen::Vector3f Scene::surfaceColor(MaterialId material, const Eigen::Vector2d& uv_m,
+                                    double footprint_m) const {
+  return textures_.sample(appearances_[material], uv_m, footprint_m);
+}
+
+}  // namespace rgbdi::sim
