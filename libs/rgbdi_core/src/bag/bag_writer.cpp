@@ -1,0 +1,197 @@
+#include "rgbdi/bag/bag_writer.h"
+
+#include <geometry_msgs/PoseStamped.h>
+#include <rosbag/bag.h>
+#include <rosbag/exceptions.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+namespace rgbdi::bag {
+
+struct BagWriter::Impl {
+  rosbag::Bag bag;
+  // Reused message buffers: a frame is ~1.5 MB, so avoid reallocating per frame.
+  sensor_msgs::Image color, depth;
+  std::uint32_t seq_color = 0, seq_imu = 0, seq_pose = 0;
+};
+
+std::string toString(Compression c) {
+  switch (c) {
+    case Compression::None: return "none";
+    case Compression::Bz2: return "bz2";
+    case Compression::Lz4: return "lz4";
+  }
+  return "none";
+}
+
+Compression parseCompression(const std::string& name) {
+  if (name == "none") return Compression::None;
+  if (name == "bz2") return Compression::Bz2;
+  if (name == "lz4") return Compression::Lz4;
+  throw std::invalid_argument("unknown bag compression '" + name + "' (valid: none, bz2, lz4)");
+}
+
+namespace {
+
+ros::Time rosTime(double t, const std::string& what) {
+  if (!(t > 0.0) || !std::isfinite(t) || t > 4294967295.0)
+    throw BagError(what + ": stamp " + std::to_string(t) +
+                   " s cannot be a ROS time (must be in (0, 2^32) s)");
+  return ros::Time(t);
+}
+
+}  // namespace
+
+BagWriter::BagWriter(const std::string& path, Compression compression, const BagTopics& topics)
+    : impl_(std::make_unique<Impl>()),
+      path_(path),
+      tmp_path_(path + ".tmp." + std::to_string(::getpid())),
+      topics_(topics) {
+  try {
+    impl_->bag.open(tmp_path_, rosbag::bagmode::Write);
+    impl_->bag.setCompression(compression == Compression::Bz2   ? rosbag::compression::BZ2
+                              : compression == Compression::Lz4 ? rosbag::compression::LZ4
+                                                                : rosbag::compression::Uncompressed);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path + ": cannot create bag (temporary " + tmp_path_ + "): " + e.what());
+  }
+}
+
+BagWriter::~BagWriter() {
+  if (impl_) {
+    try {
+      impl_->bag.close();
+    } catch (...) {
+      // Destruction after an error: the partial file is removed below anyway.
+    }
+    impl_.reset();
+    std::remove(tmp_path_.c_str());
+  }
+}
+
+void BagWriter::writeImu(const ImuSample& imu) {
+  if (!impl_) throw BagError(path_ + ": write after close()");
+  sensor_msgs::Imu m;
+  m.header.seq = impl_->seq_imu++;
+  m.header.stamp = rosTime(imu.t, path_ + " IMU sample");
+  m.header.frame_id = topics_.imu_frame_id;
+  // ROS convention: orientation_covariance[0] = -1 means "no orientation estimate".
+  m.orientation.w = 1.0;
+  m.orientation_covariance[0] = -1.0;
+  m.angular_velocity.x = imu.gyr.x();
+  m.angular_velocity.y = imu.gyr.y();
+  m.angular_velocity.z = imu.gyr.z();
+  m.linear_acceleration.x = imu.acc.x();
+  m.linear_acceleration.y = imu.acc.y();
+  m.linear_acceleration.z = imu.acc.z();
+  try {
+    impl_->bag.write(topics_.imu, m.header.stamp, m);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path_ + ": cannot write IMU message: " + e.what());
+  }
+  ++messages_;
+}
+
+void BagWriter::writeRgbd(const RgbdFrame& frame) {
+  if (!impl_) throw BagError(path_ + ": write after close()");
+  const std::string what = path_ + " frame " + std::to_string(frame.index);
+  if (frame.rgb.type() != CV_8UC3) throw BagError(what + ": colour image must be CV_8UC3 (R,G,B)");
+  if (frame.depth.type() != CV_16UC1) throw BagError(what + ": depth image must be CV_16UC1");
+  if (!frame.depth_aligned_to_color || frame.depth.size() != frame.rgb.size())
+    throw BagError(what + ": depth must be aligned pixel-for-pixel to the colour image");
+  const ros::Time stamp = rosTime(frame.t, what);
+
+  sensor_msgs::Image& c = impl_->color;
+  c.header.seq = impl_->seq_color;
+  c.header.stamp = stamp;
+  c.header.frame_id = topics_.camera_frame_id;
+  c.height = static_cast<std::uint32_t>(frame.rgb.rows);
+  c.width = static_cast<std::uint32_t>(frame.rgb.cols);
+  c.encoding = "rgb8";
+  c.is_bigendian = 0;
+  c.step = c.width * 3;
+  c.data.resize(static_cast<size_t>(c.step) * c.height);
+  for (int r = 0; r < frame.rgb.rows; ++r)
+    std::memcpy(&c.data[static_cast<size_t>(r) * c.step], frame.rgb.ptr(r), c.step);
+
+  sensor_msgs::Image& d = impl_->depth;
+  d.header = c.header;
+  d.height = c.height;
+  d.width = c.width;
+  d.encoding = "16UC1";
+  d.is_bigendian = 0;
+  d.step = d.width * 2;
+  d.data.resize(static_cast<size_t>(d.step) * d.height);
+  // 16UC1 in the dataset is millimetres; convert other units (rounding, saturating).
+  const double scale = frame.depth_unit_m / 1e-3;
+  const bool is_mm = std::abs(scale - 1.0) < 1e-12;
+  for (int r = 0; r < frame.depth.rows; ++r) {
+    const std::uint16_t* src = frame.depth.ptr<std::uint16_t>(r);
+    std::uint8_t* dst = &d.data[static_cast<size_t>(r) * d.step];
+    for (int x = 0; x < frame.depth.cols; ++x) {
+      std::uint16_t v = src[x];
+      if (!is_mm) v = static_cast<std::uint16_t>(std::min(65535.0, std::round(v * scale)));
+      dst[2 * x] = static_cast<std::uint8_t>(v & 0xff);  // little endian
+      dst[2 * x + 1] = static_cast<std::uint8_t>(v >> 8);
+    }
+  }
+  try {
+    impl_->bag.write(topics_.color, stamp, c);
+    impl_->bag.write(topics_.depth, stamp, d);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(what + ": cannot write image messages: " + e.what());
+  }
+  ++impl_->seq_color;
+  messages_ += 2;
+}
+
+void BagWriter::writePose(double t, const Eigen::Isometry3d& T_world_body) {
+  if (!impl_) throw BagError(path_ + ": write after close()");
+  geometry_msgs::PoseStamped m;
+  m.header.seq = impl_->seq_pose++;
+  m.header.stamp = rosTime(t, path_ + " pose");
+  m.header.frame_id = topics_.world_frame_id;
+  const Eigen::Quaterniond q(T_world_body.rotation());
+  m.pose.position.x = T_world_body.translation().x();
+  m.pose.position.y = T_world_body.translation().y();
+  m.pose.position.z = T_world_body.translation().z();
+  m.pose.orientation.x = q.x();
+  m.pose.orientation.y = q.y();
+  m.pose.orientation.z = q.z();
+  m.pose.orientation.w = q.w();
+  try {
+    impl_->bag.write(topics_.pose, m.header.stamp, m);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path_ + ": cannot write pose message: " + e.what());
+  }
+  ++messages_;
+}
+
+void BagWriter::close() {
+  if (!impl_) return;
+  try {
+    impl_->bag.close();
+  } catch (const rosbag::BagException& e) {
+    impl_.reset();
+    std::remove(tmp_path_.c_str());
+    throw BagError(path_ + ": cannot finish bag: " + e.what());
+  }
+  impl_.reset();
+  std::error_code ec;
+  std::filesystem::rename(tmp_path_, path_, ec);
+  if (ec) {
+    std::remove(tmp_path_.c_str());
+    throw BagError(path_ + ": cannot rename " + tmp_path_ + ": " + ec.message());
+  }
+}
+
+}  // namespace rgbdi::bag
