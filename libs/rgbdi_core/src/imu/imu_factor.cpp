@@ -20,11 +20,12 @@ constexpr int kSbBg = 6;
 }  // namespace
 
 ImuFactor::ImuFactor(const Preintegration* preintegration, const Eigen::Vector3d& g_w)
-    : preint_(preintegration), g_w_(g_w) {
+    : preint_(preintegration), g_w_(g_w), info_revision_(0), sqrt_info_(Matrix15d::Zero()) {
   if (preint_ == nullptr) throw std::invalid_argument("ImuFactor: null pre-integration");
   if (!g_w.allFinite()) throw std::invalid_argument("ImuFactor: gravity vector is not finite");
   // Fails early (with the reason) instead of inside the solver, where an exception cannot pass.
-  preint_->sqrtInformation();
+  sqrt_info_ = preint_->sqrtInformation();
+  info_revision_ = preint_->revision();
 }
 
 bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
@@ -40,8 +41,11 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Map<const Eigen::Vector3d> Baj(parameters[3] + kSbBa);
   const Eigen::Map<const Eigen::Vector3d> Bgj(parameters[3] + kSbBg);
 
-  Matrix15d sqrt_info;
-  if (!preint_->trySqrtInformation(&sqrt_info)) return false;
+  // Evaluate may run on several threads: a stale cache is bypassed, never updated here.
+  Matrix15d fresh_sqrt_info;
+  const bool cache_valid = preint_->revision() == info_revision_;
+  if (!cache_valid && !preint_->trySqrtInformation(&fresh_sqrt_info)) return false;
+  const Matrix15d& sqrt_info = cache_valid ? sqrt_info_ : fresh_sqrt_info;
   const Vector15d r = preint_->residual(Pi, Qi, Vi, Bai, Bgi, Pj, Qj, Vj, Baj, Bgj, g_w_);
   Eigen::Map<Vector15d> residual_out(residuals);
   residual_out = sqrt_info * r;

@@ -12,13 +12,15 @@
 namespace rgbdi::imu {
 namespace {
 
-using Matrix15x12d = Eigen::Matrix<double, 15, 12>;
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Matrix9x6d = Eigen::Matrix<double, 9, 6>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-// Column offsets of the per-step noise vector [n_a, n_g, n_ba, n_bg].
-constexpr int kNoiseAcc = 0;
-constexpr int kNoiseGyr = 3;
-constexpr int kNoiseBa = 6;
-constexpr int kNoiseBg = 9;
+// Column offsets inside the 6 bias columns [ba, bg] of the error state.
+constexpr int kBiasA = kIdxBa - 9;
+constexpr int kBiasG = kIdxBg - 9;
+static_assert(kBiasA == 0 && kBiasG == 3, "bias blocks follow the 9 delta rows");
 
 bool allFinite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
@@ -67,6 +69,7 @@ void Preintegration::push(double t, const Eigen::Vector3d& acc, const Eigen::Vec
   s.acc = acc;
   s.gyr = gyr;
   samples_.push_back(s);
+  ++revision_;
   if (samples_.size() >= 2) integrateStep(samples_[samples_.size() - 2], samples_.back());
 }
 
@@ -84,6 +87,7 @@ void Preintegration::repropagate(const Eigen::Vector3d& ba, const Eigen::Vector3
     throw std::invalid_argument("Preintegration::repropagate: biases must be finite");
   ba_lin_ = ba;
   bg_lin_ = bg;
+  ++revision_;
   resetIntegration();
   for (std::size_t k = 1; k < samples_.size(); ++k) integrateStep(samples_[k - 1], samples_[k]);
 }
@@ -125,41 +129,50 @@ void Preintegration::integrateStep(const ImuSample& s0, const ImuSample& s1) {
   const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
   const double hh2 = 0.5 * h * h;
 
-  Matrix15d F = Matrix15d::Identity();
-  F.block<3, 3>(kIdxP, kIdxR) = hh2 * da_dth0;
-  F.block<3, 3>(kIdxP, kIdxV) = h * I3;
-  F.block<3, 3>(kIdxP, kIdxBa) = hh2 * da_dba;
-  F.block<3, 3>(kIdxP, kIdxBg) = hh2 * da_dbg;
-  F.block<3, 3>(kIdxR, kIdxR) = dth1_dth0;
-  F.block<3, 3>(kIdxR, kIdxBg) = dth1_dbg;
-  F.block<3, 3>(kIdxV, kIdxR) = h * da_dth0;
-  F.block<3, 3>(kIdxV, kIdxBa) = h * da_dba;
-  F.block<3, 3>(kIdxV, kIdxBg) = h * da_dbg;
+  // F = [A B; 0 I]: the 9 delta rows [dp, dtheta, dv] depend on the deltas (A) and on the biases
+  // (B); the bias rows are the identity. Propagating by blocks avoids the dense 15x15 products.
+  Matrix9d A = Matrix9d::Identity();
+  A.block<3, 3>(kIdxP, kIdxR) = hh2 * da_dth0;
+  A.block<3, 3>(kIdxP, kIdxV) = h * I3;
+  A.block<3, 3>(kIdxR, kIdxR) = dth1_dth0;
+  A.block<3, 3>(kIdxV, kIdxR) = h * da_dth0;
+  Matrix9x6d B = Matrix9x6d::Zero();
+  B.block<3, 3>(kIdxP, kBiasA) = hh2 * da_dba;
+  B.block<3, 3>(kIdxP, kBiasG) = hh2 * da_dbg;
+  B.block<3, 3>(kIdxR, kBiasG) = dth1_dbg;
+  B.block<3, 3>(kIdxV, kBiasA) = h * da_dba;
+  B.block<3, 3>(kIdxV, kBiasG) = h * da_dbg;
 
-  // Measurement noise enters like a bias error of opposite sign; the random walk moves the biases.
-  Matrix15x12d G = Matrix15x12d::Zero();
-  G.block<3, 3>(kIdxP, kNoiseAcc) = -F.block<3, 3>(kIdxP, kIdxBa);
-  G.block<3, 3>(kIdxV, kNoiseAcc) = -F.block<3, 3>(kIdxV, kIdxBa);
-  G.block<3, 3>(kIdxP, kNoiseGyr) = -F.block<3, 3>(kIdxP, kIdxBg);
-  G.block<3, 3>(kIdxR, kNoiseGyr) = -F.block<3, 3>(kIdxR, kIdxBg);
-  G.block<3, 3>(kIdxV, kNoiseGyr) = -F.block<3, 3>(kIdxV, kIdxBg);
-  G.block<3, 3>(kIdxBa, kNoiseBa) = I3;
-  G.block<3, 3>(kIdxBg, kNoiseBg) = I3;
+  // Measurement noise enters like a bias error of opposite sign (Jacobian -B, covariance
+  // density^2 / h); the random walk moves the biases (covariance rw^2 * h).
+  Vector6d meas_var;
+  meas_var.head<3>().setConstant(noise_.acc_nd * noise_.acc_nd / h);
+  meas_var.tail<3>().setConstant(noise_.gyr_nd * noise_.gyr_nd / h);
+  Vector6d walk_var;
+  walk_var.head<3>().setConstant(noise_.acc_rw * noise_.acc_rw * h);
+  walk_var.tail<3>().setConstant(noise_.gyr_rw * noise_.gyr_rw * h);
 
-  Eigen::Matrix<double, 12, 1> q_diag;
-  q_diag.segment<3>(kNoiseAcc).setConstant(noise_.acc_nd * noise_.acc_nd / h);
-  q_diag.segment<3>(kNoiseGyr).setConstant(noise_.gyr_nd * noise_.gyr_nd / h);
-  q_diag.segment<3>(kNoiseBa).setConstant(noise_.acc_rw * noise_.acc_rw * h);
-  q_diag.segment<3>(kNoiseBg).setConstant(noise_.gyr_rw * noise_.gyr_rw * h);
+  // Bias Jacobian: the bias rows of jac_ stay [0 I].
+  jac_.topRightCorner<9, 6>() = (A * jac_.topRightCorner<9, 6>() + B).eval();
+  jac_.topLeftCorner<9, 9>() = (A * jac_.topLeftCorner<9, 9>()).eval();
 
-  jac_ = F * jac_;
-  cov_ = F * cov_ * F.transpose() + G * q_diag.asDiagonal() * G.transpose();
+  // Covariance F P F^T + G Q G^T with P = [Pxx Pxb; Pxb^T Pbb].
+  const Matrix9d Pxx = cov_.topLeftCorner<9, 9>();
+  const Matrix9x6d Pxb = cov_.topRightCorner<9, 6>();
+  const Matrix6d Pbb = cov_.bottomRightCorner<6, 6>();
+  const Matrix9x6d Pxb_new = A * Pxb + B * Pbb;
+  const Matrix9d Pxx_new = (A * Pxx + B * Pxb.transpose()) * A.transpose() +
+                           Pxb_new * B.transpose() + B * meas_var.asDiagonal() * B.transpose();
+  cov_.topLeftCorner<9, 9>() = 0.5 * (Pxx_new + Pxx_new.transpose());  // exact symmetry
+  cov_.topRightCorner<9, 6>() = Pxb_new;
+  cov_.bottomLeftCorner<6, 9>() = Pxb_new.transpose();
+  cov_.bottomRightCorner<6, 6>().diagonal() += walk_var;
   // The mean-noise model above gives position the variance nd^2 h^3 / 4 of a constant
   // perturbation; continuous white noise integrated twice over the step gives nd^2 h^3 / 3. Adding
   // the difference (isotropic, so independent of the rotation) keeps [dp, dv] positive definite
   // even for an interval of a single step.
-  cov_.block<3, 3>(kIdxP, kIdxP).diagonal().array() += noise_.acc_nd * noise_.acc_nd * h * h * h / 12.0;
-  cov_ = 0.5 * (cov_ + cov_.transpose()).eval();  // keep exact symmetry against round-off
+  cov_.block<3, 3>(kIdxP, kIdxP).diagonal().array() +=
+      noise_.acc_nd * noise_.acc_nd * h * h * h / 12.0;
 }
 
 Eigen::Vector3d Preintegration::correctedDeltaP(const Eigen::Vector3d& ba,

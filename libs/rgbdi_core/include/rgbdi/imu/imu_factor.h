@@ -14,6 +14,8 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
+
 #include "rgbdi/imu/preintegration.h"
 
 namespace rgbdi::imu {
@@ -24,9 +26,11 @@ constexpr int kSpeedBiasBlockSize = 9;
 class ImuFactor : public ceres::SizedCostFunction<15, kPoseBlockSize, kSpeedBiasBlockSize,
                                                   kPoseBlockSize, kSpeedBiasBlockSize> {
  public:
-  /// `preintegration` is not owned and must outlive the factor; it may be repropagated between
-  /// solves (the information matrix is recomputed at every evaluation). Throws
-  /// std::invalid_argument when it is null or its covariance is not positive definite.
+  /// `preintegration` is not owned and must outlive the factor and must not change during a
+  /// solve; it may be repropagated between solves. The square-root information is computed here
+  /// and recomputed (without caching) by evaluations that find the pre-integration changed since.
+  /// Throws std::invalid_argument when it is null, std::runtime_error when its covariance is not
+  /// positive definite.
   ImuFactor(const Preintegration* preintegration, const Eigen::Vector3d& g_w);
 
   bool Evaluate(double const* const* parameters, double* residuals,
@@ -38,6 +42,8 @@ class ImuFactor : public ceres::SizedCostFunction<15, kPoseBlockSize, kSpeedBias
  private:
   const Preintegration* preint_;
   Eigen::Vector3d g_w_;
+  std::uint64_t info_revision_;  ///< revision of *preint_ that sqrt_info_ was computed from
+  Matrix15d sqrt_info_;
 };
 
 }  // namespace rgbdi::imu

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <vector>
 
 #include "rgbdi/common/types.h"
@@ -60,6 +61,9 @@ class Preintegration {
   const Eigen::Vector3d& biasGyr() const { return bg_lin_; }
   const ImuNoise& noise() const { return noise_; }
   const std::vector<ImuSample>& samples() const { return samples_; }
+  /// Incremented by every push() and repropagate(): lets users of the covariance (ImuFactor)
+  /// cache derived matrices and notice when they are stale.
+  std::uint64_t revision() const { return revision_; }
 
   /// Re-integrates the stored samples with new linearisation biases.
   void repropagate(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg);
@@ -103,6 +107,7 @@ class Preintegration {
   ImuNoise noise_;
   std::vector<ImuSample> samples_;
 
+  std::uint64_t revision_ = 0;
   double sum_dt_ = 0.0;
   Eigen::Vector3d dp_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d dv_ = Eigen::Vector3d::Zero();
