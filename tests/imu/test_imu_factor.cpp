@@ -4,8 +4,10 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include "imu/synthetic_motion.h"
