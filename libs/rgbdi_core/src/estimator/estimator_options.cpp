@@ -18,6 +18,8 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   o.depth_verify_max_m = ini.getDouble(s, "depth_verify_max_m", o.depth_verify_max_m, 0.05, 100);
   if (o.depth_verify_max_m <= o.depth_verify_min_m)
     ini.fail(s, "depth_verify_max_m", "must be larger than depth_verify_min_m");
+  o.verified_depth = ini.getEnum(s, "verified_depth", o.verified_depth, {"constant", "prior"});
+  o.depth_noise_coeff = ini.getDouble(s, "depth_noise_coeff", o.depth_noise_coeff, 1e-5, 1.0);
   o.init_depth_max_m = ini.getDouble(s, "init_depth_max_m", o.init_depth_max_m, 0.2, 100);
   o.init_min_correspondences =
       ini.getInt(s, "init_min_correspondences", o.init_min_correspondences, 6, 10000);

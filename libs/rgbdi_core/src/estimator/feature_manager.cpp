@@ -64,16 +64,17 @@ void FeatureManager::addFrame(int slot,
 void FeatureManager::updateDepths(const SlotPoses& T_wb, const Eigen::Isometry3d& T_bc,
                                   const DepthCheckOptions& opt) {
   for (auto& [id, f] : tracks_) {
-    if (f.obs.size() < 2 || f.source == DepthSource::kVerified) continue;
+    if (f.obs.size() < 2) continue;
     const Eigen::Isometry3d T_ref_w = worldCam(T_wb, f.start_slot, T_bc).inverse();
     // Algorithm 1: every observation with depth is checked against every other observation.
     double sum = 0.0;
-    int count = 0;
+    int count = 0, n_obs = 0;
     for (size_t k = 0; k < f.obs.size(); ++k) {
       const double d = f.obs[k].depth_m;
       if (d < opt.min_depth_m || d > opt.max_depth_m) continue;
       const Eigen::Vector3d p_w = worldCam(T_wb, f.start_slot + static_cast<int>(k), T_bc) *
                                   (f.obs[k].meas.xn * d);
+      bool agreed = false;
       for (size_t l = 0; l < f.obs.size(); ++l) {
         if (l == k) continue;
         const Eigen::Vector3d p_l =
@@ -83,17 +84,24 @@ void FeatureManager::updateDepths(const SlotPoses& T_wb, const Eigen::Isometry3d
         if (res < opt.tolerance_norm) {
           sum += (T_ref_w * p_w).z();
           ++count;
+          agreed = true;
         }
       }
+      n_obs += agreed ? 1 : 0;
     }
     if (count > 0) {
       const double mean = sum / count;
       if (mean >= opt.min_depth_m && mean <= opt.max_depth_m) {
-        f.inv_depth = 1.0 / mean;
+        // Re-evaluated every frame: the mean over all agreeing observations so far (more
+        // observations, less noise); it is held constant inside each optimisation.
+        if (opt.hold_constant || f.source != DepthSource::kVerified) f.inv_depth = 1.0 / mean;
+        f.verified_inv_depth = 1.0 / mean;
+        f.verified_observations = n_obs;
         f.source = DepthSource::kVerified;
         continue;
       }
     }
+    if (f.source == DepthSource::kVerified) f.source = DepthSource::kTriangulated;
     if (f.source == DepthSource::kTriangulated) continue;  // keep the optimised estimate
     const double z = triangulate(f, T_wb, T_bc);
     if (z > opt.min_triangulation_depth_m) {
@@ -168,7 +176,7 @@ void FeatureManager::removeOutliers() {
 
 bool FeatureManager::usable(const FeatureTrack& f, int newest_slot) {
   if (f.outlier || f.obs.size() < 2 || !f.hasDepth()) return false;
-  return f.depthConstant() || f.start_slot < newest_slot - 1;
+  return f.depthVerified() || f.start_slot < newest_slot - 1;
 }
 
 int FeatureManager::countUsable(int newest_slot) const {

@@ -7,7 +7,9 @@
 #include <set>
 #include <unordered_map>
 
+#include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/initializer.h"
+#include "rgbdi/estimator/inverse_depth_prior.h"
 #include "rgbdi/estimator/marginalization.h"
 #include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/reprojection_factor.h"
@@ -30,11 +32,20 @@ const char* toString(EstimatorStatus s) {
 
 namespace {
 
+// Sqrt information of the gauge prior [1/m, 1/rad]: stiff enough to act as a constraint, soft
+// enough to keep the normal equations well conditioned.
+constexpr double kGaugeStiffness = 1e4;
+
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
+
+double SlidingWindowEstimator::depthPriorSigma(const FeatureTrack& f) const {
+  // Depth sigma = c z^2 means inverse-depth sigma = c, averaged over independent observations.
+  return opt_.depth_noise_coeff / std::sqrt(std::max(1, f.verified_observations));
+}
 
 /// One frame in the window: its optimisation variables and the IMU interval leading to it.
 struct SlidingWindowEstimator::Slot {
@@ -84,6 +95,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, cons
   depth_opt_.tolerance_norm = opt.depth_verify_tolerance_px / EstimatorOptions::kVirtualFocalPx;
   depth_opt_.min_depth_m = opt.depth_verify_min_m;
   depth_opt_.max_depth_m = opt.depth_verify_max_m;
+  depth_opt_.hold_constant = opt.verified_depth == "constant";
   td_param_[0] = td_;
   window_.reserve(static_cast<size_t>(opt.window_size) + 2);
 }
@@ -384,7 +396,6 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     if (window_.size() >= 2) optimise(&out);
   } else {
     addSlot(frame, t, true);
-    features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
     optimise(&out);
     if (failureDetected()) {
       ++stats_.resets;
@@ -394,6 +405,10 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
       return out;
     }
     rejectOutliers();
+    // Depth verification and triangulation use the optimised poses (never the IMU-only
+    // prediction of the newest frame): a verified depth is held constant afterwards, so any
+    // pose error baked into it would persist.
+    features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
     if (static_cast<int>(window_.size()) > opt_.window_size) {
       marginaliseAndSlide(newest_but_one_keyframe_, &out);
     }
@@ -436,10 +451,10 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
   if (!opt_.estimate_time_offset) problem.SetParameterBlockConstant(td_param_);
   if (prior_) {
     problem.AddResidualBlock(new MarginalizationFactor(prior_), nullptr, prior_->keptBlocks());
-  } else {
-    // Gauge: without a prior the first pose anchors position and yaw.
-    problem.SetParameterBlockConstant(window_.front().pose);
   }
+  // Gauge: hold position and yaw of the oldest pose (the prior carries no information on them).
+  problem.AddResidualBlock(new GaugePrior(window_.front().pose, kGaugeStiffness), nullptr,
+                           window_.front().pose);
   if (use_init_prior_) {
     problem.AddResidualBlock(new SpeedBiasPrior(init_prior_mean_, init_prior_sigma_), nullptr,
                              window_.front().sb);
@@ -467,10 +482,15 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
           window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose,
           &f.inv_depth, td_param_);
     }
-    if (f.depthConstant()) {
+    if (f.depthVerified() && depth_opt_.hold_constant) {
       problem.SetParameterBlockConstant(&f.inv_depth);
       ++verified;
     } else {
+      if (f.depthVerified()) {
+        problem.AddResidualBlock(new InverseDepthPrior(f.verified_inv_depth, depthPriorSigma(f)),
+                                 nullptr, &f.inv_depth);
+        ++verified;
+      }
       problem.SetParameterLowerBound(&f.inv_depth, 0, 1e-3);
     }
   }
@@ -574,8 +594,17 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
                    loss,
                    {s0.pose, window_[k].pose, &f.inv_depth, td_param_}});
       }
-      // Depth-verified features are constants, not variables: nothing to marginalise for them.
-      (f.depthConstant() ? constant : remove).insert(&f.inv_depth);
+      // Depth-verified features held constant are not variables: nothing to marginalise.
+      if (f.depthVerified() && depth_opt_.hold_constant) {
+        constant.insert(&f.inv_depth);
+      } else {
+        remove.insert(&f.inv_depth);
+        if (f.depthVerified()) {
+          info->add({std::make_shared<InverseDepthPrior>(f.verified_inv_depth, depthPriorSigma(f)),
+                     nullptr,
+                     {&f.inv_depth}});
+        }
+      }
     }
     const bool kept = info->marginalize(remove, constant);
     finished_keyframes_.push_back({s0.t, s0.T(), s0.frame_index});

@@ -32,12 +32,14 @@ struct FeatureTrack {
   /// std::map node, so its address is stable while the track exists (Ceres parameter block).
   double inv_depth = 0.0;
   DepthSource source = DepthSource::kNone;
+  int verified_observations = 0;  ///< observations whose depth agreed with another one
+  double verified_inv_depth = 0.0;  ///< [1/m] inverse of the verified mean depth
   bool outlier = false;
 
   int endSlot() const { return start_slot + static_cast<int>(obs.size()) - 1; }
   bool hasDepth() const { return source != DepthSource::kNone && inv_depth > 0.0; }
-  /// Depth-verified features are held constant in the optimisation (paper section 4.3).
-  bool depthConstant() const { return source == DepthSource::kVerified; }
+  /// Depth passed verification (paper Algorithm 1); held constant or used as a prior.
+  bool depthVerified() const { return source == DepthSource::kVerified; }
 };
 
 /// Pose of each window slot (T_world_body), used for verification and triangulation.
@@ -48,6 +50,9 @@ struct DepthCheckOptions {
   double min_depth_m = 0.1;
   double max_depth_m = 3.0;
   double min_triangulation_depth_m = 0.1;
+  /// true: a verified depth overwrites the estimate every frame (it is held constant);
+  /// false: it only seeds the estimate when the feature first becomes verified.
+  bool hold_constant = true;
 };
 
 class FeatureManager {
@@ -58,7 +63,8 @@ class FeatureManager {
   void addFrame(int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
                 double* parallax, int* n_tracked);
 
-  /// Paper Algorithm 1 for every feature not yet verified for its current reference frame:
+  /// Paper Algorithm 1 for every feature with >= 2 observations (re-run each frame so the mean
+  /// uses every observation in the window):
   /// each sensor depth is projected into every other observation; agreeing pairs contribute the
   /// depth transformed into the reference frame; the mean is accepted if in range.
   /// Features without a verified depth are triangulated (if they have >= 2 observations).

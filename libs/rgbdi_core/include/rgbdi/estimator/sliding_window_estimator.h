@@ -100,6 +100,7 @@ class SlidingWindowEstimator {
   bool failureDetected() const;
   void reset(bool keep_anchor);
   SlotPoses slotPoses() const;
+  double depthPriorSigma(const FeatureTrack& f) const;
   void rejectOutliers();
   std::vector<std::pair<std::uint64_t, TrackObservation>> toObservations(
       const frontend::FeatureFrame& frame) const;

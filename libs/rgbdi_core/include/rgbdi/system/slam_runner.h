@@ -1,0 +1,33 @@
+// One offline rgbdi-slam run: read a rawlog, run the odometry, write every output, evaluate
+// against ground truth when given. Everything the rgbdi-slam app does apart from parsing
+// arguments, so tests and benchmarks run exactly what users run.
+#pragma once
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+
+namespace rgbdi::system {
+
+struct SlamRunOptions {
+  std::string input;        ///< rawlog path
+  std::string out_dir;      ///< created if missing
+  std::string config_path;  ///< empty = built-in defaults (share/config.ini values)
+  std::string gt_path;      ///< optional ground truth (TUM); body frame unless gt_frame = "camera"
+  bool no_depth = false;    ///< monocular baseline
+  bool quiet = false;       ///< no progress line
+  const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C: stop reading, write what we have
+};
+
+/// A problem with the inputs that the user must fix (missing file, bad config, unwritable output).
+class UserError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Runs and writes DIR/trajectory.tum, DIR/trajectory_cam.tum, DIR/summary.json (+ evaluation).
+/// Returns the summary. `log` receives the human-readable report and the progress line.
+nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log);
+
+}  // namespace rgbdi::system

@@ -1,0 +1,75 @@
+// The odometry as one push-based consumer of the measurement stream: front end + estimator.
+// Frames are tracked as they arrive and queued until the IMU has reached their time, so the same
+// object serves rawlogs, the in-process simulator and live sensors.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "rgbdi/common/measurement_sink.h"
+#include "rgbdi/estimator/sliding_window_estimator.h"
+#include "rgbdi/frontend/feature_tracker.h"
+#include "rgbdi/system/system_config.h"
+
+namespace rgbdi::system {
+
+struct VioTimings {
+  double tracking_ms = 0.0;  ///< front end (KLT, detection, depth sampling), summed
+  double preintegration_ms = 0.0;
+  double optimisation_ms = 0.0;
+  double marginalisation_ms = 0.0;
+  int frames_tracked = 0;
+  int frames_estimated = 0;
+};
+
+class VioSystem : public MeasurementSink {
+ public:
+  /// use_depth = false runs the monocular baseline: depth is ignored everywhere.
+  VioSystem(const SystemConfig& cfg, bool use_depth);
+  ~VioSystem() override;
+
+  void feedImu(const ImuSample& imu) override;
+  void feedRgbd(const RgbdFrame& frame) override;
+  void endOfStream() override;
+
+  /// Called for every processed frame (after the estimator ran on it).
+  void setFrameCallback(std::function<void(const estimator::FrameEstimate&, const RgbdFrame&)> cb) {
+    frame_cb_ = std::move(cb);
+  }
+
+  /// Causal trajectory: one pose per image processed after initialisation (body frame, IMU time).
+  const Trajectory& trajectoryBody() const { return traj_body_; }
+  /// The same poses in the colour-camera frame.
+  const Trajectory& trajectoryCamera() const { return traj_cam_; }
+  const std::vector<estimator::FrameEstimate>& estimates() const { return estimates_; }
+  const estimator::EstimatorStats& estimatorStats() const { return estimator_->stats(); }
+  estimator::EstimatorStatus status() const { return estimator_->status(); }
+  const VioTimings& timings() const { return timings_; }
+  std::size_t framesReceived() const { return frames_received_; }
+  std::size_t framesDropped() const { return frames_dropped_; }
+  const Eigen::Isometry3d& T_body_cam() const { return cfg_.extrinsic.T_body_cam; }
+  estimator::SlidingWindowEstimator& estimator() { return *estimator_; }
+
+ private:
+  struct Pending {
+    frontend::FeatureFrame features;
+    RgbdFrame frame;
+  };
+  void processReady(bool flush);
+  PinholeCamera chooseCamera(const RgbdFrame& frame) const;
+
+  SystemConfig cfg_;
+  bool use_depth_;
+  std::unique_ptr<frontend::FeatureTracker> tracker_;
+  std::unique_ptr<estimator::SlidingWindowEstimator> estimator_;
+  std::deque<Pending> pending_;
+  Trajectory traj_body_, traj_cam_;
+  std::vector<estimator::FrameEstimate> estimates_;
+  VioTimings timings_;
+  std::size_t frames_received_ = 0, frames_dropped_ = 0;
+  std::function<void(const estimator::FrameEstimate&, const RgbdFrame&)> frame_cb_;
+};
+
+}  // namespace rgbdi::system

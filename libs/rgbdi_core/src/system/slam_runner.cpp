@@ -1,0 +1,191 @@
+#include "rgbdi/system/slam_runner.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "rgbdi/eval/evaluate.h"
+#include "rgbdi/eval/tum_reader.h"
+#include "rgbdi/io/rawlog_source.h"
+#include "rgbdi/output/summary_json.h"
+#include "rgbdi/output/tum_writer.h"
+#include "rgbdi/system/system_config.h"
+#include "rgbdi/system/vio_system.h"
+
+namespace rgbdi::system {
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void prepareOutputDir(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw UserError(dir + ": cannot create output directory: " + ec.message());
+  const std::string probe = dir + "/.rgbdi_write_test";
+  std::ofstream f(probe);
+  if (!f) throw UserError(dir + ": output directory is not writable");
+  f.close();
+  fs::remove(probe, ec);
+}
+
+/// Progress line on stderr: frames, rate, stream time, state (rewritten in place).
+class Progress {
+ public:
+  Progress(std::ostream& os, bool quiet, double interval_s)
+      : os_(os), quiet_(quiet), interval_s_(interval_s), start_(Clock::now()), last_(start_) {}
+  void update(std::size_t frames, double stream_t, double stream_t0, const char* state,
+              bool force = false) {
+    if (quiet_) return;
+    const auto now = Clock::now();
+    if (!force && std::chrono::duration<double>(now - last_).count() < interval_s_) return;
+    last_ = now;
+    const double wall = std::chrono::duration<double>(now - start_).count();
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] " << frames << " frames, "
+         << (wall > 0 ? frames / wall : 0.0) << " frames/s, stream " << (stream_t - stream_t0)
+         << " s (" << (wall > 0 ? (stream_t - stream_t0) / wall : 0.0) << "x real time), "
+         << state << "   ";
+    os_ << line.str() << std::flush;
+    printed_ = true;
+  }
+  void finish() {
+    if (printed_) os_ << "\n";
+  }
+
+ private:
+  std::ostream& os_;
+  bool quiet_;
+  double interval_s_;
+  Clock::time_point start_, last_;
+  bool printed_ = false;
+};
+
+}  // namespace
+
+nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
+  if (opt.input.empty()) throw UserError("no input given (--input SEQ.rawlog)");
+  if (!fs::exists(opt.input)) throw UserError(opt.input + ": input file does not exist");
+  SystemConfig cfg;
+  try {
+    cfg = SystemConfig::load(opt.config_path);
+  } catch (const ConfigError& e) {
+    throw UserError(std::string("configuration error: ") + e.what());
+  }
+  if (!opt.gt_path.empty() && !fs::exists(opt.gt_path))
+    throw UserError(opt.gt_path + ": ground-truth file does not exist");
+  prepareOutputDir(opt.out_dir);
+
+  std::unique_ptr<io::RawlogSource> source;
+  try {
+    source = std::make_unique<io::RawlogSource>(opt.input, cfg.streamConfig());
+  } catch (const std::exception& e) {
+    throw UserError(e.what());
+  }
+  source->setMinLoggingLevel(mrpt::system::LVL_ERROR);  // warnings go into the diagnostics
+
+  VioSystem vio(cfg, !opt.no_depth);
+  Progress progress(log, opt.quiet, cfg.output.progress_interval_s);
+  const auto wall0 = Clock::now();
+  double t0 = NAN, t_last = NAN;
+  std::size_t frames = 0;
+  bool interrupted = false;
+  std::string read_error;
+  try {
+    io::Measurement m;
+    while (true) {
+      if (opt.stop && opt.stop->load()) {
+        interrupted = true;
+        break;
+      }
+      if (!source->next(m)) break;
+      const double t = io::measurementTime(m);
+      if (std::isnan(t0)) t0 = t;
+      t_last = t;
+      if (const auto* imu = std::get_if<ImuSample>(&m)) {
+        vio.feedImu(*imu);
+      } else {
+        vio.feedRgbd(std::get<RgbdFrame>(m));
+        ++frames;
+        progress.update(frames, t, t0, estimator::toString(vio.status()));
+      }
+    }
+  } catch (const io::RawlogError& e) {
+    read_error = e.what();  // everything before the damage was processed
+  }
+  vio.endOfStream();
+  progress.update(frames, std::isnan(t_last) ? 0 : t_last, std::isnan(t0) ? 0 : t0,
+                  estimator::toString(vio.status()), true);
+  progress.finish();
+  const double wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
+
+  // --- outputs -------------------------------------------------------------------------------
+  const std::string traj_path = opt.out_dir + "/trajectory.tum";
+  const std::string traj_cam_path = opt.out_dir + "/trajectory_cam.tum";
+  output::writeTum(traj_path, vio.trajectoryBody());
+  output::writeTum(traj_cam_path, vio.trajectoryCamera());
+
+  const auto& st = vio.estimatorStats();
+  const auto& tm = vio.timings();
+  nlohmann::json summary;
+  summary["input"] = opt.input;
+  summary["config"] = cfg.source;
+  summary["mode"] = opt.no_depth ? "mono-inertial (--no-depth)" : "rgbd-inertial";
+  summary["interrupted"] = interrupted;
+  summary["read_error"] = read_error.empty() ? nlohmann::json() : nlohmann::json(read_error);
+  summary["frames"] = vio.framesReceived();
+  summary["frames_dropped"] = vio.framesDropped();
+  summary["poses"] = vio.trajectoryBody().size();
+  summary["stream_start_s"] = std::isnan(t0) ? nlohmann::json() : nlohmann::json(t0);
+  summary["stream_duration_s"] = std::isnan(t0) ? 0.0 : t_last - t0;
+  summary["first_pose_time_s"] =
+      st.first_pose_t_image < 0 ? nlohmann::json() : nlohmann::json(st.first_pose_t_image - t0);
+  summary["resets"] = st.resets;
+  summary["static_initialisations"] = st.static_initialisations;
+  summary["moving_initialisations"] = st.moving_initialisations;
+  summary["time_offset_s"] = vio.estimator().timeOffset();
+  summary["wall_time_s"] = wall_s;
+  summary["frames_per_s"] = wall_s > 0 ? frames / wall_s : 0.0;
+  const double n_tr = std::max(1, tm.frames_tracked), n_est = std::max(1, tm.frames_estimated);
+  summary["timing_ms_per_frame"] = {{"tracking", tm.tracking_ms / n_tr},
+                                    {"preintegration", tm.preintegration_ms / n_est},
+                                    {"optimisation", tm.optimisation_ms / n_est},
+                                    {"marginalisation", tm.marginalisation_ms / n_est}};
+  summary["stream_diagnostics"] = nlohmann::json::parse(source->diagnostics().toJson());
+  summary["outputs"] = {{"trajectory", traj_path}, {"trajectory_cam", traj_cam_path}};
+
+  if (!opt.gt_path.empty()) {
+    try {
+      const Trajectory gt = eval::readTum(opt.gt_path);
+      eval::EvalOptions eo;
+      eo.align = eval::AlignMode::PosYaw;
+      const eval::EvalResult posyaw = eval::evaluate(gt, vio.trajectoryBody(), eo);
+      eo.align = eval::AlignMode::Sim3;
+      const eval::EvalResult sim3 = eval::evaluate(gt, vio.trajectoryBody(), eo);
+      summary["evaluation"] = eval::toJson(posyaw);
+      summary["evaluation_sim3"] = eval::toJson(sim3);
+      log << "Accuracy against " << opt.gt_path << " (position+yaw alignment):\n"
+          << eval::formatReport(posyaw) << "Scale (Sim(3) alignment): " << std::setprecision(6)
+          << sim3.alignment.scale << "\n";
+    } catch (const std::exception& e) {
+      summary["evaluation_error"] = e.what();
+      log << "Evaluation failed: " << e.what() << "\n";
+    }
+  }
+  const std::string summary_path = opt.out_dir + "/summary.json";
+  summary["outputs"]["summary"] = summary_path;
+  output::writeSummaryJson(summary_path, summary);
+
+  log << "Processed " << frames << " frames in " << std::setprecision(3) << wall_s << " s ("
+      << summary["frames_per_s"].get<double>() << " frames/s), " << vio.trajectoryBody().size()
+      << " poses, " << st.resets << " resets" << (interrupted ? " (interrupted)" : "") << "\n";
+  if (!read_error.empty()) log << "Input ended early: " << read_error << "\n";
+  log << "Outputs:\n  " << traj_path << "\n  " << traj_cam_path << "\n  " << summary_path << "\n";
+  return summary;
+}
+
+}  // namespace rgbdi::system

@@ -1,0 +1,28 @@
+#include "rgbdi/system/system_config.h"
+
+namespace rgbdi::system {
+
+SystemConfig SystemConfig::load(const std::string& path) {
+  IniReader ini = path.empty() ? IniReader::empty() : IniReader::fromFile(path);
+  return load(ini);
+}
+
+SystemConfig SystemConfig::load(IniReader& ini) {
+  SystemConfig c;
+  c.source = ini.label();
+  c.camera = CameraOptions::load(ini);
+  c.imu = ImuOptions::load(ini);
+  c.extrinsic = ExtrinsicOptions::load(ini);
+  c.stream = io::StreamOptions::load(ini);
+  c.frontend = frontend::FrontendOptions::load(ini);
+  c.estimator = estimator::EstimatorOptions::load(ini);
+  c.output = output::OutputOptions::load(ini);
+  // Sections read by other tools or by modules that are not part of this program yet.
+  ini.acceptSection("sim");
+  ini.acceptSection("loop");
+  ini.acceptSection("mapping");
+  ini.checkNoUnknownKeys();
+  return c;
+}
+
+}  // namespace rgbdi::system

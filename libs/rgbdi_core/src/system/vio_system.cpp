@@ -1,0 +1,84 @@
+#include "rgbdi/system/vio_system.h"
+
+#include <chrono>
+
+namespace rgbdi::system {
+
+namespace {
+// Frames waiting for IMU beyond this many are dropped (an IMU stream that stopped): bounded memory.
+constexpr std::size_t kMaxPendingFrames = 64;
+}  // namespace
+
+VioSystem::VioSystem(const SystemConfig& cfg, bool use_depth)
+    : cfg_(cfg),
+      use_depth_(use_depth),
+      estimator_(std::make_unique<estimator::SlidingWindowEstimator>(cfg.estimator, cfg.imu,
+                                                                     cfg.extrinsic)) {}
+
+VioSystem::~VioSystem() = default;
+
+PinholeCamera VioSystem::chooseCamera(const RgbdFrame& frame) const {
+  if (cfg_.camera.intrinsics_source == "stream" && frame.cam_color.valid()) return frame.cam_color;
+  return cfg_.camera.camera;
+}
+
+void VioSystem::feedImu(const ImuSample& imu) {
+  estimator_->feedImu(imu);
+  processReady(false);
+}
+
+void VioSystem::feedRgbd(const RgbdFrame& in) {
+  ++frames_received_;
+  if (!in.hasColor()) {  // depth-only frames cannot be tracked
+    ++frames_dropped_;
+    return;
+  }
+  if (!tracker_) tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, chooseCamera(in));
+  Pending p;
+  p.frame = in;
+  if (!use_depth_) p.frame.depth.release();
+  const auto t0 = std::chrono::steady_clock::now();
+  p.features = tracker_->track(p.frame);
+  timings_.tracking_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ++timings_.frames_tracked;
+  pending_.push_back(std::move(p));
+  while (pending_.size() > kMaxPendingFrames) {
+    pending_.pop_front();
+    ++frames_dropped_;
+  }
+  processReady(false);
+}
+
+void VioSystem::endOfStream() {
+  processReady(true);
+  frames_dropped_ += pending_.size();
+  pending_.clear();
+}
+
+void VioSystem::processReady(bool flush) {
+  while (!pending_.empty()) {
+    Pending& p = pending_.front();
+    const double t_needed = p.features.t + estimator_->timeOffset();
+    // Wait until the IMU has passed the frame time (interpolation needs a sample after it).
+    if (estimator_->latestImuTime() < t_needed) {
+      if (!flush) return;
+      break;
+    }
+    const estimator::FrameEstimate est = estimator_->processFrame(p.features);
+    timings_.preintegration_ms += est.ms_preintegration;
+    timings_.optimisation_ms += est.ms_optimisation;
+    timings_.marginalisation_ms += est.ms_marginalisation;
+    ++timings_.frames_estimated;
+    if (est.has_pose) {
+      traj_body_.push_back(StampedPose::fromIsometry(est.t_imu, est.T_world_body));
+      traj_cam_.push_back(
+          StampedPose::fromIsometry(est.t_imu, est.T_world_body * cfg_.extrinsic.T_body_cam));
+    }
+    estimates_.push_back(est);
+    if (frame_cb_) frame_cb_(est, p.frame);
+    pending_.pop_front();
+  }
+}
+
+}  // namespace rgbdi::system
