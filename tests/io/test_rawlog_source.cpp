@@ -129,16 +129,34 @@ void expectTimeOrdered(const std::vector<Measurement>& v) {
     ASSERT_LE(measurementTime(v[i - 1]), measurementTime(v[i])) << "at " << i;
 }
 
+/// Removes the temporary directories a test created.
+class TempDirs {
+ protected:
+  std::string tempDir(const std::string& prefix) {
+    dirs_.push_back(rgbdi::test::makeTempDir(prefix));
+    return dirs_.back();
+  }
+  ~TempDirs() {
+    std::error_code ec;
+    for (const auto& d : dirs_) fs::remove_all(d, ec);
+  }
+
+ private:
+  std::vector<std::string> dirs_;
+};
+
+class RawlogSourceTest : public ::testing::Test, public TempDirs {};
+
 struct LayoutCase {
   Layout layout;
   bool gzip;
 };
 
-class RawlogLayouts : public ::testing::TestWithParam<LayoutCase> {};
+class RawlogLayouts : public ::testing::TestWithParam<LayoutCase>, public TempDirs {};
 
 TEST_P(RawlogLayouts, ReadsEverythingInOrderWithoutWarnings) {
   const auto [layout, gzip] = GetParam();
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_layout");
+  const std::string dir = tempDir("rgbdi_io_layout");
   const std::string path = dir + (gzip ? "/seq.rawlog.gz" : "/seq.rawlog");
   writeAll(path, writerOptions(layout, gzip), normalSequence());
   // gzip output really is compressed (magic 1f 8b), plain output is not.
@@ -199,8 +217,8 @@ INSTANTIATE_TEST_SUITE_P(AllLayouts, RawlogLayouts,
                                            LayoutCase{Layout::SensoryFrames, false},
                                            LayoutCase{Layout::SensoryFrames, true}));
 
-TEST(RawlogSource, FrameLabelsNameFileAndRecord) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_label");
+TEST_F(RawlogSourceTest, FrameLabelsNameFileAndRecord) {
+  const std::string dir = tempDir("rgbdi_io_label");
   const std::string path = dir + "/l.rawlog";
   writeAll(path, writerOptions(Layout::SensoryFrames),
            {imuAt(kT0), Measurement(frameAt(kT0 + 0.01)), imuAt(kT0 + 0.02)});
@@ -211,8 +229,8 @@ TEST(RawlogSource, FrameLabelsNameFileAndRecord) {
   EXPECT_EQ(std::get<RgbdFrame>(out[1]).source_label, path + " record 3");
 }
 
-TEST(RawlogSource, ExternalImagesAreLoadedFromTheImagesDirectory) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_ext");
+TEST_F(RawlogSourceTest, ExternalImagesAreLoadedFromTheImagesDirectory) {
+  const std::string dir = tempDir("rgbdi_io_ext");
   const std::string path = dir + "/ext.rawlog";
   std::vector<Measurement> seq;
   for (int k = 0; k < 3; ++k) {
@@ -242,8 +260,8 @@ TEST(RawlogSource, ExternalImagesAreLoadedFromTheImagesDirectory) {
   EXPECT_EQ(src.diagnostics().images_directory, dir + "/ext_Images");
 }
 
-TEST(RawlogSource, MissingExternalImageIsReportedAndSkipped) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_extmiss");
+TEST_F(RawlogSourceTest, MissingExternalImageIsReportedAndSkipped) {
+  const std::string dir = tempDir("rgbdi_io_extmiss");
   const std::string path = dir + "/m.rawlog";
   writeAll(path, writerOptions(Layout::Observations, false, true),
            {Measurement(frameAt(kT0)), Measurement(frameAt(kT0 + 0.1))});
@@ -259,8 +277,8 @@ TEST(RawlogSource, MissingExternalImageIsReportedAndSkipped) {
   EXPECT_NE(d.warnings[0].find("; skipped"), std::string::npos);
 }
 
-TEST(RawlogSource, OutOfOrderDuplicatedAndLateImuSamples) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_order");
+TEST_F(RawlogSourceTest, OutOfOrderDuplicatedAndLateImuSamples) {
+  const std::string dir = tempDir("rgbdi_io_order");
   const std::string path = dir + "/o.rawlog";
   const auto t = [](int i) { return kT0 + i * kImuDt; };
   std::vector<Measurement> seq;
@@ -295,8 +313,8 @@ TEST(RawlogSource, OutOfOrderDuplicatedAndLateImuSamples) {
   EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
 }
 
-TEST(RawlogSource, FrameArrivingTooLateAfterImuIsDropped) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_late");
+TEST_F(RawlogSourceTest, FrameArrivingTooLateAfterImuIsDropped) {
+  const std::string dir = tempDir("rgbdi_io_late");
   const std::string path = dir + "/late.rawlog";
   std::vector<Measurement> seq;
   for (int i = 0; i <= 100; ++i) {
@@ -318,8 +336,8 @@ TEST(RawlogSource, FrameArrivingTooLateAfterImuIsDropped) {
                                "than 0.1 s after newer data of another sensor); dropped");
 }
 
-TEST(RawlogSource, ImuInGUnitsGapsAndRate) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_g");
+TEST_F(RawlogSourceTest, ImuInGUnitsGapsAndRate) {
+  const std::string dir = tempDir("rgbdi_io_g");
   const std::string path = dir + "/g.rawlog";
   std::vector<Measurement> seq;
   for (int i = 0; i <= 100; ++i) {
@@ -353,8 +371,8 @@ TEST(RawlogSource, ImuInGUnitsGapsAndRate) {
   EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
 }
 
-TEST(RawlogSource, ImuRateDifferentFromConfiguration) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_rate");
+TEST_F(RawlogSourceTest, ImuRateDifferentFromConfiguration) {
+  const std::string dir = tempDir("rgbdi_io_rate");
   const std::string path = dir + "/r.rawlog";
   std::vector<Measurement> seq;
   for (int i = 0; i <= 100; ++i) seq.emplace_back(imuAt(kT0 + i * 0.01));  // 100 Hz
@@ -374,8 +392,8 @@ TEST(RawlogSource, ImuRateDifferentFromConfiguration) {
   EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
 }
 
-TEST(RawlogSource, DepthInWrongUnitsIsReportedAndSummarised) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_units");
+TEST_F(RawlogSourceTest, DepthInWrongUnitsIsReportedAndSummarised) {
+  const std::string dir = tempDir("rgbdi_io_units");
   for (const bool metres_as_mm : {true, false}) {
     const std::string path = dir + (metres_as_mm ? "/m.rawlog" : "/mm.rawlog");
     std::vector<Measurement> seq;
@@ -404,8 +422,8 @@ TEST(RawlogSource, DepthInWrongUnitsIsReportedAndSummarised) {
   }
 }
 
-TEST(RawlogSource, SizeMismatchAndMissingIntrinsics) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_size");
+TEST_F(RawlogSourceTest, SizeMismatchAndMissingIntrinsics) {
+  const std::string dir = tempDir("rgbdi_io_size");
   const std::string path = dir + "/s.rawlog";
   RgbdFrame small_depth = frameAt(kT0 + 0.1);
   small_depth.depth = cv::Mat(12, 16, CV_16UC1, cv::Scalar(1000));
@@ -440,8 +458,8 @@ TEST(RawlogSource, SizeMismatchAndMissingIntrinsics) {
                                " s (limit 0.0150 s = imu_gap_factor 3 / [imu] rate_hz 200 Hz)");
 }
 
-TEST(RawlogSource, SensorPoseDisagreeingWithExtrinsicIsWarnedOnce) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_extr");
+TEST_F(RawlogSourceTest, SensorPoseDisagreeingWithExtrinsicIsWarnedOnce) {
+  const std::string dir = tempDir("rgbdi_io_extr");
   const std::string path = dir + "/e.rawlog";
   RawlogWriterOptions o = writerOptions();
   o.T_body_cam.translation() += Eigen::Vector3d(0.03, 0.0, -0.04);  // 5 cm off
@@ -467,8 +485,8 @@ TEST(RawlogSource, SensorPoseDisagreeingWithExtrinsicIsWarnedOnce) {
             std::string::npos) << extr[0];
 }
 
-TEST(RawlogSource, OtherTypesAreSkippedAndCountedAndBadImuIsReported) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_skip");
+TEST_F(RawlogSourceTest, OtherTypesAreSkippedAndCountedAndBadImuIsReported) {
+  const std::string dir = tempDir("rgbdi_io_skip");
   const std::string path = dir + "/k.rawlog";
   {
     RawlogWriter w(path, writerOptions(Layout::SensoryFrames));
@@ -514,8 +532,8 @@ size_t imuRecordSize(const std::string& dir) {
   return static_cast<size_t>(fs::file_size(p));
 }
 
-TEST(RawlogSource, TruncatedFileDeliversEverythingBeforeTheBadRecord) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_trunc");
+TEST_F(RawlogSourceTest, TruncatedFileDeliversEverythingBeforeTheBadRecord) {
+  const std::string dir = tempDir("rgbdi_io_trunc");
   const std::string path = dir + "/t.rawlog";
   std::vector<Measurement> seq;
   for (int i = 0; i < 50; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt));
@@ -558,8 +576,8 @@ struct CountingSink : MeasurementSink {
   void endOfStream() override { ++ends; }
 };
 
-TEST(RawlogSource, PumpDeliversThenEndsAndRethrowsOnTruncatedGzip) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_pumpgz");
+TEST_F(RawlogSourceTest, PumpDeliversThenEndsAndRethrowsOnTruncatedGzip) {
+  const std::string dir = tempDir("rgbdi_io_pumpgz");
   const std::string path = dir + "/t.rawlog.gz";
   writeAll(path, writerOptions(Layout::Observations, true), normalSequence());
   fs::resize_file(path, fs::file_size(path) - 200);
@@ -582,8 +600,8 @@ TEST(RawlogSource, PumpDeliversThenEndsAndRethrowsOnTruncatedGzip) {
   for (size_t i = 1; i < sink.stamps.size(); ++i) EXPECT_LE(sink.stamps[i - 1], sink.stamps[i]);
 }
 
-TEST(RawlogSource, CorruptRecordIsAnErrorNamingTheRecord) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_corrupt");
+TEST_F(RawlogSourceTest, CorruptRecordIsAnErrorNamingTheRecord) {
+  const std::string dir = tempDir("rgbdi_io_corrupt");
   const std::string path = dir + "/c.rawlog";
   std::vector<Measurement> seq;
   for (int i = 0; i < 40; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt));
@@ -606,8 +624,8 @@ TEST(RawlogSource, CorruptRecordIsAnErrorNamingTheRecord) {
   EXPECT_EQ(err.find('\n'), std::string::npos) << err;
 }
 
-TEST(RawlogSource, StopFlagEndsTheStreamCleanly) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_stop");
+TEST_F(RawlogSourceTest, StopFlagEndsTheStreamCleanly) {
+  const std::string dir = tempDir("rgbdi_io_stop");
   const std::string path = dir + "/s.rawlog";
   writeAll(path, writerOptions(), normalSequence());
   RawlogSource src(path);
@@ -626,8 +644,8 @@ TEST(RawlogSource, StopFlagEndsTheStreamCleanly) {
   for (size_t i = 1; i < sink.stamps.size(); ++i) EXPECT_LE(sink.stamps[i - 1], sink.stamps[i]);
 }
 
-TEST(RawlogSource, OpenErrorsNameThePath) {
-  const std::string dir = rgbdi::test::makeTempDir("rgbdi_io_open");
+TEST_F(RawlogSourceTest, OpenErrorsNameThePath) {
+  const std::string dir = tempDir("rgbdi_io_open");
   try {
     RawlogSource src(dir + "/missing.rawlog");
     FAIL();
@@ -642,7 +660,7 @@ TEST(RawlogSource, OpenErrorsNameThePath) {
   }
 }
 
-TEST(RawlogSource, RealOpenNi2Rawlog) {
+TEST_F(RawlogSourceTest, RealOpenNi2Rawlog) {
   const std::string path = rgbdi::test::fixturePath("real/openni2_single_rgbd.rawlog");
   RGBDI_REQUIRE_FIXTURE(path);
   RawlogSource src(path);

@@ -16,6 +16,7 @@ InputFormat detectInputFormat(const std::string& path) {
                ? InputFormat::TumRgbd
                : InputFormat::Unknown;
   }
+  if (!fs::exists(path, ec)) throw IoError(path + ": no such file or directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open for reading");
   char head[13] = {};

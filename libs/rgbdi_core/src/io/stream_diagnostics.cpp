@@ -62,10 +62,12 @@ std::string StreamDiagnostics::report() const {
   }
   os << "       order: " << ordering(imu) << "\n";
   os << "RGB-D: " << timing(images, "frames") << "\n";
-  if (images.delivered > 0) {
+  if (images.delivered >= 2) {
     os << "       median period " << num(images.median_period_s, 4) << " s, gaps " << images.gaps
        << " (limit " << num(images.gap_limit_s, 4) << " s, largest dt " << num(images.max_gap_s, 4)
        << " s)\n";
+  }
+  if (images.delivered > 0) {
     os << "       with colour " << frames_with_color << ", with depth " << frames_with_depth
        << ", depth aligned to colour " << frames_aligned << "; depth unit " << depth_unit_m
        << " m, median depth " << num(median_depth_m, 3) << " m\n";
