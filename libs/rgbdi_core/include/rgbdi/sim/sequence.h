@@ -1,0 +1,119 @@
+// A simulated RGB-D-inertial sequence: a motion profile, its scene, the synthesised IMU and
+// rendered noisy RGB-D frames, exposed as a source that feeds the same MeasurementSink push
+// interface as the rawlog reader (so end-to-end tests stream straight into the estimator), and
+// as random-access ground truth.
+//
+// Clocks: the IMU clock is the reference. IMU sample k is stamped start + k / imu_rate. Frame i
+// is exposed at IMU time start + i / fps and stamped t_cam = t_imu - time_offset_s (so that
+// t_imu = t_cam + time_offset_s, the [extrinsic] time_offset_s convention).
+// Everything random is a pure function of (seed, sample or frame index): output is identical for
+// a seed whatever the access order, and frames can be rendered on another thread.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/common/measurement_sink.h"
+#include "rgbdi/common/sensor_options.h"
+#include "rgbdi/common/types.h"
+#include "rgbdi/sim/imu_synth.h"
+#include "rgbdi/sim/profiles.h"
+#include "rgbdi/sim/renderer.h"
+#include "rgbdi/sim/scene.h"
+#include "rgbdi/sim/sensor_noise.h"
+
+namespace rgbdi::sim {
+
+struct SimOptions {
+  ProfileOptions profile;
+  ImuSynthOptions imu;           ///< the TRUE IMU noise
+  CameraOptions camera;          ///< colour (= depth) camera, [camera]
+  ExtrinsicOptions extrinsic;    ///< T_body_cam, [extrinsic] (its time_offset_s is not used)
+  DepthNoiseOptions depth_noise;
+  ColorNoiseOptions color_noise;
+  RenderOptions render;
+  double fps = 30.0;              ///< [Hz]
+  std::uint64_t seed = 1;         ///< noise and textures
+  double time_offset_s = 0.0;     ///< [s] t_cam = t_imu - time_offset_s
+  double start_time_s = 1000.0;   ///< [s] stamp of the first IMU sample
+  /// Densities written to the sequence's config.ini = truth * this (a user never knows them).
+  double config_noise_inflation = 2.0;
+  /// Render frames on a second thread while the consumer works on the previous one.
+  bool prefetch_frames = true;
+
+  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation and the keys of
+  /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
+  /// [extrinsic]. The profile kind is not read (command line).
+  static SimOptions load(IniReader& ini);
+};
+
+/// Ground truth of the body (IMU) frame at one IMU-clock stamp.
+struct GroundTruthState {
+  double t = 0.0;  ///< [s] IMU-clock stamp
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();     ///< [m/s]
+  Eigen::Vector3d a_world = Eigen::Vector3d::Zero();     ///< [m/s^2], without gravity
+  Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();  ///< [rad/s]
+  ImuBias bias;                                          ///< true IMU biases
+};
+
+class SimulatedSequence {
+ public:
+  /// Builds profile, scene, IMU and renderer. Throws std::invalid_argument on inconsistent
+  /// options (e.g. a duration too short for the profile, fps <= 0).
+  explicit SimulatedSequence(const SimOptions& options);
+  ~SimulatedSequence();
+  SimulatedSequence(const SimulatedSequence&) = delete;
+  SimulatedSequence& operator=(const SimulatedSequence&) = delete;
+
+  const SimOptions& options() const { return options_; }
+  const MotionProfile& profile() const { return profile_; }
+  const Scene& scene() const { return *scene_; }
+  const ImuSynthesizer& imu() const { return *imu_; }
+  const BodyTrajectory& trajectory() const { return *profile_.trajectory; }
+
+  double startTime() const { return options_.start_time_s; }
+  double duration() const { return profile_.trajectory->duration(); }
+  std::size_t imuCount() const { return imu_->sampleCount(); }
+  std::size_t frameCount() const { return frame_count_; }
+
+  /// Simulated IMU sample k with its IMU-clock stamp.
+  ImuSample imuSample(std::size_t k) const;
+  /// IMU-clock time at which frame i is exposed, and its (camera-clock) stamp.
+  double frameExposureTime(std::size_t i) const;
+  double frameStamp(std::size_t i) const { return frameExposureTime(i) - options_.time_offset_s; }
+  /// Renders frame i: colour with photometric noise, depth with D435-like noise in mm, both
+  /// cameras the configured colour camera (cam_color = cam_depth, depth aligned).
+  RgbdFrame renderFrame(std::size_t i) const;
+  /// Same rendering without any noise: rgb CV_8UC3, depth CV_32FC1 in metres (0 = no hit).
+  void renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const;
+
+  /// Ground truth at an IMU-clock stamp (clamped to the sequence).
+  GroundTruthState groundTruth(double t_imu) const;
+  /// Pose of the colour camera optical frame in the world at an IMU-clock stamp.
+  Eigen::Isometry3d cameraPose(double t_imu) const;
+  /// Body poses at every IMU sample (IMU clock).
+  Trajectory bodyTrajectory() const;
+  /// Camera poses at every frame, stamped with the frame stamps (camera clock), each the pose at
+  /// the frame's exposure time.
+  Trajectory cameraTrajectory() const;
+
+  /// Delivers all IMU samples and frames in non-decreasing stamp order (an IMU sample before a
+  /// frame with the same stamp), then endOfStream() (also when stopped early via *stop).
+  void pump(MeasurementSink& sink, const std::atomic<bool>* stop = nullptr) const;
+
+ private:
+  SimOptions options_;
+  MotionProfile profile_;
+  std::unique_ptr<Scene> scene_;
+  std::unique_ptr<ImuSynthesizer> imu_;
+  std::unique_ptr<Renderer> renderer_;
+  std::size_t frame_count_ = 0;
+};
+
+}  // namespace rgbdi::sim

@@ -1,0 +1,55 @@
+// Writes a simulated sequence to disk (what `rgbdi-sim` produces), streaming frame by frame:
+//
+//   DIR/sequence.rawlog        observations-only rawlog: CObservation3DRangeScan (colour +
+//                              depth in mm, both cameras' intrinsics, cameras coincide) and
+//                              CObservationIMU, in time order
+//   DIR/sequence_Images/       colour as PNG, depth as MRPT external range files
+//   DIR/groundtruth.tum        body (IMU) frame at every IMU sample (IMU clock)
+//   DIR/groundtruth_cam.tum    colour camera frame at every image (image stamps)
+//   DIR/config.ini             [camera] [imu] [extrinsic] for rgbdi-slam: the camera and
+//                              extrinsic used, IMU noise densities inflated (never the truth)
+//   DIR/simulation.ini         every setting used ([sim] [camera] [extrinsic]; pass it back as
+//                              --config to regenerate the sequence) and the true initial biases
+//   DIR/sequence.bag           optional ROS1 bag in the published dataset layout
+//
+// Rawlog and bag are written under temporary names and renamed when complete.
+#pragma once
+
+#include <atomic>
+#include <ostream>
+#include <string>
+
+#include "rgbdi/bag/bag_writer.h"
+#include "rgbdi/sim/sequence.h"
+
+namespace rgbdi::sim {
+
+struct SequenceWriterOptions {
+  bool write_bag = false;
+  bag::Compression bag_compression = bag::Compression::None;
+  /// Where the progress line goes (nullptr: silent), and how often [s of wall-clock time].
+  std::ostream* progress = nullptr;
+  double progress_interval_s = 1.0;
+};
+
+struct SequenceWriteSummary {
+  bool completed = false;  ///< false when stopped early (no rawlog/bag is left then)
+  std::size_t frames = 0, imu_samples = 0;
+  double wall_time_s = 0.0;
+  std::string rawlog_path, bag_path, groundtruth_path, groundtruth_cam_path, config_path,
+      simulation_path;
+};
+
+/// The content of DIR/config.ini for a sequence (see above).
+std::string slamConfigText(const SimulatedSequence& sequence);
+/// The content of DIR/simulation.ini for a sequence (see above).
+std::string simulationSettingsText(const SimulatedSequence& sequence);
+
+/// Writes everything into out_dir (created if needed). Throws IoError / bag::BagError naming the
+/// file on any write failure. When *stop becomes true, stops after the current measurement and
+/// returns with completed = false (temporary rawlog/bag removed; images written so far remain).
+SequenceWriteSummary writeSequence(const SimulatedSequence& sequence, const std::string& out_dir,
+                                   const SequenceWriterOptions& options,
+                                   const std::atomic<bool>* stop = nullptr);
+
+}  // namespace rgbdi::sim

@@ -1,0 +1,173 @@
+#include "rgbdi/sim/profile_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sim/motion/counter_gaussian.h"
+
+namespace rgbdi::sim {
+namespace {
+
+// Furniture layout does not depend on the noise seed (only textures do).
+constexpr std::uint64_t kLayoutSeed = 0x3c6ef372fe94f82bULL;
+
+/// Deterministic draws for the layout.
+class LayoutRandom {
+ public:
+  explicit LayoutRandom(std::uint64_t stream) : rng_(kLayoutSeed, stream) {}
+  double uniform(double a, double b) { return a + (b - a) * rng_.uniform(n_++); }
+  bool chance(double p) { return rng_.uniform(n_++) < p; }
+  TextureStyle style() {
+    return static_cast<TextureStyle>(std::min<int>(kTextureStyleCount - 1,
+                                                   static_cast<int>(uniform(0, kTextureStyleCount))));
+  }
+
+ private:
+  CounterRng rng_;
+  std::uint64_t n_ = 0;
+};
+
+double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+/// A piece of furniture as a footprint circle (for spacing) and what to add to the scene.
+struct Item {
+  Eigen::Vector2d center;
+  double radius = 0.0;
+};
+
+class Furnisher {
+ public:
+  Furnisher(const MotionProfile& profile, Scene& scene) : p_(profile), scene_(scene) {}
+
+  /// True when a footprint circle keeps clear of the path corridor, ramps, platforms, walls and
+  /// the items placed so far.
+  bool free(const Eigen::Vector2d& c, double r) const {
+    const ProfileLayout& l = p_.layout;
+    if (c.x() - r < l.room_min.x() + 0.05 || c.x() + r > l.room_max.x() - 0.05 ||
+        c.y() - r < l.room_min.y() + 0.05 || c.y() + r > l.room_max.y() - 0.05)
+      return false;
+    for (const Eigen::Vector2d& q : l.path_xy)
+      if ((q - c).norm() < l.path_clearance_m + r) return false;
+    for (const RampLayout& ramp : l.ramps)
+      if (distanceToSegment(c, ramp.from, ramp.to) < 0.5 * ramp.width + r + 0.1) return false;
+    for (const PlatformLayout& pl : l.platforms) {
+      const Eigen::Vector2d d(std::cos(pl.yaw), std::sin(pl.yaw));
+      if (distanceToSegment(c, pl.center - 0.5 * pl.size.x() * d, pl.center + 0.5 * pl.size.x() * d) <
+          0.5 * pl.size.y() + r + 0.1)
+        return false;
+    }
+    for (const Item& it : items_)
+      if ((it.center - c).norm() < it.radius + r + 0.15) return false;
+    return true;
+  }
+
+  /// Tries to put one object beside path point i on the given side (+1 left, -1 right);
+  /// returns whether it fitted.
+  bool tryPlace(std::size_t i, double side, bool handheld, LayoutRandom& rnd) {
+    const auto& xy = p_.layout.path_xy;
+    const Eigen::Vector2d t = (xy[std::min(i + 1, xy.size() - 1)] - xy[i > 0 ? i - 1 : 0]).normalized();
+    const Eigen::Vector2d n(-t.y(), t.x());
+    const double heading = std::atan2(t.y(), t.x());
+    const double ceiling = p_.layout.room_max.z();
+    const double kind = rnd.uniform(0.0, 1.0);
+    const double lateral_extra = rnd.uniform(0.05, 0.7);
+    const double along = rnd.uniform(-0.3, 0.3);
+    auto at = [&](double r) {
+      return Eigen::Vector2d(xy[i] + side * (p_.layout.path_clearance_m + r + lateral_extra) * n +
+                             along * t);
+    };
+    if (kind < 0.18) {
+      // Pillar from floor to ceiling.
+      const double r = rnd.uniform(0.1, 0.25);
+      const Eigen::Vector2d c = at(r);
+      if (!free(c, r)) return false;
+      scene_.addCylinder(c, r, 0.0, ceiling, rnd.style());
+      items_.push_back({c, r});
+    } else if (kind < 0.45) {
+      // Cabinet / shelf facing the path.
+      const Eigen::Vector2d size(rnd.uniform(0.35, 0.6), rnd.uniform(0.6, 1.3));
+      const double r = 0.5 * size.norm();
+      const Eigen::Vector2d c = at(r);
+      if (!free(c, r)) return false;
+      const double h = handheld ? rnd.uniform(1.2, 2.1) : rnd.uniform(0.6, 1.6);
+      scene_.addStep(c, size, heading + 0.5 * M_PI, 0.0, h,
+                     rnd.chance(0.5) ? TextureStyle::Shelves : rnd.style());
+      items_.push_back({c, r});
+    } else if (kind < 0.6 && handheld) {
+      // Table with a few things on it (seen from above by a hand-held camera).
+      const Eigen::Vector2d size(rnd.uniform(0.6, 1.2), rnd.uniform(0.5, 0.8));
+      const double r = 0.5 * size.norm();
+      const Eigen::Vector2d c = at(r);
+      if (!free(c, r)) return false;
+      const double yaw = heading + rnd.uniform(-0.4, 0.4);
+      scene_.addStep(c, size, yaw, 0.0, 0.75, rnd.style());
+      for (int k = 0; k < 2; ++k) {
+        const Eigen::Vector2d off(rnd.uniform(-0.25, 0.25) * size.x(), rnd.uniform(-0.25, 0.25) * size.y());
+        const double s = rnd.uniform(0.12, 0.3);
+        scene_.addStep(c + Eigen::Rotation2Dd(yaw) * off, {s, s * rnd.uniform(0.7, 1.3)},
+                       rnd.uniform(-M_PI, M_PI), 0.75, rnd.uniform(0.08, 0.35), rnd.style());
+      }
+      items_.push_back({c, r});
+    } else {
+      // Crate, sometimes with a smaller one on top.
+      const double s = rnd.uniform(0.3, 0.8);
+      const Eigen::Vector2d size(s, s * rnd.uniform(0.7, 1.4));
+      const double r = 0.5 * size.norm();
+      const Eigen::Vector2d c = at(r);
+      if (!free(c, r)) return false;
+      const double yaw = rnd.uniform(-M_PI, M_PI);
+      const double h = handheld ? rnd.uniform(0.4, 1.1) : rnd.uniform(0.3, 0.9);
+      scene_.addStep(c, size, yaw, 0.0, h, rnd.style());
+      if (rnd.chance(0.4)) {
+        const double s2 = 0.6 * s;
+        scene_.addStep(c, {s2, s2}, yaw + rnd.uniform(-0.6, 0.6), h, rnd.uniform(0.2, 0.5),
+                       rnd.style());
+      }
+      items_.push_back({c, r});
+    }
+    return true;
+  }
+
+ private:
+  const MotionProfile& p_;
+  Scene& scene_;
+  std::vector<Item> items_;
+};
+
+}  // namespace
+
+Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed) {
+  const ProfileLayout& l = profile.layout;
+  Scene scene(seed);
+  scene.addRoom(l.room_min, l.room_max);
+  for (const RampLayout& r : l.ramps) {
+    if (r.symmetric)
+      scene.addSymmetricRamp(r.from, r.to, 0.0, r.width, r.height, TextureStyle::Planks);
+    else
+      scene.addRamp(r.from, r.to, 0.0, r.width, r.height, TextureStyle::Planks);
+  }
+  for (const PlatformLayout& p : l.platforms)
+    scene.addStep(p.center, p.size, p.yaw, 0.0, p.height, TextureStyle::Speckle);
+
+  // Furniture every ~0.8 m of path on both sides (a few draws each; rejected where it would
+  // block the corridor, a ramp or another object). One lap suffices: later laps retrace the
+  // same ground.
+  Furnisher furnisher(profile, scene);
+  LayoutRandom rnd(static_cast<std::uint64_t>(profile.kind) + 1);
+  const bool handheld = profile.kind == ProfileKind::Handheld;
+  const std::size_t lap_samples = std::min(
+      l.path_xy.size(), static_cast<std::size_t>(std::ceil(profile.lap_length_m / 0.1)) + 1);
+  for (std::size_t i = 0; i < lap_samples; i += 8)
+    for (double side : {1.0, -1.0})
+      for (int attempt = 0; attempt < 3; ++attempt)
+        if (furnisher.tryPlace(i, side, handheld, rnd)) break;
+  scene.build();
+  return scene;
+}
+
+}  // namespace rgbdi::sim

@@ -1,0 +1,156 @@
+#include "rgbdi/sim/sequence.h"
+
+#include <climits>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "rgbdi/sim/profile_scene.h"
+#include "sim/motion/counter_gaussian.h"
+#include "sim/sequence/frame_prefetcher.h"
+
+namespace rgbdi::sim {
+namespace {
+
+// Random streams of the sequence seed (the IMU uses its own streams 1-3 of the same seed).
+constexpr std::uint64_t kFrameNoiseStream = 100;
+// Frames waiting for the consumer when prefetching (each ~2 MB).
+constexpr std::size_t kPrefetchDepth = 3;
+
+}  // namespace
+
+SimOptions SimOptions::load(IniReader& ini) {
+  SimOptions o;
+  const std::string s = "sim";
+  o.profile = ProfileOptions::load(ini);
+  o.imu = ImuSynthOptions::load(ini);
+  o.depth_noise = DepthNoiseOptions::load(ini);
+  o.color_noise = ColorNoiseOptions::load(ini);
+  o.camera = CameraOptions::load(ini);
+  o.extrinsic = ExtrinsicOptions::load(ini);
+  o.fps = ini.getDouble(s, "fps", o.fps, 1.0, 1000.0);
+  o.seed = static_cast<std::uint64_t>(ini.getInt(s, "seed", static_cast<int>(o.seed), 0, INT_MAX));
+  o.time_offset_s = ini.getDouble(s, "time_offset_s", o.time_offset_s, -0.5, 0.5);
+  o.start_time_s = ini.getDouble(s, "start_time_s", o.start_time_s, 1.0, 4.0e9);
+  o.config_noise_inflation =
+      ini.getDouble(s, "config_noise_inflation", o.config_noise_inflation, 1.0, 100.0);
+  return o;
+}
+
+SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(options) {
+  if (!(options.fps > 0.0) || !std::isfinite(options.fps))
+    throw std::invalid_argument("SimulatedSequence: fps must be positive (got " +
+                                std::to_string(options.fps) + ")");
+  if (!options.camera.camera.valid())
+    throw std::invalid_argument("SimulatedSequence: invalid camera intrinsics");
+  if (options.start_time_s - options.time_offset_s <= 0.0)
+    throw std::invalid_argument("SimulatedSequence: start_time_s - time_offset_s must be positive");
+  // The dataset extrinsic is given to 7 digits (not exactly orthonormal): use the nearest
+  // rotation so that rendering, ground truth and written files agree exactly.
+  Eigen::Isometry3d& T = options_.extrinsic.T_body_cam;
+  T.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
+  profile_ = makeMotionProfile(options_.profile, options_.extrinsic.T_body_cam);
+  scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed));
+  imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
+  renderer_ = std::make_unique<Renderer>(*scene_, options_.camera.camera, options_.render);
+  frame_count_ =
+      static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + 1e-9)) + 1;
+}
+
+SimulatedSequence::~SimulatedSequence() = default;
+
+ImuSample SimulatedSequence::imuSample(std::size_t k) const {
+  ImuSample s = imu_->measured(k);
+  s.t += options_.start_time_s;
+  return s;
+}
+
+double SimulatedSequence::frameExposureTime(std::size_t i) const {
+  return options_.start_time_s + static_cast<double>(i) / options_.fps;
+}
+
+Eigen::Isometry3d SimulatedSequence::cameraPose(double t_imu) const {
+  return trajectory().pose(t_imu - options_.start_time_s) * options_.extrinsic.T_body_cam;
+}
+
+void SimulatedSequence::renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const {
+  if (i >= frame_count_)
+    throw std::out_of_range("SimulatedSequence: frame " + std::to_string(i) + " of " +
+                            std::to_string(frame_count_));
+  renderer_->render(cameraPose(frameExposureTime(i)), rgb, depth_m);
+}
+
+RgbdFrame SimulatedSequence::renderFrame(std::size_t i) const {
+  RgbdFrame f;
+  cv::Mat depth_m;
+  renderIdeal(i, f.rgb, depth_m);
+  // One generator per frame, seeded from (seed, frame): frames are independent of order.
+  std::mt19937_64 rng(CounterRng(options_.seed, kFrameNoiseStream).bits(i));
+  f.depth = applyDepthNoise(depth_m, options_.depth_noise, rng);
+  applyColorNoise(f.rgb, options_.color_noise, rng);
+  f.t = frameStamp(i);
+  f.index = i;
+  f.depth_unit_m = 1e-3;
+  f.cam_color = options_.camera.camera;
+  f.cam_depth = options_.camera.camera;
+  f.T_color_depth = Eigen::Isometry3d::Identity();
+  f.depth_aligned_to_color = true;
+  f.has_source_T_body_cam = true;
+  f.source_T_body_cam = options_.extrinsic.T_body_cam;
+  f.source_label = "simulated " + toString(profile_.kind) + " frame " + std::to_string(i);
+  return f;
+}
+
+GroundTruthState SimulatedSequence::groundTruth(double t_imu) const {
+  const double t = t_imu - options_.start_time_s;
+  const KinematicState s = trajectory().state(t);
+  GroundTruthState g;
+  g.t = t_imu;
+  g.T_world_body = s.T_world_body;
+  g.v_world = s.v_world;
+  g.a_world = s.a_world;
+  g.omega_body = s.omega_body;
+  g.bias = imu_->biasAt(t);
+  return g;
+}
+
+Trajectory SimulatedSequence::bodyTrajectory() const {
+  Trajectory traj;
+  traj.reserve(imuCount());
+  for (std::size_t k = 0; k < imuCount(); ++k)
+    traj.push_back(StampedPose::fromIsometry(options_.start_time_s + imu_->sampleTime(k),
+                                             trajectory().pose(imu_->sampleTime(k))));
+  return traj;
+}
+
+Trajectory SimulatedSequence::cameraTrajectory() const {
+  Trajectory traj;
+  traj.reserve(frame_count_);
+  for (std::size_t i = 0; i < frame_count_; ++i)
+    traj.push_back(StampedPose::fromIsometry(frameStamp(i), cameraPose(frameExposureTime(i))));
+  return traj;
+}
+
+void SimulatedSequence::pump(MeasurementSink& sink, const std::atomic<bool>* stop) const {
+  std::unique_ptr<FramePrefetcher> prefetch;
+  if (options_.prefetch_frames)
+    prefetch = std::make_unique<FramePrefetcher>([this](std::size_t i) { return renderFrame(i); },
+                                                 frame_count_, kPrefetchDepth);
+  std::size_t k = 0, i = 0;
+  const std::size_t n_imu = imuCount();
+  while (k < n_imu || i < frame_count_) {
+    if (stop && stop->load()) break;
+    const double t_imu = k < n_imu ? options_.start_time_s + imu_->sampleTime(k) : INFINITY;
+    const double t_frame = i < frame_count_ ? frameStamp(i) : INFINITY;
+    if (t_imu <= t_frame) {
+      sink.feedImu(imuSample(k++));
+    } else {
+      sink.feedRgbd(prefetch ? prefetch->next() : renderFrame(i));
+      ++i;
+    }
+  }
+  sink.endOfStream();
+}
+
+}  // namespace rgbdi::sim

@@ -1,0 +1,258 @@
+#include "rgbdi/sim/sequence_writer.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <memory>
+#include <sstream>
+
+#include "rgbdi/common/atomic_file.h"
+#include "rgbdi/io/rawlog_writer.h"
+#include "rgbdi/output/tum_writer.h"
+
+namespace rgbdi::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// Shortest text that reads back to the same double.
+std::string num(double v) {
+  std::ostringstream os;
+  os << std::setprecision(17) << v;
+  double back = 0.0;
+  for (int p = 6; p <= 17; ++p) {
+    std::ostringstream t;
+    t << std::setprecision(p) << v;
+    std::istringstream(t.str()) >> back;
+    if (back == v) return t.str();
+  }
+  return os.str();
+}
+
+std::string vec(const Eigen::VectorXd& v) {
+  std::string s;
+  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? " " : "") + num(v[i]);
+  return s;
+}
+
+/// "key = value ; comment" with the value column aligned like share/config.ini.
+void line(std::ostream& os, const std::string& key, const std::string& value,
+          const std::string& comment) {
+  std::string kv = key + " = " + value;
+  if (kv.size() < 28) kv.resize(28, ' ');
+  os << kv << " ; " << comment << "\n";
+}
+
+void cameraSection(std::ostream& os, const CameraOptions& c) {
+  const PinholeCamera& k = c.camera;
+  os << "[camera]\n";
+  line(os, "width", std::to_string(k.width), "[px]");
+  line(os, "height", std::to_string(k.height), "[px]");
+  line(os, "fx", num(k.fx), "[px]");
+  line(os, "fy", num(k.fy), "[px]");
+  line(os, "cx", num(k.cx), "[px]");
+  line(os, "cy", num(k.cy), "[px]");
+  line(os, "distortion",
+       num(k.dist[0]) + " " + num(k.dist[1]) + " " + num(k.dist[2]) + " " + num(k.dist[3]) + " " +
+           num(k.dist[4]),
+       "k1 k2 p1 p2 k3 [unitless]");
+  line(os, "intrinsics_source", c.intrinsics_source, "stream|config");
+}
+
+void extrinsicSection(std::ostream& os, const ExtrinsicOptions& e, double time_offset,
+                      const std::string& offset_comment) {
+  const Eigen::Matrix3d R = e.T_body_cam.rotation();
+  Eigen::VectorXd r(9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r[3 * i + j] = R(i, j);
+  os << "[extrinsic]\n";
+  line(os, "R_body_cam", vec(r), "row-major [unitless]: colour camera optical frame in the IMU/body frame");
+  line(os, "t_body_cam_m", vec(Eigen::VectorXd(e.T_body_cam.translation())), "[m]");
+  line(os, "time_offset_s", num(time_offset), offset_comment);
+  line(os, "sensor_pose_tolerance_m", num(e.sensor_pose_tolerance_m), "[m]");
+  line(os, "sensor_pose_tolerance_deg", num(e.sensor_pose_tolerance_deg), "[deg]");
+}
+
+/// Writes rawlog + bag as measurements arrive; prints progress.
+class WritingSink : public MeasurementSink {
+ public:
+  WritingSink(const SimulatedSequence& seq, io::RawlogWriter& rawlog, bag::BagWriter* bag,
+              const SequenceWriterOptions& options)
+      : seq_(seq), rawlog_(rawlog), bag_(bag), options_(options), start_(Clock::now()),
+        last_progress_(start_) {}
+
+  void feedImu(const ImuSample& imu) override {
+    rawlog_.write(imu);
+    if (bag_) {
+      bag_->writeImu(imu);
+      bag_->writePose(imu.t, seq_.groundTruth(imu.t).T_world_body);
+    }
+    ++imu_samples_;
+  }
+
+  void feedRgbd(const RgbdFrame& frame) override {
+    rawlog_.write(frame);
+    if (bag_) bag_->writeRgbd(frame);
+    ++frames_;
+    progress(false);
+  }
+
+  void endOfStream() override { progress(true); }
+
+  std::size_t frames() const { return frames_; }
+  std::size_t imuSamples() const { return imu_samples_; }
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+ private:
+  void progress(bool final) {
+    if (!options_.progress) return;
+    const Clock::time_point now = Clock::now();
+    if (!final && std::chrono::duration<double>(now - last_progress_).count() < options_.progress_interval_s)
+      return;
+    last_progress_ = now;
+    const double t = elapsed(), fps = frames_ / std::max(1e-9, t);
+    const std::size_t total = seq_.frameCount();
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1) << "rgbdi-sim: frame " << frames_ << "/" << total
+       << " (" << 100.0 * frames_ / std::max<std::size_t>(1, total) << " %), " << fps
+       << " frames/s, elapsed " << t << " s";
+    if (!final && fps > 0) os << ", about " << (total - frames_) / fps << " s left";
+    *options_.progress << os.str() << "\n" << std::flush;
+  }
+
+  const SimulatedSequence& seq_;
+  io::RawlogWriter& rawlog_;
+  bag::BagWriter* bag_;
+  const SequenceWriterOptions& options_;
+  Clock::time_point start_, last_progress_;
+  std::size_t frames_ = 0, imu_samples_ = 0;
+};
+
+}  // namespace
+
+std::string slamConfigText(const SimulatedSequence& seq) {
+  const SimOptions& o = seq.options();
+  const double k = o.config_noise_inflation;
+  std::ostringstream os;
+  os << "; rgbdi-slam configuration for the simulated sequence next to this file (profile "
+     << toString(seq.profile().kind) << ", seed " << o.seed << ").\n"
+     << "; Camera and extrinsic are the ones used to render. The IMU noise densities are the true\n"
+     << "; ones inflated by config_noise_inflation = " << num(k)
+     << ", as a user would set them (a real user never knows the truth; see simulation.ini).\n\n";
+  cameraSection(os, o.camera);
+  os << "\n[imu]\n";
+  line(os, "rate_hz", num(o.imu.rate_hz), "[Hz]");
+  line(os, "acc_noise_density", num(k * o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)]");
+  line(os, "gyr_noise_density", num(k * o.imu.gyr_noise_density), "[rad/s/sqrt(Hz)]");
+  line(os, "acc_random_walk", num(k * o.imu.acc_random_walk), "[m/s^3/sqrt(Hz)]");
+  line(os, "gyr_random_walk", num(k * o.imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)]");
+  line(os, "gravity_m_s2", num(o.imu.gravity_m_s2), "[m/s^2]");
+  os << "\n";
+  // A user would not know the camera-IMU time offset either: start from 0 (rgbdi-slam
+  // estimates it online when [estimator] estimate_time_offset is on).
+  extrinsicSection(os, o.extrinsic, 0.0,
+                   "[s] initial value; the true offset of this sequence is " +
+                       num(o.time_offset_s) + " s (simulation.ini)");
+  return os.str();
+}
+
+std::string simulationSettingsText(const SimulatedSequence& seq) {
+  const SimOptions& o = seq.options();
+  const ProfileOptions& p = o.profile;
+  const MotionProfile& prof = seq.profile();
+  const ImuBias& b0 = seq.imu().biasAtSample(0);
+  std::ostringstream os;
+  os << "; Settings of this simulated sequence: rgbdi-sim --profile " << toString(prof.kind)
+     << " --config simulation.ini regenerates it.\n"
+     << "; profile " << toString(prof.kind) << ": duration " << num(seq.duration())
+     << " s, cruise speed " << num(prof.cruise_speed_m_s) << " m/s, path length "
+     << num(prof.path_length_m) << " m, " << seq.frameCount() << " frames, " << seq.imuCount()
+     << " IMU samples\n"
+     << "; true initial accelerometer bias " << vec(b0.acc) << " m/s^2, gyro bias " << vec(b0.gyr)
+     << " rad/s\n\n[sim]\n";
+  line(os, "fps", num(o.fps), "[Hz]");
+  line(os, "imu_rate_hz", num(o.imu.rate_hz), "[Hz]");
+  line(os, "seed", std::to_string(o.seed), "[integer]");
+  line(os, "gravity_m_s2", num(o.imu.gravity_m_s2), "[m/s^2]");
+  line(os, "acc_noise_density", num(o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)] true");
+  line(os, "gyr_noise_density", num(o.imu.gyr_noise_density), "[rad/s/sqrt(Hz)] true");
+  line(os, "acc_random_walk", num(o.imu.acc_random_walk), "[m/s^3/sqrt(Hz)] true");
+  line(os, "gyr_random_walk", num(o.imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)] true");
+  line(os, "acc_bias_max", num(o.imu.acc_bias_max), "[m/s^2]");
+  line(os, "gyr_bias_max", num(o.imu.gyr_bias_max), "[rad/s]");
+  line(os, "config_noise_inflation", num(o.config_noise_inflation), "[unitless]");
+  line(os, "depth_sigma_coeff", num(o.depth_noise.sigma_coeff), "[1/m]");
+  line(os, "depth_min_m", num(o.depth_noise.min_m), "[m]");
+  line(os, "depth_max_m", num(o.depth_noise.max_m), "[m]");
+  line(os, "depth_hole_fraction", num(o.depth_noise.hole_fraction), "[unitless]");
+  line(os, "photometric_noise_sigma", num(o.color_noise.sigma), "[grey levels]");
+  line(os, "time_offset_s", num(o.time_offset_s), "[s] true: t_imu = t_cam + this");
+  line(os, "start_time_s", num(o.start_time_s), "[s]");
+  line(os, "duration_s", num(seq.duration()), "[s]");
+  line(os, "speed", toString(p.speed), "slow|normal|fast");
+  line(os, "speed_m_s", num(p.speed_m_s), "[m/s] 0 = profile default");
+  line(os, "rest_start_s", num(p.rest_start_s), "[s]");
+  line(os, "rest_end_s", num(p.rest_end_s), "[s]");
+  line(os, "wheeled_vibration_acc_rms", num(p.wheeled_vibration_acc_rms), "[m/s^2]");
+  line(os, "wheeled_vibration_gyr_rms", num(p.wheeled_vibration_gyr_rms), "[rad/s]");
+  line(os, "tracked_vibration_acc_rms", num(p.tracked_vibration_acc_rms), "[m/s^2]");
+  line(os, "tracked_vibration_gyr_rms", num(p.tracked_vibration_gyr_rms), "[rad/s]");
+  line(os, "tracked_jitter_deg", num(p.tracked_jitter_deg), "[deg]");
+  line(os, "vibration_band_min_hz", num(p.vibration_band_min_hz), "[Hz]");
+  line(os, "vibration_band_max_hz", num(p.vibration_band_max_hz), "[Hz]");
+  line(os, "wheeled_camera_height_m", num(p.wheeled_camera_height_m), "[m]");
+  line(os, "tracked_camera_height_m", num(p.tracked_camera_height_m), "[m]");
+  line(os, "handheld_camera_height_m", num(p.handheld_camera_height_m), "[m]");
+  os << "\n";
+  cameraSection(os, o.camera);
+  os << "\n";
+  extrinsicSection(os, o.extrinsic, o.extrinsic.time_offset_s, "[s] (not used by the simulator)");
+  return os.str();
+}
+
+SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::string& out_dir,
+                                   const SequenceWriterOptions& options,
+                                   const std::atomic<bool>* stop) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw IoError(out_dir + ": cannot create output directory: " + ec.message());
+  const fs::path dir(out_dir);
+  SequenceWriteSummary s;
+  s.rawlog_path = (dir / "sequence.rawlog").string();
+  s.groundtruth_path = (dir / "groundtruth.tum").string();
+  s.groundtruth_cam_path = (dir / "groundtruth_cam.tum").string();
+  s.config_path = (dir / "config.ini").string();
+  s.simulation_path = (dir / "simulation.ini").string();
+  if (options.write_bag) s.bag_path = (dir / "sequence.bag").string();
+
+  // Small files first: they document the run even if it is interrupted.
+  const std::string config = slamConfigText(seq), settings = simulationSettingsText(seq);
+  writeFileAtomically(s.config_path, [&](std::ostream& os) { os << config; });
+  writeFileAtomically(s.simulation_path, [&](std::ostream& os) { os << settings; });
+  output::writeTum(s.groundtruth_path, seq.bodyTrajectory());
+  output::writeTum(s.groundtruth_cam_path, seq.cameraTrajectory());
+
+  io::RawlogWriterOptions ro;
+  ro.layout = io::RawlogWriterOptions::Layout::Observations;
+  ro.external_images = true;
+  ro.T_body_cam = seq.options().extrinsic.T_body_cam;
+  io::RawlogWriter rawlog(s.rawlog_path, ro);
+  std::unique_ptr<bag::BagWriter> bag;
+  if (options.write_bag) bag = std::make_unique<bag::BagWriter>(s.bag_path, options.bag_compression);
+
+  WritingSink sink(seq, rawlog, bag.get(), options);
+  seq.pump(sink, stop);
+  s.frames = sink.frames();
+  s.imu_samples = sink.imuSamples();
+  s.completed = s.frames == seq.frameCount() && s.imu_samples == seq.imuCount();
+  if (s.completed) {
+    rawlog.close();
+    if (bag) bag->close();
+  }
+  s.wall_time_s = sink.elapsed();
+  return s;
+}
+
+}  // namespace rgbdi::sim
