@@ -56,6 +56,7 @@ class Box {
   Eigen::Matrix3d R_box_world_;
   Eigen::Vector3d half_;
   std::array<MaterialId, kFaces> materials_;
+  bool axis_aligned_;
 };
 
 /// Vertical cylinder (axis along world z), e.g. a pillar.

@@ -1,9 +1,12 @@
 // Ray-cast renderer of a Scene: colour image and ideal depth, pixel-aligned.
 //
 // The unit ray of every pixel (through the pixel centre, integer coordinates, distortion
-// included via PinholeCamera::pixelToNormalized) is computed once in the constructor; a frame
-// then costs one rotation and one BVH ray cast per pixel, with no allocation when the output
-// images already have the right size and type. Rendering is single-threaded and deterministic.
+// included via PinholeCamera::pixelToNormalized) is computed once in the constructor. Each frame
+// culls the primitives against the frustum of every 16x16-pixel tile (bounds of the tile's
+// undistorted rays, so culling is exact-conservative with distortion too) and sorts them by
+// distance; each pixel then tests the primitive its neighbour hit first and the tile's
+// candidates nearer than the best hit. The result is identical to Scene::raycast per pixel.
+// Rendering is single-threaded and deterministic; render() is const and may run concurrently.
 #pragma once
 
 #include <Eigen/Core>
@@ -53,6 +56,12 @@ class Renderer {
   std::vector<Eigen::Vector3d> rays_cam_;
   /// Per pixel: angular size of the pixel [rad] (footprint on a surface = t * spread / cos).
   std::vector<float> spread_;
+  /// An image tile and the bounds of its pixels' undistorted normalised coordinates (x/z, y/z).
+  struct Tile {
+    int u0, v0, u1, v1;  ///< pixel range [u0, u1) x [v0, v1)
+    double x_min, x_max, y_min, y_max;
+  };
+  std::vector<Tile> tiles_;
 };
 
 }  // namespace rgbdi::sim

@@ -83,9 +83,34 @@ class Scene {
   /// Closest hit of origin + t*dir, t in (0, max_range]; dir must be a unit vector.
   bool raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_range,
                Hit& hit) const;
+  /// Same result, faster for coherent rays: the primitive hit by a neighbouring ray is tested
+  /// first, so the BVH search starts with a tight distance bound. Any hint value is valid
+  /// (out-of-range hints are ignored).
+  bool raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_range,
+               Hit& hit, std::uint32_t hint_primitive) const;
   /// Same answer as raycast() by testing every primitive (reference for tests).
   bool raycastBruteForce(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
                          double max_range, Hit& hit) const;
+
+  // --- low level, for renderers that cull primitives themselves (e.g. per image tile) ---
+  /// Bounds of one primitive (valid after build()).
+  const Eigen::AlignedBox3d& primitiveBounds(std::uint32_t prim) const { return bounds_[prim]; }
+  /// Distance and face of the ray's hit on one primitive, t in (0, t_max].
+  bool intersectPrimitive(std::uint32_t prim, const Eigen::Vector3d& origin,
+                          const Eigen::Vector3d& dir, double t_max, PrimitiveHit& hit) const {
+    return intersectRef(prim, origin, dir, t_max, hit);
+  }
+  /// Fills point, normal, material and texture coordinates of a hit found on primitive prim.
+  void completeHit(std::uint32_t prim, const PrimitiveHit& ph, const Eigen::Vector3d& origin,
+                   const Eigen::Vector3d& dir, Hit& hit) const {
+    fillHit(prim, ph, origin, dir, hit);
+  }
+  /// The ordering raycast() uses: nearer first, equal distances to the lower primitive index
+  /// (best.face < 0 means "no hit yet").
+  static bool closerHit(const PrimitiveHit& h, std::uint32_t prim, const PrimitiveHit& best,
+                        std::uint32_t best_prim) {
+    return best.face < 0 || h.t < best.t || (h.t == best.t && prim < best_prim);
+  }
 
   std::size_t primitiveCount() const { return refs_.size(); }
   std::size_t materialCount() const { return materials_.size(); }
@@ -119,6 +144,7 @@ class Scene {
   std::vector<Cylinder> cylinders_;
   std::vector<Prism> prisms_;
   std::vector<Ref> refs_;
+  std::vector<Eigen::AlignedBox3d> bounds_;  ///< per primitive, filled by build()
   Bvh bvh_;
   TextureBank textures_;
   bool built_ = false;

@@ -52,8 +52,9 @@ class MipTexture {
     int size = 0, mask = 0;
     std::vector<std::uint8_t> rgb;  ///< size*size*3, row-major
   };
-  Eigen::Vector3f bilinear(const Level& lv, double u, double v) const;
+  Eigen::Vector3f bilinear(const Level& lv, float u, float v) const;
   std::vector<Level> levels_;
+  std::vector<float> scale_;  ///< texel coordinate scale of each level (2^-level)
   int size0_ = 0;
 };
 

@@ -41,22 +41,33 @@ MipTexture::MipTexture(const cv::Mat& level0) {
         }
     levels_.push_back(std::move(next));
   }
+  for (std::size_t l = 0; l < levels_.size(); ++l)
+    scale_.push_back(std::ldexp(1.0f, -static_cast<int>(l)));
 }
 
-Eigen::Vector3f MipTexture::bilinear(const Level& lv, double u, double v) const {
-  const double x = u - 0.5, y = v - 0.5;
-  const double fx0 = std::floor(x), fy0 = std::floor(y);
-  const float ax = static_cast<float>(x - fx0), ay = static_cast<float>(y - fy0);
-  const long long xi = static_cast<long long>(fx0), yi = static_cast<long long>(fy0);
-  const std::size_t x0 = static_cast<std::size_t>(xi & lv.mask);
-  const std::size_t x1 = static_cast<std::size_t>((xi + 1) & lv.mask);
-  const std::size_t y0 = static_cast<std::size_t>(yi & lv.mask);
-  const std::size_t y1 = static_cast<std::size_t>((yi + 1) & lv.mask);
+namespace {
+
+// floor() for the texel coordinate range (|x| < 2^31) without a libm call.
+inline int floorToInt(float x) {
+  const int i = static_cast<int>(x);
+  return (static_cast<float>(i) > x) ? i - 1 : i;
+}
+
+}  // namespace
+
+Eigen::Vector3f MipTexture::bilinear(const Level& lv, float u, float v) const {
+  const float x = u - 0.5f, y = v - 0.5f;
+  const int xi = floorToInt(x), yi = floorToInt(y);
+  const float ax = x - static_cast<float>(xi), ay = y - static_cast<float>(yi);
   const std::size_t s = static_cast<std::size_t>(lv.size);
-  const std::uint8_t* p00 = &lv.rgb[(y0 * s + x0) * 3];
-  const std::uint8_t* p01 = &lv.rgb[(y0 * s + x1) * 3];
-  const std::uint8_t* p10 = &lv.rgb[(y1 * s + x0) * 3];
-  const std::uint8_t* p11 = &lv.rgb[(y1 * s + x1) * 3];
+  const std::size_t x0 = static_cast<std::size_t>(xi & lv.mask) * 3;
+  const std::size_t x1 = static_cast<std::size_t>((xi + 1) & lv.mask) * 3;
+  const std::size_t r0 = static_cast<std::size_t>(yi & lv.mask) * s * 3;
+  const std::size_t r1 = static_cast<std::size_t>((yi + 1) & lv.mask) * s * 3;
+  const std::uint8_t* p00 = &lv.rgb[r0 + x0];
+  const std::uint8_t* p01 = &lv.rgb[r0 + x1];
+  const std::uint8_t* p10 = &lv.rgb[r1 + x0];
+  const std::uint8_t* p11 = &lv.rgb[r1 + x1];
   const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
   return {w00 * p00[0] + w01 * p01[0] + w10 * p10[0] + w11 * p11[0],
           w00 * p00[1] + w01 * p01[1] + w10 * p10[1] + w11 * p11[1],
@@ -64,18 +75,22 @@ Eigen::Vector3f MipTexture::bilinear(const Level& lv, double u, double v) const 
 }
 
 Eigen::Vector3f MipTexture::sample(double u, double v, float lod) const {
+  // Wrap to one period first so float keeps sub-texel precision whatever the offsets.
+  // (1/period is a power of two, so the product is exact.)
+  const double period = static_cast<double>(size0_), inv_period = 1.0 / period;
+  const float uf = static_cast<float>(u - period * std::floor(u * inv_period));
+  const float vf = static_cast<float>(v - period * std::floor(v * inv_period));
   const int top = levels() - 1;
-  if (!(lod > 0.0f)) return bilinear(levels_[0], u, v);  // also catches NaN
+  if (!(lod > 0.0f)) return bilinear(levels_[0], uf, vf);  // also catches NaN
   if (lod >= static_cast<float>(top)) {
-    const double s = std::ldexp(1.0, -top);
-    return bilinear(levels_[static_cast<std::size_t>(top)], u * s, v * s);
+    const float s = scale_[static_cast<std::size_t>(top)];
+    return bilinear(levels_[static_cast<std::size_t>(top)], uf * s, vf * s);
   }
   const int l = static_cast<int>(lod);
   const float f = lod - static_cast<float>(l);
-  const double s0 = std::ldexp(1.0, -l);
-  const Eigen::Vector3f c0 = bilinear(levels_[static_cast<std::size_t>(l)], u * s0, v * s0);
-  const Eigen::Vector3f c1 =
-      bilinear(levels_[static_cast<std::size_t>(l + 1)], u * s0 * 0.5, v * s0 * 0.5);
+  const float s0 = scale_[static_cast<std::size_t>(l)], s1 = 0.5f * s0;
+  const Eigen::Vector3f c0 = bilinear(levels_[static_cast<std::size_t>(l)], uf * s0, vf * s0);
+  const Eigen::Vector3f c1 = bilinear(levels_[static_cast<std::size_t>(l + 1)], uf * s1, vf * s1);
   return c0 + f * (c1 - c0);
 }
 

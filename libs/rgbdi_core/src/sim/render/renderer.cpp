@@ -2,7 +2,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace rgbdi::sim {
@@ -11,6 +13,10 @@ namespace {
 // Below this |cos(incidence)| the footprint is clamped; such grazing pixels already sample the
 // coarsest mip levels.
 constexpr double kMinFootprintCos = 1e-3;
+// Tile edge [px]: large enough to amortise culling, small enough to keep candidate lists short.
+constexpr int kTileSize = 16;
+// Slack of the frustum-box test [m], so rounding never culls a primitive a ray could hit.
+constexpr double kCullSlack = 1e-9;
 
 Eigen::Vector3d unitRay(const PinholeCamera& cam, double u, double v) {
   const Eigen::Vector2d xn = cam.pixelToNormalized({u, v});
@@ -19,6 +25,18 @@ Eigen::Vector3d unitRay(const PinholeCamera& cam, double u, double v) {
 
 double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+struct Candidate {
+  double near;  ///< distance from the camera centre to the primitive's bounds [m]
+  std::uint32_t prim;
+};
+
+// True when the box lies entirely on the positive side of the plane n.(x - o) = 0.
+bool outside(const Eigen::Vector3d& n, const Eigen::Vector3d& o, const Eigen::AlignedBox3d& b) {
+  double s = 0.0;
+  for (int a = 0; a < 3; ++a) s += n[a] * ((n[a] > 0.0 ? b.min()[a] : b.max()[a]) - o[a]);
+  return s > kCullSlack;
 }
 
 }  // namespace
@@ -44,6 +62,22 @@ Renderer::Renderer(const Scene& scene, const PinholeCamera& cam, const RenderOpt
       const double ay = angleBetween(unitRay(cam, u, v - 0.5), unitRay(cam, u, v + 0.5));
       spread_[i] = static_cast<float>(std::max(ax, ay));
     }
+  for (int v0 = 0; v0 < cam.height; v0 += kTileSize)
+    for (int u0 = 0; u0 < cam.width; u0 += kTileSize) {
+      Tile t{u0, v0, std::min(u0 + kTileSize, cam.width), std::min(v0 + kTileSize, cam.height),
+             std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+             std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+      for (int v = t.v0; v < t.v1; ++v)
+        for (int u = t.u0; u < t.u1; ++u) {
+          const Eigen::Vector3d& r = rays_cam_[static_cast<std::size_t>(v) * cam.width + u];
+          const double x = r.x() / r.z(), y = r.y() / r.z();
+          t.x_min = std::min(t.x_min, x);
+          t.x_max = std::max(t.x_max, x);
+          t.y_min = std::min(t.y_min, y);
+          t.y_max = std::max(t.y_max, y);
+        }
+      tiles_.push_back(t);
+    }
 }
 
 void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Mat& depth) const {
@@ -53,29 +87,85 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
   const Eigen::Vector3d origin = T_world_cam.translation();
   const Eigen::Vector3d light = opt_.light_dir_world.normalized();
   const double lod_scale = std::exp2(opt_.lod_bias);
+  const double max_range = opt_.max_range_m;
+  const std::uint32_t prims = static_cast<std::uint32_t>(scene_.primitiveCount());
+
+  // Primitives within range, with their distance from the camera (once per frame).
+  std::vector<Candidate> in_range;
+  in_range.reserve(prims);
+  for (std::uint32_t p = 0; p < prims; ++p) {
+    const double near = std::sqrt(scene_.primitiveBounds(p).squaredExteriorDistance(origin));
+    if (near <= max_range) in_range.push_back({near, p});
+  }
+  // Sorted once, so every tile's list comes out sorted (ties by index, for determinism).
+  std::sort(in_range.begin(), in_range.end(), [](const Candidate& a, const Candidate& b) {
+    return a.near < b.near || (a.near == b.near && a.prim < b.prim);
+  });
+
+  std::vector<Candidate> cand;
+  cand.reserve(in_range.size());
   Hit hit;
-  std::size_t i = 0;
-  for (int v = 0; v < cam_.height; ++v) {
-    std::uint8_t* out = rgb.ptr<std::uint8_t>(v);
-    float* dout = depth.ptr<float>(v);
-    for (int u = 0; u < cam_.width; ++u, ++i) {
-      const Eigen::Vector3d dir = R * rays_cam_[i];
-      if (!scene_.raycast(origin, dir, opt_.max_range_m, hit)) {
-        out[3 * u] = opt_.background[0];
-        out[3 * u + 1] = opt_.background[1];
-        out[3 * u + 2] = opt_.background[2];
-        dout[u] = 0.0f;
+  std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
+  for (const Tile& tile : tiles_) {
+    // The tile's frustum: x_min z <= x <= x_max z and y_min z <= y <= y_max z in the camera
+    // frame; its four side planes in the world frame all pass through the camera centre.
+    const Eigen::Vector3d planes[4] = {R * Eigen::Vector3d(-1, 0, tile.x_min),
+                                       R * Eigen::Vector3d(1, 0, -tile.x_max),
+                                       R * Eigen::Vector3d(0, -1, tile.y_min),
+                                       R * Eigen::Vector3d(0, 1, -tile.y_max)};
+    cand.clear();
+    for (const Candidate& c : in_range) {
+      const Eigen::AlignedBox3d& b = scene_.primitiveBounds(c.prim);
+      if (outside(planes[0], origin, b) || outside(planes[1], origin, b) ||
+          outside(planes[2], origin, b) || outside(planes[3], origin, b))
         continue;
+      cand.push_back(c);
+    }
+
+    for (int v = tile.v0; v < tile.v1; ++v) {
+      std::uint8_t* out = rgb.ptr<std::uint8_t>(v);
+      float* dout = depth.ptr<float>(v);
+      for (int u = tile.u0; u < tile.u1; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * cam_.width + u;
+        const Eigen::Vector3d dir = R * rays_cam_[i];
+        // Closest hit: the neighbour's primitive first (usually the answer, giving a tight
+        // bound), then candidates in order of distance until they start beyond the best hit.
+        PrimitiveHit best, ph;
+        std::uint32_t best_prim = 0;
+        double t_max = max_range;
+        if (hint < prims && scene_.intersectPrimitive(hint, origin, dir, t_max, best)) {
+          best_prim = hint;
+          t_max = best.t;
+        }
+        for (const Candidate& c : cand) {
+          if (c.near > t_max) break;
+          if (c.prim == hint) continue;
+          if (scene_.intersectPrimitive(c.prim, origin, dir, t_max, ph) &&
+              Scene::closerHit(ph, c.prim, best, best_prim)) {
+            best = ph;
+            best_prim = c.prim;
+            t_max = ph.t;
+          }
+        }
+        if (best.face < 0) {
+          out[3 * u] = opt_.background[0];
+          out[3 * u + 1] = opt_.background[1];
+          out[3 * u + 2] = opt_.background[2];
+          dout[u] = 0.0f;
+          continue;
+        }
+        scene_.completeHit(best_prim, best, origin, dir, hit);
+        hint = best_prim;
+        dout[u] = static_cast<float>(hit.t * rays_cam_[i].z());
+        const double cos_inc = std::max(std::abs(hit.normal.dot(dir)), kMinFootprintCos);
+        const double footprint = hit.t * spread_[i] / cos_inc * lod_scale;
+        const Eigen::Vector3f albedo = scene_.surfaceColor(hit.material, hit.uv, footprint);
+        // Wrapped Lambert: surfaces facing away from the light keep the ambient level,
+        // standing in for light bounced around an indoor scene.
+        const double shade = opt_.ambient + opt_.diffuse * (0.5 + 0.5 * hit.normal.dot(light));
+        for (int c = 0; c < 3; ++c)
+          out[3 * u + c] = cv::saturate_cast<std::uint8_t>(albedo[c] * static_cast<float>(shade));
       }
-      dout[u] = static_cast<float>(hit.t * rays_cam_[i].z());
-      const double cos_inc = std::max(std::abs(hit.normal.dot(dir)), kMinFootprintCos);
-      const double footprint = hit.t * spread_[i] / cos_inc * lod_scale;
-      const Eigen::Vector3f albedo = scene_.surfaceColor(hit.material, hit.uv, footprint);
-      // Wrapped Lambert: surfaces facing away from the light keep the ambient level, standing
-      // in for light bounced around an indoor scene.
-      const double shade = opt_.ambient + opt_.diffuse * (0.5 + 0.5 * hit.normal.dot(light));
-      for (int c = 0; c < 3; ++c)
-        out[3 * u + c] = cv::saturate_cast<std::uint8_t>(albedo[c] * static_cast<float>(shade));
     }
   }
   if (opt_.optics_blur_sigma_px > 0.0)

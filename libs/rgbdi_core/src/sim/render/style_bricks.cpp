@@ -8,11 +8,11 @@ void paintBricks(WrapPainter& p, DetRandom& r, double tpm) {
   const cv::Scalar mortar = hsv(r.uniform(20, 50), r.uniform(0.0, 0.2), r.uniform(0.55, 0.8));
   p.rect(0, 0, n, n, mortar);
   const double hue = r.uniform(0, 40), sat = r.uniform(0.35, 0.75), val = r.uniform(0.35, 0.6);
-  // An integer number of courses per period keeps the texture periodic.
-  const int courses = std::max(1, static_cast<int>(std::lround(n / (0.075 * tpm))));
-  const double pitch = n / courses, joint = 0.01 * tpm;
-  for (int c = 0; c < courses; ++c) {
-    const double y = c * pitch;
+  // Courses of unequal height (reclaimed bricks, re-laid patches): equal courses would make the
+  // wall periodic every 7.5 cm vertically, where KLT could lock onto the wrong course.
+  const double joint = 0.01 * tpm;
+  double y = 0.0;
+  for (double pitch : splitPeriod(r, n, 0.055 * tpm, 0.1 * tpm)) {
     const double start = r.uniform(0, n);
     double x = start;
     for (double len : splitPeriod(r, n, 0.17 * tpm, 0.27 * tpm)) {
@@ -30,6 +30,7 @@ void paintBricks(WrapPainter& p, DetRandom& r, double tpm) {
                   scaled(color, r.uniform(0.4, 0.75)));
       x += len;
     }
+    y += pitch;
   }
   const double area_m2 = (n / tpm) * (n / tpm);
   for (int i = 0; i < static_cast<int>(area_m2 * 0.6); ++i) {
@@ -39,13 +40,13 @@ void paintBricks(WrapPainter& p, DetRandom& r, double tpm) {
   // Paint strokes: long thick polylines, strong colours.
   for (int i = 0; i < static_cast<int>(area_m2 * 1.0); ++i) {
     const cv::Scalar c = hsv(r.uniform(0, 360), r.uniform(0.5, 1.0), r.uniform(0.4, 1.0));
-    double x = r.uniform(0, n), y = r.uniform(0, n);
+    double x = r.uniform(0, n), y0 = r.uniform(0, n);
     const int thick = std::max(2, static_cast<int>(r.uniform(0.008, 0.025) * tpm));
     for (int k = r.integer(2, 6); k > 0; --k) {
-      const double nx = x + r.uniform(-0.25, 0.25) * tpm, ny = y + r.uniform(-0.2, 0.2) * tpm;
-      p.line(x, y, nx, ny, thick, c);
+      const double nx = x + r.uniform(-0.25, 0.25) * tpm, ny = y0 + r.uniform(-0.2, 0.2) * tpm;
+      p.line(x, y0, nx, ny, thick, c);
       x = nx;
-      y = ny;
+      y0 = ny;
     }
   }
 }

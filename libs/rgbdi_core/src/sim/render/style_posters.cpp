@@ -12,14 +12,14 @@ void paintPosters(WrapPainter& p, DetRandom& r, double tpm) {
     p.ellipse(r.uniform(0, n), r.uniform(0, n), r.uniform(0.1, 0.4) * tpm,
               r.uniform(0.1, 0.4) * tpm, r.uniform(0, 180), scaled(wall, r.uniform(0.9, 1.08)));
   const double area_m2 = (n / tpm) * (n / tpm);
-  const int posters = static_cast<int>(area_m2 * 2.2);
+  const int posters = static_cast<int>(area_m2 * 3.0);
   for (int i = 0; i < posters; ++i) {
     const double w = r.uniform(0.2, 0.9) * tpm;
     const double h = w * r.uniform(0.6, 1.5);
     paintPoster(p, r, r.uniform(0, n), r.uniform(0, n), w, h, tpm);
   }
   // Sticky notes, switches, labels: small high-contrast patches at a finer scale.
-  const int notes = static_cast<int>(area_m2 * 10);
+  const int notes = static_cast<int>(area_m2 * 16);
   for (int i = 0; i < notes; ++i) {
     const double s = r.uniform(0.04, 0.1) * tpm;
     const double x = r.uniform(0, n), y = r.uniform(0, n);

@@ -1,10 +1,28 @@
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "rgbdi/sim/texture.h"
 #include "sim/render/det_random.h"
 
 namespace rgbdi::sim {
+namespace {
+
+// log2 from the float's exponent plus a quadratic fit of the mantissa (error < 0.01 levels,
+// plenty for choosing a mip level, and several times faster than std::log2).
+inline float fastLog2(float x) {
+  if (!(x > 0.0f)) return -126.0f;
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int exponent = static_cast<int>((bits >> 23) & 0xff) - 127;
+  bits = (bits & 0x007fffffu) | 0x3f800000u;  // mantissa as a float in [1, 2)
+  float m;
+  std::memcpy(&m, &bits, sizeof m);
+  const float t = m - 1.0f;
+  return static_cast<float>(exponent) + t * (1.3465557f - 0.3465557f * t);
+}
+
+}  // namespace
 
 std::string toString(TextureStyle style) {
   switch (style) {
@@ -71,7 +89,7 @@ Eigen::Vector3f TextureBank::sample(const MaterialAppearance& appearance,
   // texture is upright.
   const double u = (a + appearance.offset_m.x()) * inv_texel;
   const double v = (appearance.offset_m.y() - b) * inv_texel;
-  const float lod = std::log2(static_cast<float>(footprint_m * inv_texel));
+  const float lod = fastLog2(static_cast<float>(footprint_m * inv_texel));
   const Eigen::Vector3f c = textures_[static_cast<std::size_t>(appearance.texture)].sample(u, v, lod);
   return c.cwiseProduct(appearance.gain);
 }

@@ -11,7 +11,8 @@ Box::Box(const Eigen::Isometry3d& T_world_box, const Eigen::Vector3d& half_exten
     : T_world_box_(T_world_box),
       R_box_world_(T_world_box.rotation().transpose()),
       half_(half_extents),
-      materials_(materials) {
+      materials_(materials),
+      axis_aligned_(T_world_box.linear() == Eigen::Matrix3d::Identity()) {
   if (!(half_extents.array() > 0.0).all() || !half_extents.allFinite())
     throw std::invalid_argument("Box: half extents must be positive and finite");
   if (!T_world_box.matrix().allFinite()) throw std::invalid_argument("Box: pose is not finite");
@@ -21,8 +22,10 @@ bool Box::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, d
                     PrimitiveHit& hit) const {
   // Slab test in the box frame. Track which axis bounds the entry and the exit interval so the
   // face is known without a second pass.
-  const Eigen::Vector3d o = R_box_world_ * (origin - T_world_box_.translation());
-  const Eigen::Vector3d d = R_box_world_ * dir;
+  // Axis-aligned boxes (room slabs, most furniture) skip the rotation into the box frame.
+  const Eigen::Vector3d o = axis_aligned_ ? Eigen::Vector3d(origin - T_world_box_.translation())
+                                          : Eigen::Vector3d(R_box_world_ * (origin - T_world_box_.translation()));
+  const Eigen::Vector3d d = axis_aligned_ ? dir : Eigen::Vector3d(R_box_world_ * dir);
   double t_in = -std::numeric_limits<double>::infinity();
   double t_out = std::numeric_limits<double>::infinity();
   int face_in = -1, face_out = -1;

@@ -1,6 +1,7 @@
 #include "rgbdi/sim/scene.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -143,16 +144,16 @@ std::array<std::uint32_t, 6> Scene::addRoom(const Eigen::Vector3d& min_corner,
 }
 
 void Scene::build() {
-  std::vector<Eigen::AlignedBox3d> boxes;
-  boxes.reserve(refs_.size());
+  bounds_.clear();
+  bounds_.reserve(refs_.size());
   for (const Ref& r : refs_) {
     switch (r.kind) {
-      case Kind::Box: boxes.push_back(boxes_[r.index].bounds()); break;
-      case Kind::Cylinder: boxes.push_back(cylinders_[r.index].bounds()); break;
-      case Kind::Prism: boxes.push_back(prisms_[r.index].bounds()); break;
+      case Kind::Box: bounds_.push_back(boxes_[r.index].bounds()); break;
+      case Kind::Cylinder: bounds_.push_back(cylinders_[r.index].bounds()); break;
+      case Kind::Prism: bounds_.push_back(prisms_[r.index].bounds()); break;
     }
   }
-  bvh_.build(boxes);
+  bvh_.build(bounds_);
   appearances_.clear();
   appearances_.reserve(materials_.size());
   for (const Material& m : materials_) appearances_.push_back(textures_.resolve(m));
@@ -211,23 +212,25 @@ void Scene::fillHit(std::uint32_t prim, const PrimitiveHit& ph, const Eigen::Vec
   hit.uv = s.uv;
 }
 
-namespace {
-// Equal distances (e.g. a ray through an edge shared by two slabs) go to the lower primitive
-// index, so the BVH and the brute-force search agree whatever order they visit primitives in.
-bool closer(const PrimitiveHit& h, std::uint32_t prim, const PrimitiveHit& best,
-            std::uint32_t best_prim) {
-  return best.face < 0 || h.t < best.t || (h.t == best.t && prim < best_prim);
-}
-}  // namespace
-
 bool Scene::raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_range,
                     Hit& hit) const {
+  return raycast(origin, dir, max_range, hit, std::numeric_limits<std::uint32_t>::max());
+}
+
+bool Scene::raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_range,
+                    Hit& hit, std::uint32_t hint_primitive) const {
   requireBuilt("raycast");
   PrimitiveHit best;
   std::uint32_t best_prim = 0;
-  bvh_.traverse(origin, dir, max_range, [&](std::uint32_t prim, double& t_max) {
+  double t_start = max_range;
+  if (hint_primitive < refs_.size() &&
+      intersectRef(hint_primitive, origin, dir, max_range, best)) {
+    best_prim = hint_primitive;
+    t_start = best.t;
+  }
+  bvh_.traverse(origin, dir, t_start, [&](std::uint32_t prim, double& t_max) {
     PrimitiveHit ph;
-    if (intersectRef(prim, origin, dir, t_max, ph) && closer(ph, prim, best, best_prim)) {
+    if (intersectRef(prim, origin, dir, t_max, ph) && closerHit(ph, prim, best, best_prim)) {
       best = ph;
       best_prim = prim;
       t_max = ph.t;
@@ -246,7 +249,7 @@ bool Scene::raycastBruteForce(const Eigen::Vector3d& origin, const Eigen::Vector
   double t_max = max_range;
   for (std::uint32_t prim = 0; prim < refs_.size(); ++prim) {
     PrimitiveHit ph;
-    if (intersectRef(prim, origin, dir, t_max, ph) && closer(ph, prim, best, best_prim)) {
+    if (intersectRef(prim, origin, dir, t_max, ph) && closerHit(ph, prim, best, best_prim)) {
       best = ph;
       best_prim = prim;
       t_max = ph.t;
