@@ -320,20 +320,34 @@ TEST_F(RawlogSourceTest, FrameArrivingTooLateAfterImuIsDropped) {
   for (int i = 0; i <= 100; ++i) {
     seq.emplace_back(imuAt(kT0 + i * kImuDt));
     if (i == 40) seq.emplace_back(frameAt(kT0 + 0.18));  // 0.02 s early: fine
+    if (i == 50) {                                        // two frames swapped: reordered
+      seq.emplace_back(frameAt(kT0 + 0.26));
+      seq.emplace_back(frameAt(kT0 + 0.22));
+    }
     if (i == 90) seq.emplace_back(frameAt(kT0 + 0.25));  // 0.2 s late: behind the output
   }
   writeAll(path, writerOptions(), seq);
   RawlogSource src(path);
   const auto out = readAll(src);
-  EXPECT_EQ(out.size(), 102u);
+  EXPECT_EQ(out.size(), 104u);
   expectTimeOrdered(out);
+  std::vector<std::uint64_t> indices;
+  for (const auto& m : out)
+    if (const auto* f = std::get_if<RgbdFrame>(&m)) indices.push_back(f->index);
+  EXPECT_EQ(indices, (std::vector<std::uint64_t>{0, 1, 2}));  // numbered in delivery order
   const auto& d = src.diagnostics();
-  EXPECT_EQ(d.images.delivered, 1u);
+  EXPECT_EQ(d.images.delivered, 3u);
+  EXPECT_EQ(d.images.non_monotonic, 1u);  // 0.25 is newer than the arrival before it (0.22)
+  EXPECT_EQ(d.images.reordered, 1u);
   EXPECT_EQ(d.images.dropped_late, 1u);
-  ASSERT_EQ(d.warnings.size(), 1u) << joined(d.warnings);
-  EXPECT_EQ(d.warnings[0], path + " record 92: RGB-D stamp t = " + fmt6(kT0 + 0.25) +
-                               " s is older than measurements already delivered (it arrived more "
-                               "than 0.1 s after newer data of another sensor); dropped");
+  const std::vector<std::string> expected = {
+      path + " record 53: RGB-D stamp t = " + fmt6(kT0 + 0.22) + " s is older than the newest RGB-D stamp " +
+          fmt6(kT0 + 0.26) + " s read before it (non-monotonic); reordered (within image_reorder_window_s = 0.1 s)",
+      path + " record 94: RGB-D stamp t = " + fmt6(kT0 + 0.25) +
+          " s is older than measurements already delivered (it arrived more than 0.1 s after newer "
+          "data of another sensor); dropped",
+  };
+  EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
 }
 
 TEST_F(RawlogSourceTest, ImuInGUnitsGapsAndRate) {
