@@ -76,7 +76,7 @@ struct RawlogSource::Impl {
     mrpt::serialization::CSerializable::Ptr obj;
     try {
       obj = archive->ReadObject();
-    } catch (const mrpt::serialization::CExceptionEOF& e) {
+    } catch (const mrpt::serialization::CExceptionEOF&) {
       if (counting->bytes() == before) {
         endInput();
       } else {
