@@ -1,0 +1,196 @@
+// rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast] [--fps N]
+//           [--seed N] [--config FILE] [--time-offset S] [--bag [--bag-compression none|bz2|lz4]]
+// Simulates an RGB-D-inertial sequence (doc/simulator.md) and writes it to DIR. Exit codes:
+// 0 ok, 1 error (configuration, files), 2 bad usage, 130 interrupted (Ctrl-C).
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "rgbdi/common/atomic_file.h"
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/sim/sequence_writer.h"
+
+namespace {
+
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitInterrupted = 130;
+
+const char* const kUsage =
+    "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
+    "                 [--fps N] [--seed N] [--config FILE] [--time-offset S]\n"
+    "                 [--bag [--bag-compression none|bz2|lz4]]\n"
+    "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
+    "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
+    "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag])\n"
+    "  --duration         total duration [s] (default: the profile's)\n"
+    "  --speed            speed preset (wheeled_slopes: the paper's slow/normal/fast runs)\n"
+    "  --fps              camera frame rate [Hz] (default 30)\n"
+    "  --seed             random seed of noise and textures (default 1)\n"
+    "  --config           INI file with [sim], [camera], [extrinsic] (default: built-in values,\n"
+    "                     the same as share/config.ini)\n"
+    "  --time-offset      camera-IMU time offset [s]: images stamped t_imu - offset\n"
+    "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
+    "  --bag-compression  chunk compression of the bag (default none)\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Set from the SIGINT handler; a lock-free atomic is the one thing a handler may touch.
+std::atomic<bool> g_stop{false};
+extern "C" void onSigint(int) { g_stop.store(true); }
+
+double number(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    throw UsageError(option + " needs a number, got '" + text + "'");
+  return v;
+}
+
+struct Arguments {
+  std::string profile, out, config, speed, bag_compression = "none";
+  double duration = 0.0, fps = 0.0, time_offset = 0.0;
+  long long seed = -1;
+  bool has_time_offset = false, bag = false, help = false;
+};
+
+Arguments parse(int argc, char** argv) {
+  Arguments a;
+  for (int k = 1; k < argc; ++k) {
+    std::string arg = argv[k], value;
+    bool inline_value = false;
+    if (arg.rfind("--", 0) == 0 && arg.find('=') != std::string::npos) {
+      value = arg.substr(arg.find('=') + 1);
+      arg = arg.substr(0, arg.find('='));
+      inline_value = true;
+    }
+    const auto take = [&]() -> std::string {
+      if (inline_value) return value;
+      if (k + 1 >= argc) throw UsageError(arg + " needs a value");
+      return argv[++k];
+    };
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+    } else if (arg == "--profile") {
+      a.profile = take();
+    } else if (arg == "--out") {
+      a.out = take();
+    } else if (arg == "--config") {
+      a.config = take();
+    } else if (arg == "--speed") {
+      a.speed = take();
+    } else if (arg == "--duration") {
+      a.duration = number(arg, take());
+      if (a.duration <= 0.0) throw UsageError("--duration must be positive");
+    } else if (arg == "--fps") {
+      a.fps = number(arg, take());
+      if (a.fps <= 0.0 || a.fps > 1000.0) throw UsageError("--fps must be in (0, 1000]");
+    } else if (arg == "--seed") {
+      const double s = number(arg, take());
+      if (s < 0 || s > std::numeric_limits<int>::max() || s != std::floor(s))
+        throw UsageError("--seed must be an integer in [0, 2147483647]");
+      a.seed = static_cast<long long>(s);
+    } else if (arg == "--time-offset") {
+      a.time_offset = number(arg, take());
+      if (std::abs(a.time_offset) > 0.5) throw UsageError("--time-offset must be within +-0.5 s");
+      a.has_time_offset = true;
+    } else if (arg == "--bag") {
+      if (inline_value) throw UsageError("--bag takes no value");
+      a.bag = true;
+    } else if (arg == "--bag-compression") {
+      a.bag_compression = take();
+    } else {
+      throw UsageError("unknown argument '" + arg + "'");
+    }
+  }
+  if (a.help) return a;
+  if (a.profile.empty()) throw UsageError("--profile is required");
+  if (a.out.empty()) throw UsageError("--out is required");
+  return a;
+}
+
+rgbdi::sim::SimOptions options(const Arguments& a) {
+  rgbdi::IniReader ini =
+      a.config.empty() ? rgbdi::IniReader::empty() : rgbdi::IniReader::fromFile(a.config);
+  rgbdi::sim::SimOptions o = rgbdi::sim::SimOptions::load(ini);
+  // The simulator reads [sim], [camera] and [extrinsic]; the other modules' sections of a full
+  // rgbdi configuration (e.g. share/config.ini) are allowed but not used.
+  for (const char* s : {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output"})
+    ini.acceptSection(s);
+  ini.checkNoUnknownKeys();
+  try {
+    o.profile.kind = rgbdi::sim::parseProfileKind(a.profile);
+    if (!a.speed.empty()) o.profile.speed = rgbdi::sim::parseSpeedPreset(a.speed);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (a.duration > 0.0) o.profile.duration_s = a.duration;
+  if (a.fps > 0.0) o.fps = a.fps;
+  if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
+  if (a.has_time_offset) o.time_offset_s = a.time_offset;
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments args;
+  rgbdi::sim::SimOptions opt;
+  rgbdi::sim::SequenceWriterOptions wo;
+  try {
+    args = parse(argc, argv);
+    if (args.help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    try {
+      wo.bag_compression = rgbdi::bag::parseCompression(args.bag_compression);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--bag-compression: ") + e.what());
+    }
+    opt = options(args);
+  } catch (const UsageError& e) {
+    std::cerr << "rgbdi-sim: " << e.what() << "\n" << kUsage;
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "rgbdi-sim: error: " << e.what() << "\n";
+    return kExitError;
+  }
+
+  std::signal(SIGINT, onSigint);
+  try {
+    const rgbdi::sim::SimulatedSequence sequence(opt);
+    wo.write_bag = args.bag;
+    wo.progress = &std::cerr;
+    const rgbdi::sim::SequenceWriteSummary s =
+        rgbdi::sim::writeSequence(sequence, args.out, wo, &g_stop);
+    if (!s.completed) {
+      std::cerr << "rgbdi-sim: interrupted after " << s.frames << " of " << sequence.frameCount()
+                << " frames; no rawlog or bag was written\n";
+      return kExitInterrupted;
+    }
+    std::cout << std::fixed << std::setprecision(1) << "profile " << args.profile << ": "
+              << sequence.duration() << " s, " << sequence.profile().path_length_m << " m at "
+              << std::setprecision(3) << sequence.profile().cruise_speed_m_s << " m/s, "
+              << s.frames << " frames, " << s.imu_samples << " IMU samples in "
+              << std::setprecision(1) << s.wall_time_s << " s (" << s.frames / std::max(1e-9, s.wall_time_s)
+              << " frames/s)\n"
+              << "  " << s.rawlog_path << "\n  " << s.groundtruth_path << "\n  "
+              << s.groundtruth_cam_path << "\n  " << s.config_path << "\n  " << s.simulation_path
+              << "\n";
+    if (!s.bag_path.empty()) std::cout << "  " << s.bag_path << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "rgbdi-sim: error: " << e.what() << "\n";
+    return kExitError;
+  }
+  return 0;
+}
