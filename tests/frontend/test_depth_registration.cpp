@@ -169,6 +169,52 @@ TEST(DepthRegistration, NothingIsInventedWhereTheDepthCameraIsOccluded) {
   EXPECT_EQ(filled_wrongly, 0);
 }
 
+TEST(DepthRegistration, RegisteringAroundPointsGivesTheSameValuesThere) {
+  const RigScene r = makeRig();
+  const cv::Mat full = registerDepthToColor(r.frame);
+  // Points all over the image, including on the box edges, the borders and the corners.
+  std::vector<Eigen::Vector2d> centres;
+  for (int v = 0; v < 480; v += 37)
+    for (int u = 0; u < 640; u += 29) centres.emplace_back(u + 0.3, v - 0.4);
+  centres.emplace_back(0.0, 0.0);
+  centres.emplace_back(639.0, 479.0);
+  const int radius = 3;
+  rgbdi::frontend::DepthRegistrar registrar;
+  cv::Mat sparse;
+  registrar.registerDepthAround(r.frame, r.cam_color, centres, radius, sparse);
+  ASSERT_EQ(sparse.type(), CV_32FC1);
+  ASSERT_EQ(sparse.size(), full.size());
+  cv::Mat inside(480, 640, CV_8UC1, cv::Scalar(0));
+  for (const Eigen::Vector2d& c : centres) {
+    const cv::Rect w(static_cast<int>(std::lround(c.x())) - radius, static_cast<int>(std::lround(c.y())) - radius,
+                     2 * radius + 1, 2 * radius + 1);
+    inside(w & cv::Rect(0, 0, 640, 480)).setTo(255);
+  }
+  int compared = 0, with_depth = 0;
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u) {
+      if (!inside.at<std::uint8_t>(v, u)) {
+        ASSERT_EQ(sparse.at<float>(v, u), 0.0f) << u << "," << v;
+        continue;
+      }
+      ++compared;
+      with_depth += full.at<float>(v, u) > 0 ? 1 : 0;
+      ASSERT_EQ(sparse.at<float>(v, u), full.at<float>(v, u)) << u << "," << v;  // bit-identical
+    }
+  EXPECT_GT(compared, 13000);
+  EXPECT_GT(with_depth, 12500);
+
+  // The same registrar then serves a full registration unchanged (its buffers are reset).
+  EXPECT_EQ(cv::norm(registrar.registerDepth(r.frame, r.cam_color), full, cv::NORM_INF), 0.0);
+  // Aligned depth: the windows are plain unit conversions.
+  RgbdFrame aligned = r.frame;
+  aligned.depth_aligned_to_color = true;
+  registrar.registerDepthAround(aligned, r.cam_color, {Eigen::Vector2d(100.2, 50.7)}, 2, sparse);
+  EXPECT_FLOAT_EQ(sparse.at<float>(51, 100), static_cast<float>(r.frame.depth.at<std::uint16_t>(51, 100) * kDepthUnit));
+  EXPECT_EQ(sparse.at<float>(48, 100), 0.0f);
+  EXPECT_EQ(cv::countNonZero(sparse), cv::countNonZero(r.frame.depth(cv::Rect(98, 49, 5, 5))));
+}
+
 TEST(DepthRegistration, AlignedDepthIsOnlyConvertedToMetres) {
   RgbdFrame f;
   f.depth_aligned_to_color = true;

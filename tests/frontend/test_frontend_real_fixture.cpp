@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rgbdi/frontend/depth_registration.h"
+#include "rgbdi/frontend/depth_sampling.h"
 #include "rgbdi/frontend/feature_tracker.h"
 #include "testing/fixtures.h"
 
@@ -180,8 +181,11 @@ TEST(FrontendRealFixture, TrackedFeaturesGetDepth) {
   EXPECT_EQ(static_cast<int>(ff.features.size()), FrontendOptions().max_features);
   EXPECT_EQ(ff.n_new, static_cast<int>(ff.features.size()));
   EXPECT_GT(ff.n_with_depth, static_cast<int>(ff.features.size()) / 2);
+  // The tracker registers only the feature windows: same depths as from the full registration.
+  const cv::Mat full = registerDepthToColor(fx.frame);
   int counted = 0;
   for (const FeatureObservation& f : ff.features) {
+    EXPECT_EQ(f.depth_m, sampleDepth(full, f.uv, FrontendOptions())) << f.uv.transpose();
     if (f.depth_m > 0) {
       ++counted;
       EXPECT_GE(f.depth_m, 1.62);

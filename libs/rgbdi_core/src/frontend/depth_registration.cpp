@@ -1,12 +1,18 @@
 #include "rgbdi/frontend/depth_registration.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace rgbdi::frontend {
 namespace {
+
+/// "No depth point here" in the z-buffers: the neutral element of the minimum.
+constexpr float kEmpty = std::numeric_limits<float>::max();
 
 bool sameCamera(const PinholeCamera& a, const PinholeCamera& b) {
   return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy &&
@@ -14,29 +20,12 @@ bool sameCamera(const PinholeCamera& a, const PinholeCamera& b) {
 }
 
 [[noreturn]] void fail(const RgbdFrame& frame, const std::string& what) {
-  const std::string where = frame.source_label.empty()
-                                ? "frame " + std::to_string(frame.index)
-                                : frame.source_label;
+  const std::string where =
+      frame.source_label.empty() ? "frame " + std::to_string(frame.index) : frame.source_label;
   throw std::invalid_argument("depth registration: " + where + ": " + what);
 }
 
 std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
-
-/// Radial-tangential distortion in float (the splat loop runs it for every depth pixel).
-struct FloatDistortion {
-  float k1, k2, p1, p2, k3;
-  bool any;
-  explicit FloatDistortion(const PinholeCamera& c)
-      : k1(float(c.dist[0])), k2(float(c.dist[1])), p1(float(c.dist[2])), p2(float(c.dist[3])),
-        k3(float(c.dist[4])), any(c.hasDistortion()) {}
-  void apply(float& x, float& y, float r2) const {
-    const float radial = 1.0f + r2 * (k1 + r2 * (k2 + r2 * k3));
-    const float xd = x * radial + 2.0f * p1 * x * y + p2 * (r2 + 2.0f * x * x);
-    const float yd = y * radial + p1 * (r2 + 2.0f * y * y) + 2.0f * p2 * x * y;
-    x = xd;
-    y = yd;
-  }
-};
 
 /// Largest squared normalised radius worth projecting: the polynomial distortion model is only
 /// meaningful inside the field of view it was calibrated on and can fold far-away points back
@@ -49,49 +38,27 @@ float maxNormalisedRadius2(const PinholeCamera& cam) {
   return static_cast<float>(1.5 * r2);
 }
 
-/// Combines the nearest-pixel values and the 2x2 cover (see DepthRegistrar docs).
-cv::Mat resolveCracksAndOcclusions(const cv::Mat& values, const cv::Mat& cover, float tol) {
-  const int w = values.cols, h = values.rows;
-  auto trusted = [&](int u, int v) {
-    const float s = values.at<float>(v, u);
-    return s > 0.0f && s <= cover.at<float>(v, u) * (1.0f + tol);
-  };
-  cv::Mat out(values.size(), CV_32F, cv::Scalar(0));
-  for (int v = 0; v < h; ++v) {
-    const float* cover_row = cover.ptr<float>(v);
-    float* dst = out.ptr<float>(v);
-    for (int u = 0; u < w; ++u) {
-      const float c = cover_row[u];
-      if (c <= 0.0f) continue;  // no depth point within a pixel: leave the hole
-      if (trusted(u, v)) {
-        dst[u] = values.at<float>(v, u);
-        continue;
+/// Smallest valid raw depth value of the image (0 when there is none).
+std::uint16_t smallestDepthValue(const cv::Mat& depth) {
+  std::uint16_t lowest = std::numeric_limits<std::uint16_t>::max();
+  bool any = false;
+  for (int v = 0; v < depth.rows; ++v) {
+    const std::uint16_t* row = depth.ptr<std::uint16_t>(v);
+    for (int u = 0; u < depth.cols; ++u)
+      if (row[u] != 0) {
+        any = true;
+        lowest = std::min(lowest, row[u]);
       }
-      if (u == 0 || v == 0 || u == w - 1 || v == h - 1) {
-        dst[u] = c;
-        continue;
-      }
-      // Opposite neighbour pairs: horizontal, vertical and both diagonals (where a row crack
-      // crosses a column crack only the diagonals have support).
-      static constexpr int kPairs[4][4] = {{-1, 0, 1, 0}, {0, -1, 0, 1}, {-1, -1, 1, 1}, {1, -1, -1, 1}};
-      float best_diff = -1.0f, best_mean = 0.0f;
-      for (const auto& p : kPairs) {
-        const int ua = u + p[0], va = v + p[1], ub = u + p[2], vb = v + p[3];
-        if (!trusted(ua, va) || !trusted(ub, vb)) continue;
-        const float a = values.at<float>(va, ua), b = values.at<float>(vb, ub);
-        const float diff = std::fabs(a - b);
-        const float mean = 0.5f * (a + b);
-        if (diff > tol * std::min(a, b) || mean > c * (1.0f + tol)) continue;
-        if (best_diff < 0.0f || diff < best_diff) {
-          best_diff = diff;
-          best_mean = mean;
-        }
-      }
-      dst[u] = best_diff >= 0.0f ? best_mean : c;
-    }
   }
-  return out;
+  return any ? lowest : 0;
 }
+
+cv::Rect aroundPixel(const Eigen::Vector2d& centre, int radius) {
+  const int u = static_cast<int>(std::lround(centre.x())), v = static_cast<int>(std::lround(centre.y()));
+  return {u - radius, v - radius, 2 * radius + 1, 2 * radius + 1};
+}
+
+cv::Rect grown(const cv::Rect& r, int by) { return {r.x - by, r.y - by, r.width + 2 * by, r.height + 2 * by}; }
 
 }  // namespace
 
@@ -112,78 +79,205 @@ void DepthRegistrar::updateRays(const PinholeCamera& cam_depth) {
     }
 }
 
-cv::Mat DepthRegistrar::registerDepth(const RgbdFrame& frame, const PinholeCamera& cam_color) {
+void DepthRegistrar::prepare(const RgbdFrame& frame, const PinholeCamera& cam_color) {
   if (!frame.hasDepth()) fail(frame, "no depth image");
   if (frame.depth.type() != CV_16UC1)
-    fail(frame, "depth image must be CV_16UC1 (raw units), got OpenCV type " +
-                    std::to_string(frame.depth.type()));
+    fail(frame, "depth image must be CV_16UC1 (raw units), got OpenCV type " + std::to_string(frame.depth.type()));
   if (!(frame.depth_unit_m > 0.0) || !std::isfinite(frame.depth_unit_m))
     fail(frame, "depth unit " + std::to_string(frame.depth_unit_m) + " m is not positive");
   if (!cam_color.valid()) fail(frame, "colour camera intrinsics are not valid");
-
   if (frame.depth_aligned_to_color) {
     if (frame.depth.cols != cam_color.width || frame.depth.rows != cam_color.height)
       fail(frame, "depth aligned to colour is " + sizeText(frame.depth.cols, frame.depth.rows) +
                       " but the colour camera is " + sizeText(cam_color.width, cam_color.height));
-    cv::Mat out;
-    frame.depth.convertTo(out, CV_32F, frame.depth_unit_m);
-    return out;
+    return;
   }
-
   const PinholeCamera& cam_depth = frame.cam_depth;
   if (!cam_depth.valid()) fail(frame, "depth is not aligned to colour but has no valid depth intrinsics");
   if (frame.depth.cols != cam_depth.width || frame.depth.rows != cam_depth.height)
-    fail(frame, "depth image is " + sizeText(frame.depth.cols, frame.depth.rows) +
-                    " but the depth camera is " + sizeText(cam_depth.width, cam_depth.height));
+    fail(frame, "depth image is " + sizeText(frame.depth.cols, frame.depth.rows) + " but the depth camera is " +
+                    sizeText(cam_depth.width, cam_depth.height));
   if (!frame.T_color_depth.matrix().allFinite()) fail(frame, "T_color_depth is not finite");
   updateRays(cam_depth);
+  if (!sameCamera(cam_color, cam_color_) || max_radius2_ == 0.0f) {
+    cam_color_ = cam_color;
+    max_radius2_ = maxNormalisedRadius2(cam_color);
+  }
+  R_color_depth_ = frame.T_color_depth.rotation().cast<float>();
+  t_color_depth_ = frame.T_color_depth.translation().cast<float>();
+  values_.create(cam_color.height, cam_color.width, CV_32F);
+  values_.setTo(kEmpty);
+  cover_.create(cam_color.height, cam_color.width, CV_32F);
+  cover_.setTo(kEmpty);
+}
 
-  const Eigen::Matrix3f R = frame.T_color_depth.rotation().cast<float>();
-  const Eigen::Vector3f t = frame.T_color_depth.translation().cast<float>();
-  const FloatDistortion distortion(cam_color);
-  const float r2_max = maxNormalisedRadius2(cam_color);
-  const float fx = float(cam_color.fx), fy = float(cam_color.fy);
-  const float cx = float(cam_color.cx), cy = float(cam_color.cy);
+void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
+  const PinholeCamera& c = cam_color_;
+  const float k1 = float(c.dist[0]), k2 = float(c.dist[1]), p1 = float(c.dist[2]), p2 = float(c.dist[3]),
+              k3 = float(c.dist[4]);
+  const bool distorted = c.hasDistortion();
+  const float fx = float(c.fx), fy = float(c.fy), cx = float(c.cx), cy = float(c.cy);
   const float unit = float(frame.depth_unit_m);
-  const float u_lim = float(cam_color.width) - 0.5f, v_lim = float(cam_color.height) - 0.5f;
-
-  const int w = cam_color.width, h = cam_color.height;
-  cv::Mat values(h, w, CV_32F, cv::Scalar(0)), cover(h, w, CV_32F, cv::Scalar(0));
-  auto keepNearer = [](float& cell, float z) {
-    if (cell == 0.0f || z < cell) cell = z;
-  };
-  const float* ray = rays_xn_.data();
-  for (int v = 0; v < frame.depth.rows; ++v) {
+  const float u_lim = float(c.width) - 0.5f, v_lim = float(c.height) - 0.5f;
+  const Eigen::Matrix3f& R = R_color_depth_;
+  const Eigen::Vector3f& t = t_color_depth_;
+  const int depth_width = frame.depth.cols;
+  for (int v = depth_roi.y; v < depth_roi.y + depth_roi.height; ++v) {
     const std::uint16_t* drow = frame.depth.ptr<std::uint16_t>(v);
-    for (int u = 0; u < frame.depth.cols; ++u, ray += 2) {
+    const float* ray = rays_xn_.data() + 2 * (static_cast<size_t>(v) * depth_width + depth_roi.x);
+    for (int u = depth_roi.x; u < depth_roi.x + depth_roi.width; ++u, ray += 2) {
       if (drow[u] == 0) continue;
       const float z = drow[u] * unit;
       const Eigen::Vector3f p = R * Eigen::Vector3f(ray[0] * z, ray[1] * z, z) + t;
       if (p.z() <= 0.0f) continue;
       float x = p.x() / p.z(), y = p.y() / p.z();
-      if (distortion.any) {
+      if (distorted) {
         const float r2 = x * x + y * y;
-        if (r2 > r2_max) continue;
-        distortion.apply(x, y, r2);
+        if (r2 > max_radius2_) continue;
+        const float radial = 1.0f + r2 * (k1 + r2 * (k2 + r2 * k3));
+        const float xd = x * radial + 2.0f * p1 * x * y + p2 * (r2 + 2.0f * x * x);
+        y = y * radial + p1 * (r2 + 2.0f * y * y) + 2.0f * p2 * x * y;
+        x = xd;
       }
       const float uc = fx * x + cx, vc = fy * y + cy;
-      if (!(uc > -1.0f && uc < float(w) && vc > -1.0f && vc < float(h))) continue;
-      // 2x2 cover: the pixels at floor() and floor() + 1 in both directions.
+      if (!(uc > -1.0f && uc < float(c.width) && vc > -1.0f && vc < float(c.height))) continue;
+      // Cover: the 2x2 pixels around the sub-pixel position (floor and floor + 1 both ways).
       const int u0 = static_cast<int>(std::floor(uc)), v0 = static_cast<int>(std::floor(vc));
-      for (int dv = 0; dv <= 1; ++dv) {
-        const int y_px = v0 + dv;
-        if (y_px < 0 || y_px >= h) continue;
-        float* cover_row = cover.ptr<float>(y_px);
-        for (int du = 0; du <= 1; ++du) {
-          const int x_px = u0 + du;
-          if (x_px >= 0 && x_px < w) keepNearer(cover_row[x_px], p.z());
-        }
+      for (int y_px = std::max(v0, 0); y_px <= std::min(v0 + 1, c.height - 1); ++y_px) {
+        float* cover_row = cover_.ptr<float>(y_px);
+        for (int x_px = std::max(u0, 0); x_px <= std::min(u0 + 1, c.width - 1); ++x_px)
+          cover_row[x_px] = std::min(cover_row[x_px], p.z());
       }
-      if (uc > -0.5f && uc < u_lim && vc > -0.5f && vc < v_lim)
-        keepNearer(values.at<float>(int(vc + 0.5f), int(uc + 0.5f)), p.z());
+      if (uc > -0.5f && uc < u_lim && vc > -0.5f && vc < v_lim) {
+        float& cell = values_.at<float>(int(vc + 0.5f), int(uc + 0.5f));
+        cell = std::min(cell, p.z());  // z-buffer: the nearer surface wins
+      }
     }
   }
-  return resolveCracksAndOcclusions(values, cover, float(options_.registration_fill_max_relative_diff));
+}
+
+void DepthRegistrar::resolve(const cv::Rect& rect, cv::Mat& out) const {
+  const int w = values_.cols, h = values_.rows;
+  const float tol = float(options_.registration_fill_max_relative_diff);
+  auto trusted = [&](int u, int v) {
+    const float s = values_.at<float>(v, u);
+    return s != kEmpty && s <= cover_.at<float>(v, u) * (1.0f + tol);
+  };
+  // Opposite neighbour pairs: horizontal, vertical and both diagonals (where a row crack crosses
+  // a column crack only the diagonals have support).
+  static constexpr int kPairs[4][4] = {{-1, 0, 1, 0}, {0, -1, 0, 1}, {-1, -1, 1, 1}, {1, -1, -1, 1}};
+  for (int v = rect.y; v < rect.y + rect.height; ++v) {
+    float* dst = out.ptr<float>(v);
+    for (int u = rect.x; u < rect.x + rect.width; ++u) {
+      const float c = cover_.at<float>(v, u);
+      if (c == kEmpty) {
+        dst[u] = 0.0f;  // no depth point within a pixel: leave the hole
+        continue;
+      }
+      if (trusted(u, v)) {
+        dst[u] = values_.at<float>(v, u);
+        continue;
+      }
+      float best_diff = -1.0f, best_mean = 0.0f;
+      if (u > 0 && v > 0 && u < w - 1 && v < h - 1) {
+        for (const auto& p : kPairs) {
+          const int ua = u + p[0], va = v + p[1], ub = u + p[2], vb = v + p[3];
+          if (!trusted(ua, va) || !trusted(ub, vb)) continue;
+          const float a = values_.at<float>(va, ua), b = values_.at<float>(vb, ub);
+          const float diff = std::fabs(a - b), mean = 0.5f * (a + b);
+          if (diff > tol * std::min(a, b) || mean > c * (1.0f + tol)) continue;
+          if (best_diff < 0.0f || diff < best_diff) {
+            best_diff = diff;
+            best_mean = mean;
+          }
+        }
+      }
+      dst[u] = best_diff >= 0.0f ? best_mean : c;
+    }
+  }
+}
+
+cv::Rect DepthRegistrar::depthRoiFor(const cv::Rect& colour_rect, double nearest_range_m, const RgbdFrame& frame,
+                                     const PinholeCamera& cam_color) const {
+  const cv::Rect whole(0, 0, frame.depth.cols, frame.depth.rows);
+  // Rays through the rectangle's corners from the nearest possible range out to infinity
+  // project into the depth image as segments along the epipolar lines; their bounding box holds
+  // every depth pixel that can land inside (the rectangles are a few pixels wide, so distortion
+  // does not bend their edges measurably; the margin below absorbs what it does).
+  const double x0 = colour_rect.x - 0.5, y0 = colour_rect.y - 0.5;
+  const double x1 = colour_rect.x + colour_rect.width - 0.5, y1 = colour_rect.y + colour_rect.height - 0.5;
+  const double outline[4][2] = {{x0, y0}, {x1, y0}, {x0, y1}, {x1, y1}};
+  const Eigen::Isometry3d T_depth_color = frame.T_color_depth.inverse(Eigen::Isometry);
+  double umin = 1e30, vmin = 1e30, umax = -1e30, vmax = -1e30;
+  for (const auto& q : outline) {
+    const Eigen::Vector2d xn = cam_color.pixelToNormalized({q[0], q[1]});
+    const Eigen::Vector3d dir = Eigen::Vector3d(xn.x(), xn.y(), 1.0).normalized();
+    Eigen::Vector2d near_uv, far_uv;
+    // Far end: the direction alone (a point at infinity); near end: the nearest range.
+    if (!frame.cam_depth.project(T_depth_color.linear() * dir, far_uv) ||
+        !frame.cam_depth.project(T_depth_color * (nearest_range_m * dir), near_uv))
+      return whole;  // a ray leaves the depth camera's front half-space: no useful bound
+    for (const Eigen::Vector2d& p : {near_uv, far_uv}) {
+      umin = std::min(umin, p.x());
+      umax = std::max(umax, p.x());
+      vmin = std::min(vmin, p.y());
+      vmax = std::max(vmax, p.y());
+    }
+  }
+  // Two depth pixels of margin for the curvature of distorted epipolar curves.
+  constexpr double kMarginPx = 2.0;
+  if (!(umax - umin < 4.0 * whole.width && vmax - vmin < 4.0 * whole.height)) return whole;
+  const cv::Rect roi(cv::Point(int(std::floor(umin - kMarginPx)), int(std::floor(vmin - kMarginPx))),
+                     cv::Point(int(std::ceil(umax + kMarginPx)) + 1, int(std::ceil(vmax + kMarginPx)) + 1));
+  return roi & whole;
+}
+
+cv::Mat DepthRegistrar::registerDepth(const RgbdFrame& frame, const PinholeCamera& cam_color) {
+  prepare(frame, cam_color);
+  cv::Mat out;
+  if (frame.depth_aligned_to_color) {
+    frame.depth.convertTo(out, CV_32F, frame.depth_unit_m);
+    return out;
+  }
+  const cv::Rect all(0, 0, cam_color.width, cam_color.height);
+  splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
+  out.create(cam_color.height, cam_color.width, CV_32F);
+  resolve(all, out);
+  return out;
+}
+
+void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
+                                         const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
+  prepare(frame, cam_color);
+  out.create(cam_color.height, cam_color.width, CV_32F);
+  out.setTo(0.0f);
+  const cv::Rect all(0, 0, cam_color.width, cam_color.height);
+  if (frame.depth_aligned_to_color) {
+    for (const Eigen::Vector2d& c : centres) {
+      const cv::Rect r = aroundPixel(c, radius_px) & all;
+      if (!r.empty()) frame.depth(r).convertTo(out(r), CV_32F, frame.depth_unit_m);
+    }
+    return;
+  }
+  const std::uint16_t lowest = smallestDepthValue(frame.depth);
+  if (lowest == 0) return;  // no depth at all
+  // No depth point is nearer to the colour camera than this (triangle inequality).
+  const double nearest_range =
+      std::max(0.0, lowest * frame.depth_unit_m - frame.T_color_depth.translation().norm());
+  if (!(nearest_range > 0.0)) {
+    splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
+  } else {
+    // A pixel's result depends on values and covers one pixel away (pairs of neighbours), and
+    // those on the points landing within one pixel of them: three pixels with a safety pixel.
+    for (const Eigen::Vector2d& c : centres) {
+      const cv::Rect colour = grown(aroundPixel(c, radius_px), 3) & all;
+      if (!colour.empty()) splat(frame, depthRoiFor(colour, nearest_range, frame, cam_color));
+    }
+  }
+  for (const Eigen::Vector2d& c : centres) {
+    const cv::Rect r = aroundPixel(c, radius_px) & all;
+    if (!r.empty()) resolve(r, out);
+  }
 }
 
 cv::Mat registerDepthToColor(const RgbdFrame& frame, const FrontendOptions& options) {

@@ -216,8 +216,14 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
   out.timings.detect_ms = step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
-  cv::Mat depth_m;
-  if (frame.hasDepth()) depth_m = registrar_.registerDepth(frame, cam_);
+  const bool with_depth = frame.hasDepth();
+  if (with_depth) {
+    // Only the sampling windows are registered: the full image would cost several times more.
+    std::vector<Eigen::Vector2d> centres;
+    centres.reserve(tracks.size());
+    for (const Track& t : tracks) centres.emplace_back(t.uv.x, t.uv.y);
+    registrar_.registerDepthAround(frame, cam_, centres, options_.depth_neighbourhood_px + 1, depth_m_);
+  }
   out.features.reserve(tracks.size());
   for (const Track& t : tracks) {
     FeatureObservation obs;
@@ -226,7 +232,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
     obs.xn = t.xn;
     obs.track_length = t.length;
     if (t.length > 1) obs.velocity_xn = (t.xn - t.xn_velocity_from) / dt;
-    if (!depth_m.empty()) obs.depth_m = sampleDepth(depth_m, obs.uv, options_);
+    if (with_depth) obs.depth_m = sampleDepth(depth_m_, obs.uv, options_);
     if (obs.depth_m > 0.0) ++out.n_with_depth;
     out.features.push_back(obs);
   }

@@ -65,6 +65,7 @@ class FeatureTracker {
   FrontendOptions options_;
   PinholeCamera cam_;
   DepthRegistrar registrar_;
+  cv::Mat depth_m_;  ///< registered depth around the current features (reused buffer)
   cv::Ptr<cv::CLAHE> clahe_;  ///< only when clahe_clip_limit > 0
 
   bool has_previous_ = false;
