@@ -1,0 +1,166 @@
+// MRPT-native exports: serialized coloured points map, 3-D scene and simple map.
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/CColouredPointsMap.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/opengl/stock_objects.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "mapping/pose_check.h"
+#include "rgbdi/common/atomic_file.h"
+#include "rgbdi/mapping/map_export.h"
+
+namespace rgbdi::mapping {
+namespace {
+
+mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& T) {
+  return mrpt::poses::CPose3D(mrpt::math::CMatrixDouble44(T.matrix()));
+}
+
+/// Runs an MRPT writer on the temporary file; MRPT reports failures with exceptions or false.
+void writeWithMrpt(const std::string& path, const std::string& what,
+                   const std::function<bool(const std::string&)>& write) {
+  writeFileAtomicallyVia(path, [&](const std::string& tmp) {
+    bool ok = false;
+    try {
+      ok = write(tmp);
+    } catch (const std::exception& e) {
+      throw IoError(path + ": MRPT could not write the " + what + ": " + e.what());
+    }
+    if (!ok) throw IoError(path + ": MRPT could not write the " + what);
+  });
+}
+
+bool serializeGz(const std::string& tmp, const mrpt::serialization::CSerializable& object) {
+  mrpt::io::CFileGZOutputStream out;
+  if (!out.open(tmp)) return false;
+  auto archive = mrpt::serialization::archiveFrom(out);
+  archive << object;
+  out.close();
+  return true;
+}
+
+float unit(std::uint8_t c) { return static_cast<float>(c) / 255.0f; }
+
+mrpt::opengl::CSetOfLines::Ptr polyline(const Trajectory& trajectory, const std::string& name,
+                                        float r, float g, float b) {
+  auto lines = mrpt::opengl::CSetOfLines::Create();
+  lines->setName(name);
+  lines->setColor(r, g, b);
+  lines->setLineWidth(2.0f);
+  for (std::size_t k = 1; k < trajectory.size(); ++k) {
+    const Eigen::Vector3d& a = trajectory[k - 1].p;
+    const Eigen::Vector3d& c = trajectory[k].p;
+    lines->appendLine(a.x(), a.y(), a.z(), c.x(), c.y(), c.z());
+  }
+  return lines;
+}
+
+void checkFinite(const Trajectory& trajectory, const std::string& path, const char* which) {
+  for (std::size_t k = 0; k < trajectory.size(); ++k)
+    if (!trajectory[k].p.allFinite() || !trajectory[k].q.coeffs().allFinite())
+      throw std::invalid_argument("writeScene " + path + ": " + which + " pose " +
+                                  std::to_string(k) + " is not finite");
+}
+
+}  // namespace
+
+void writePointsMap(const std::string& path, const PointMap& map) {
+  mrpt::maps::CColouredPointsMap points;
+  points.reserve(map.pointCount());
+  for (const WorldPoint& p : map.points())
+    points.insertPointRGB(p.p_world.x(), p.p_world.y(), p.p_world.z(), unit(p.rgb[0]),
+                          unit(p.rgb[1]), unit(p.rgb[2]));
+  writeWithMrpt(path, "coloured points map",
+                [&](const std::string& tmp) { return serializeGz(tmp, points); });
+}
+
+void writeScene(const std::string& path, const PointMap& map, const Trajectory& trajectory,
+                const KeyframeStore& keyframes, const SceneOptions& options,
+                const Trajectory* ground_truth) {
+  checkFinite(trajectory, path, "trajectory");
+  if (ground_truth) checkFinite(*ground_truth, path, "ground-truth");
+  mrpt::opengl::COpenGLScene scene;
+
+  auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+  cloud->setName("map_points");
+  cloud->setPointSize(2.0f);
+  cloud->reserve(map.pointCount());
+  // The ground grid spans everything drawn, rounded out to whole metres.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const WorldPoint& p : map.points()) {
+    cloud->push_back(p.p_world.x(), p.p_world.y(), p.p_world.z(), unit(p.rgb[0]), unit(p.rgb[1]),
+                     unit(p.rgb[2]));
+    lo = lo.cwiseMin(p.p_world.cast<double>());
+    hi = hi.cwiseMax(p.p_world.cast<double>());
+  }
+  scene.insert(cloud);
+
+  for (const StampedPose& s : trajectory) {
+    lo = lo.cwiseMin(s.p);
+    hi = hi.cwiseMax(s.p);
+  }
+  scene.insert(polyline(trajectory, "trajectory", 0.1f, 0.3f, 1.0f));
+  if (ground_truth) scene.insert(polyline(*ground_truth, "ground_truth", 0.1f, 0.8f, 0.1f));
+
+  auto frames = mrpt::opengl::CSetOfObjects::Create();
+  frames->setName("keyframes");
+  for (const Keyframe& kf : keyframes.keyframes()) {
+    auto axes = mrpt::opengl::stock_objects::CornerXYZSimple(
+        static_cast<float>(options.keyframe_axis_m), 2.0f);
+    axes->setPose(toCPose3D(kf.T_world_cam));
+    frames->insert(axes);
+  }
+  scene.insert(frames);
+
+  if (!(lo.allFinite() && hi.allFinite())) {
+    lo = Eigen::Vector3d::Constant(-1.0);
+    hi = Eigen::Vector3d::Constant(1.0);
+  }
+  auto grid = mrpt::opengl::CGridPlaneXY::Create(
+      static_cast<float>(std::floor(lo.x())), static_cast<float>(std::ceil(hi.x())),
+      static_cast<float>(std::floor(lo.y())), static_cast<float>(std::ceil(hi.y())),
+      static_cast<float>(lo.z()), 1.0f);
+  grid->setName("ground_grid");
+  grid->setColor(0.6f, 0.6f, 0.6f);
+  scene.insert(grid);
+
+  writeWithMrpt(path, "3-D scene", [&](const std::string& tmp) { return scene.saveToFile(tmp); });
+}
+
+void writeSimpleMap(const std::string& path, const std::vector<SimpleMapEntry>& entries) {
+  mrpt::maps::CSimpleMap simple_map;
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const SimpleMapEntry& e = entries[k];
+    if (!e.observation)
+      throw std::invalid_argument("writeSimpleMap " + path + ": entry " + std::to_string(k) +
+                                  " has no observation");
+    if (!detail::isRigid(e.T_world_body))
+      throw std::invalid_argument("writeSimpleMap " + path + ": entry " + std::to_string(k) +
+                                  " has a pose that is not a finite rigid transform");
+    auto pose = mrpt::poses::CPose3DPDFGaussian::Create(toCPose3D(e.T_world_body));
+    auto frame = mrpt::obs::CSensoryFrame::Create();
+    frame->insert(e.observation);
+    simple_map.insert(pose, frame);
+  }
+  writeWithMrpt(path, "simple map",
+                [&](const std::string& tmp) { return simple_map.saveToFile(tmp); });
+}
+
+}  // namespace rgbdi::mapping
