@@ -204,6 +204,45 @@ TEST(FeatureTracker, ZoomingOutKeepsFeaturesApartAndTopsUp) {
   EXPECT_GT(too_close, 0);
 }
 
+TEST(FeatureTracker, StandingStillKeepsEveryFeature) {
+  // Identical images (a robot at rest): degenerate for the fundamental matrix, yet nothing may be
+  // rejected and nothing may move.
+  const PinholeCamera cam = simpleCamera();
+  const HomographySequence seq(1);
+  FeatureTracker tracker(FrontendOptions(), cam);
+  const FeatureFrame f0 = tracker.track(colourFrame(seq.images[0], 0.0, 0, cam));
+  for (int k = 1; k <= 3; ++k) {
+    const FeatureFrame f = tracker.track(colourFrame(seq.images[0], k * kDt, k, cam));
+    ASSERT_EQ(f.features.size(), f0.features.size());
+    EXPECT_EQ(f.n_tracked, static_cast<int>(f0.features.size()));
+    EXPECT_EQ(f.n_ransac_rejected, 0);
+    for (size_t i = 0; i < f.features.size(); ++i) {
+      EXPECT_EQ(f.features[i].id, f0.features[i].id);
+      EXPECT_LT((f.features[i].uv - f0.features[i].uv).norm(), 0.01);
+      EXPECT_LT(f.features[i].velocity_xn.norm(), 0.01 / cam.fx / kDt);
+    }
+  }
+}
+
+TEST(FeatureTracker, ContrastEqualisationIsAppliedAndStillTracks) {
+  const PinholeCamera cam = simpleCamera();
+  const HomographySequence seq(3);
+  FrontendOptions equalised;
+  equalised.clahe_clip_limit = 3.0;
+  FeatureTracker plain(FrontendOptions(), cam), clahe(equalised, cam);
+  int differing = 0;
+  for (int k = 0; k < 3; ++k) {
+    const RgbdFrame frame = colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam);
+    const FeatureFrame a = plain.track(frame), b = clahe.track(frame);
+    ASSERT_EQ(b.features.size(), a.features.size());
+    for (size_t i = 0; i < a.features.size(); ++i) differing += (a.features[i].uv != b.features[i].uv) ? 1 : 0;
+    if (k > 0) {
+      EXPECT_GE(b.n_tracked, 140);
+    }
+  }
+  EXPECT_GT(differing, 0);  // equalisation changes the image the corners are found on
+}
+
 TEST(FeatureTracker, SameInputGivesIdenticalOutput) {
   const PinholeCamera cam = simpleCamera();
   const HomographySequence seq(4);

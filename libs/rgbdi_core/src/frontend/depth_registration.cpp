@@ -40,17 +40,14 @@ float maxNormalisedRadius2(const PinholeCamera& cam) {
 
 /// Smallest valid raw depth value of the image (0 when there is none).
 std::uint16_t smallestDepthValue(const cv::Mat& depth) {
-  std::uint16_t lowest = std::numeric_limits<std::uint16_t>::max();
-  bool any = false;
+  // Branch-free so the loop vectorises: d - 1 wraps 0 (no data) round to the largest value.
+  std::uint16_t lowest_minus_one = std::numeric_limits<std::uint16_t>::max();
   for (int v = 0; v < depth.rows; ++v) {
     const std::uint16_t* row = depth.ptr<std::uint16_t>(v);
     for (int u = 0; u < depth.cols; ++u)
-      if (row[u] != 0) {
-        any = true;
-        lowest = std::min(lowest, row[u]);
-      }
+      lowest_minus_one = std::min(lowest_minus_one, static_cast<std::uint16_t>(row[u] - 1u));
   }
-  return any ? lowest : 0;
+  return lowest_minus_one == std::numeric_limits<std::uint16_t>::max() ? 0 : lowest_minus_one + 1;
 }
 
 cv::Rect aroundPixel(const Eigen::Vector2d& centre, int radius) {
@@ -119,6 +116,7 @@ void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
   const float fx = float(c.fx), fy = float(c.fy), cx = float(c.cx), cy = float(c.cy);
   const float unit = float(frame.depth_unit_m);
   const float u_lim = float(c.width) - 0.5f, v_lim = float(c.height) - 0.5f;
+  const float width_f = float(c.width), height_f = float(c.height);
   const Eigen::Matrix3f& R = R_color_depth_;
   const Eigen::Vector3f& t = t_color_depth_;
   const int depth_width = frame.depth.cols;
@@ -130,7 +128,8 @@ void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
       const float z = drow[u] * unit;
       const Eigen::Vector3f p = R * Eigen::Vector3f(ray[0] * z, ray[1] * z, z) + t;
       if (p.z() <= 0.0f) continue;
-      float x = p.x() / p.z(), y = p.y() / p.z();
+      const float inv_z = 1.0f / p.z();
+      float x = p.x() * inv_z, y = p.y() * inv_z;
       if (distorted) {
         const float r2 = x * x + y * y;
         if (r2 > max_radius2_) continue;
@@ -140,13 +139,23 @@ void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
         x = xd;
       }
       const float uc = fx * x + cx, vc = fy * y + cy;
-      if (!(uc > -1.0f && uc < float(c.width) && vc > -1.0f && vc < float(c.height))) continue;
-      // Cover: the 2x2 pixels around the sub-pixel position (floor and floor + 1 both ways).
-      const int u0 = static_cast<int>(std::floor(uc)), v0 = static_cast<int>(std::floor(vc));
-      for (int y_px = std::max(v0, 0); y_px <= std::min(v0 + 1, c.height - 1); ++y_px) {
-        float* cover_row = cover_.ptr<float>(y_px);
-        for (int x_px = std::max(u0, 0); x_px <= std::min(u0 + 1, c.width - 1); ++x_px)
-          cover_row[x_px] = std::min(cover_row[x_px], p.z());
+      if (!(uc > -1.0f && uc < width_f && vc > -1.0f && vc < height_f)) continue;
+      // Cover: the 2x2 pixels around the sub-pixel position (floor and floor + 1 both ways);
+      // uc, vc > -1 so truncation of uc + 1 is the floor.
+      const int u0 = static_cast<int>(uc + 1.0f) - 1, v0 = static_cast<int>(vc + 1.0f) - 1;
+      if (u0 >= 0 && v0 >= 0 && u0 + 1 < c.width && v0 + 1 < c.height) {
+        float* top = cover_.ptr<float>(v0) + u0;
+        float* bottom = cover_.ptr<float>(v0 + 1) + u0;
+        top[0] = std::min(top[0], p.z());
+        top[1] = std::min(top[1], p.z());
+        bottom[0] = std::min(bottom[0], p.z());
+        bottom[1] = std::min(bottom[1], p.z());
+      } else {
+        for (int y_px = std::max(v0, 0); y_px <= std::min(v0 + 1, c.height - 1); ++y_px) {
+          float* cover_row = cover_.ptr<float>(y_px);
+          for (int x_px = std::max(u0, 0); x_px <= std::min(u0 + 1, c.width - 1); ++x_px)
+            cover_row[x_px] = std::min(cover_row[x_px], p.z());
+        }
       }
       if (uc > -0.5f && uc < u_lim && vc > -0.5f && vc < v_lim) {
         float& cell = values_.at<float>(int(vc + 0.5f), int(uc + 0.5f));
