@@ -122,7 +122,9 @@ class Scene {
   /// Texture lookup for renderers: colour (R,G,B in [0, 255]) of a material at uv [m] for a
   /// pixel footprint [m]. Requires build().
   Eigen::Vector3f surfaceColor(MaterialId material, const Eigen::Vector2d& uv_m,
-                               double footprint_m) const;
+                               double footprint_m) const {
+    return textures_.sample(appearances_[material], uv_m, footprint_m);
+  }
 
  private:
   enum class Kind : std::uint8_t { Box, Cylinder, Prism };

@@ -1,28 +1,10 @@
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
 #include "rgbdi/sim/texture.h"
 #include "sim/render/det_random.h"
 
 namespace rgbdi::sim {
-namespace {
-
-// log2 from the float's exponent plus a quadratic fit of the mantissa (error < 0.01 levels,
-// plenty for choosing a mip level, and several times faster than std::log2).
-inline float fastLog2(float x) {
-  if (!(x > 0.0f)) return -126.0f;
-  std::uint32_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  const int exponent = static_cast<int>((bits >> 23) & 0xff) - 127;
-  bits = (bits & 0x007fffffu) | 0x3f800000u;  // mantissa as a float in [1, 2)
-  float m;
-  std::memcpy(&m, &bits, sizeof m);
-  const float t = m - 1.0f;
-  return static_cast<float>(exponent) + t * (1.3465557f - 0.3465557f * t);
-}
-
-}  // namespace
 
 std::string toString(TextureStyle style) {
   switch (style) {
@@ -37,7 +19,7 @@ std::string toString(TextureStyle style) {
 }
 
 TextureBank::TextureBank(std::uint64_t seed, const TextureOptions& options)
-    : seed_(seed), options_(options) {
+    : seed_(seed), options_(options), inv_texel_(1.0 / options.texel_size_m) {
   if (!(options.texel_size_m > 0.0) || !std::isfinite(options.texel_size_m))
     throw std::invalid_argument("TextureOptions: texel_size_m must be positive");
   if (options.size_log2 < 4 || options.size_log2 > 13)
@@ -72,26 +54,6 @@ MaterialAppearance TextureBank::resolve(const Material& material) {
   const float brightness = static_cast<float>(rnd.uniform(0.9, 1.1));
   for (int c = 0; c < 3; ++c) a.gain[c] = brightness * static_cast<float>(rnd.uniform(0.9, 1.1));
   return a;
-}
-
-Eigen::Vector3f TextureBank::sample(const MaterialAppearance& appearance,
-                                    const Eigen::Vector2d& uv_m, double footprint_m) const {
-  double a = uv_m.x(), b = uv_m.y();
-  if (appearance.orientation & 4) a = -a;
-  switch (appearance.orientation & 3) {
-    case 1: std::swap(a, b); a = -a; break;
-    case 2: a = -a; b = -b; break;
-    case 3: std::swap(a, b); b = -b; break;
-    default: break;
-  }
-  const double inv_texel = 1.0 / options_.texel_size_m;
-  // Surface v points up (world z on vertical faces) while image rows go down: negate v so the
-  // texture is upright.
-  const double u = (a + appearance.offset_m.x()) * inv_texel;
-  const double v = (appearance.offset_m.y() - b) * inv_texel;
-  const float lod = fastLog2(static_cast<float>(footprint_m * inv_texel));
-  const Eigen::Vector3f c = textures_[static_cast<std::size_t>(appearance.texture)].sample(u, v, lod);
-  return c.cwiseProduct(appearance.gain);
 }
 
 }  // namespace rgbdi::sim

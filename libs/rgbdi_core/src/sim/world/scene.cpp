@@ -260,9 +260,4 @@ bool Scene::raycastBruteForce(const Eigen::Vector3d& origin, const Eigen::Vector
   return true;
 }
 
-Eigen::Vector3f Scene::surfaceColor(MaterialId material, const Eigen::Vector2d& uv_m,
-                                    double footprint_m) const {
-  return textures_.sample(appearances_[material], uv_m, footprint_m);
-}
-
 }  // namespace rgbdi::sim
