@@ -225,6 +225,26 @@ TEST(Profiles, TrackedSlopesIsAbout65SecondsAtPointThreeWithAnEightCentimetreDro
   EXPECT_GT(max_nose_down, std::sin(15.0 * M_PI / 180.0));
 }
 
+/// The tracked robot's jitter is real motion: it shows in the ground-truth attitude (roll is
+/// not changed by the ramps, so it is the jitter alone), the wheeled robot has none.
+TEST(Profiles, TrackedJitterIsInTheGroundTruthAttitude) {
+  for (ProfileKind kind : {ProfileKind::TrackedSlopes, ProfileKind::WheeledSlopes}) {
+    const MotionProfile p = profile(kind);
+    double sum = 0.0;
+    int n = 0;
+    for (double t = p.cruise_start_s; t < p.cruise_end_s; t += 0.01, ++n) {
+      const Eigen::Matrix3d R = p.trajectory->pose(t).linear();
+      const double roll = std::atan2(R(2, 1), R(2, 2));
+      sum += roll * roll;
+    }
+    const double rms_deg = std::sqrt(sum / n) * 180.0 / M_PI;
+    if (kind == ProfileKind::TrackedSlopes)
+      EXPECT_NEAR(rms_deg, 0.5, 0.1);
+    else
+      EXPECT_LT(rms_deg, 0.05);
+  }
+}
+
 TEST(Profiles, HandheldHasRichRotationAndWalkingSpeed) {
   const MotionProfile p = profile(ProfileKind::Handheld);
   EXPECT_DOUBLE_EQ(p.trajectory->duration(), 40.0);
