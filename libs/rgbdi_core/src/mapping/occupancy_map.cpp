@@ -24,6 +24,17 @@ struct OccupancyMap::Impl {
   octomap::OcTree tree;
   OccupancyStats stats;
   std::vector<MapPoint> scratch;
+  bool inner_nodes_stale = false;
+
+  /// Brings the inner nodes up to date with the leaves (needed by pruning, queries at coarse
+  /// depth, the max-likelihood file and octovis).
+  const octomap::OcTree& finish() {
+    if (inner_nodes_stale) {
+      tree.updateInnerOccupancy();
+      inner_nodes_stale = false;
+    }
+    return tree;
+  }
 
   void castRays(const std::vector<MapPoint>& points_cam, const Eigen::Isometry3d& T_world_cam) {
     const auto start = std::chrono::steady_clock::now();
@@ -35,11 +46,13 @@ struct OccupancyMap::Impl {
                       static_cast<float>(w.z()));
     }
     const Eigen::Vector3d o = T_world_cam.translation();
-    // discretize: rays ending in the same voxel are cast once (several-fold faster on dense
-    // grids); max range: far readings only clear space up to the trusted depth.
+    // Max range: far readings only clear space up to the trusted depth. Discretize: rays
+    // ending in the same voxel are cast once. Lazy evaluation: inner nodes are refreshed once
+    // before the tree is read (finish()), not after every cell update (about 5x faster).
     tree.insertPointCloud(cloud, octomap::point3d(static_cast<float>(o.x()), static_cast<float>(o.y()),
                                                   static_cast<float>(o.z())),
-                          options.depth_max_m, /*lazy_eval=*/false, /*discretize=*/true);
+                          options.depth_max_m, /*lazy_eval=*/true, /*discretize=*/true);
+    inner_nodes_stale = true;
     ++stats.scans;
     stats.rays += points_cam.size();
     stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -82,15 +95,16 @@ void OccupancyMap::rebuild(const KeyframeStore& store) {
 void OccupancyMap::clear() {
   impl_->tree.clear();
   impl_->stats = OccupancyStats{};
+  impl_->inner_nodes_stale = false;
 }
 
 void OccupancyMap::write(const std::string& path) const {
   writeFileAtomically(path, [&](std::ostream& os) {
-    if (!impl_->tree.writeBinaryConst(os)) throw IoError(path + ": OctoMap could not write the tree");
+    if (!impl_->finish().writeBinaryConst(os)) throw IoError(path + ": OctoMap could not write the tree");
   });
 }
 
-const octomap::OcTree& OccupancyMap::tree() const { return impl_->tree; }
+const octomap::OcTree& OccupancyMap::tree() const { return impl_->finish(); }
 std::size_t OccupancyMap::leafCount() const { return impl_->tree.getNumLeafNodes(); }
 const OccupancyStats& OccupancyMap::stats() const { return impl_->stats; }
 std::size_t OccupancyMap::memoryBytes() const {

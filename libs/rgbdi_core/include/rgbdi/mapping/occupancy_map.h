@@ -51,6 +51,7 @@ class OccupancyMap {
   /// atomically. Throws IoError.
   void write(const std::string& path) const;
 
+  /// The OctoMap tree (inner nodes are brought up to date first: insertion defers them).
   const octomap::OcTree& tree() const;
   std::size_t leafCount() const;
   const OccupancyStats& stats() const;

@@ -1,0 +1,146 @@
+// Occupancy OctoMap: ray casting from the camera (free in front of a surface, occupied at it,
+// unknown behind), ray count per frame, and map.bt read back with OctoMap.
+#include <gtest/gtest.h>
+
+#include <octomap/OcTree.h>
+
+#include <chrono>
+#include <string>
+
+#include "rgbdi/common/atomic_file.h"
+#include "rgbdi/mapping/occupancy_map.h"
+#include "rgbdi/mapping/point_map.h"
+#include "synthetic_frames.h"
+#include "testing/fixtures.h"
+
+using namespace rgbdi::mapping;
+using rgbdi::mapping::test::planeFrame;
+
+namespace {
+
+enum class Cell { Unknown, Free, Occupied };
+
+Cell cellAt(const octomap::OcTree& tree, double x, double y, double z) {
+  const octomap::OcTreeNode* n = tree.search(x, y, z);
+  if (n == nullptr) return Cell::Unknown;
+  return tree.isNodeOccupied(n) ? Cell::Occupied : Cell::Free;
+}
+
+/// A point on the ray through pixel (u, v) at depth z (pixels 320, 250 lie on the stride-2 grid).
+Eigen::Vector3d onRay(double z, const Eigen::Isometry3d& T = Eigen::Isometry3d::Identity(),
+                      int u = 320, int v = 250) {
+  const rgbdi::PinholeCamera cam = rgbdi::mapping::test::makeCamera();
+  return T * Eigen::Vector3d((u - cam.cx) / cam.fx * z, (v - cam.cy) / cam.fy * z, z);
+}
+
+Cell cellAt(const octomap::OcTree& tree, const Eigen::Vector3d& p) {
+  return cellAt(tree, p.x(), p.y(), p.z());
+}
+
+}  // namespace
+
+TEST(OccupancyMap, RaysCarveFreeSpaceUpToTheSurfaceAndMarkItOccupied) {
+  OccupancyMap map{MappingOptions{}};
+  map.insert(planeFrame(2000), Eigen::Isometry3d::Identity());
+  // Stride 2 on the 56 x 46 grid: 28 x 23 rays.
+  EXPECT_EQ(map.stats().rays, 28u * 23u);
+  EXPECT_EQ(map.stats().scans, 1u);
+  const octomap::OcTree& t = map.tree();
+  EXPECT_EQ(cellAt(t, onRay(2.01)), Cell::Occupied);
+  EXPECT_EQ(cellAt(t, onRay(1.0)), Cell::Free);
+  EXPECT_EQ(cellAt(t, onRay(0.3)), Cell::Free);
+  EXPECT_EQ(cellAt(t, onRay(2.6)), Cell::Unknown);      // behind the surface
+  EXPECT_EQ(cellAt(t, 0.01, 3.0, 1.0), Cell::Unknown);  // outside the field of view
+  EXPECT_GT(map.leafCount(), 1000u);
+  EXPECT_GT(map.memoryBytes(), map.leafCount() * 16);
+}
+
+TEST(OccupancyMap, ReadingsBeyondTheMaximumDepthOnlyClearSpace) {
+  OccupancyMap map{MappingOptions{}};  // depth_max_m = 6
+  map.insert(planeFrame(8000), Eigen::Isometry3d::Identity());
+  const octomap::OcTree& t = map.tree();
+  EXPECT_EQ(cellAt(t, onRay(5.0)), Cell::Free);
+  EXPECT_EQ(cellAt(t, onRay(7.0)), Cell::Unknown);
+  EXPECT_EQ(cellAt(t, onRay(8.01)), Cell::Unknown);
+  std::size_t occupied = 0;
+  for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it) occupied += t.isNodeOccupied(*it);
+  EXPECT_EQ(occupied, 0u);
+}
+
+TEST(OccupancyMap, PosesMoveTheRays) {
+  OccupancyMap map{MappingOptions{}};
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  // Camera at (5, 0, 1) looking along world +x (optical z -> world x).
+  T.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  T.translation() = Eigen::Vector3d(5, 0, 1);
+  map.insert(planeFrame(2000), T);
+  const octomap::OcTree& t = map.tree();
+  EXPECT_NEAR(onRay(2.01, T).x(), 7.01, 1e-12);
+  EXPECT_EQ(cellAt(t, onRay(2.01, T)), Cell::Occupied);
+  EXPECT_EQ(cellAt(t, onRay(1.0, T)), Cell::Free);
+  EXPECT_EQ(cellAt(t, onRay(2.01)), Cell::Unknown);
+}
+
+TEST(OccupancyMap, MapBtIsReadBackByOctomapWithTheSameCells) {
+  OccupancyMap map{MappingOptions{}};
+  map.insert(planeFrame(2000), Eigen::Isometry3d::Identity());
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.3, 0.0, -0.5);
+  map.insert(planeFrame(2500), T);
+  const std::string path = rgbdi::test::makeTempDir("rgbdi_bt") + "/map.bt";
+  map.write(path);
+  octomap::OcTree read(0.1);
+  ASSERT_TRUE(read.readBinary(path));
+  EXPECT_DOUBLE_EQ(read.getResolution(), 0.05);
+  // Binary files hold the maximum-likelihood state: every leaf keeps its free/occupied class.
+  std::size_t leaves = 0;
+  for (auto it = map.tree().begin_leafs(); it != map.tree().end_leafs(); ++it) {
+    const octomap::OcTreeNode* n = read.search(it.getKey());
+    ASSERT_NE(n, nullptr);
+    ASSERT_EQ(read.isNodeOccupied(n), map.tree().isNodeOccupied(*it));
+    ++leaves;
+  }
+  EXPECT_GT(leaves, 1000u);
+  EXPECT_THROW(map.write("/nonexistent_dir_rgbdi/map.bt"), rgbdi::IoError);
+}
+
+TEST(OccupancyMap, RebuildRayCastsTheKeyframesKeptPointsAtTheirPoses) {
+  MappingOptions o;
+  PointMap points(o);
+  KeyframeStore store;
+  for (std::uint64_t id = 0; id < 2; ++id) {
+    Keyframe kf;
+    kf.id = id;
+    kf.T_world_cam.translation() = Eigen::Vector3d(0.5 * static_cast<double>(id), 0, 0);
+    kf.points = points.insertKeyframe(planeFrame(2000), kf.T_world_cam);
+    store.add(kf);
+  }
+  OccupancyMap rebuilt(o), expected(o);
+  rebuilt.insert(planeFrame(3000), Eigen::Isometry3d::Identity());  // discarded by rebuild()
+  rebuilt.rebuild(store);
+  for (const Keyframe& kf : store.keyframes()) expected.insertPoints(kf.points, kf.T_world_cam);
+  EXPECT_EQ(rebuilt.stats().rays, 2 * 2576u);
+  EXPECT_EQ(rebuilt.leafCount(), expected.leafCount());
+  for (auto it = expected.tree().begin_leafs(); it != expected.tree().end_leafs(); ++it) {
+    const octomap::OcTreeNode* n = rebuilt.tree().search(it.getKey());
+    ASSERT_NE(n, nullptr);
+    ASSERT_EQ(n->getLogOdds(), it->getLogOdds());
+  }
+}
+
+TEST(OccupancyMap, RayCastingTimePerKeyframe) {
+  OccupancyMap map{MappingOptions{}};
+  rgbdi::RgbdFrame f = planeFrame(3000);
+  for (int v = 0; v < f.depth.rows; ++v)
+    for (int u = 0; u < f.depth.cols; ++u)
+      f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(1500 + (u * 7 + v * 13) % 3000);
+  const int n = 10;
+  for (int k = 0; k < n; ++k) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(0.05 * k, 0.0, 0.0);
+    map.insert(f, T);
+  }
+  const double ms = 1e3 * map.stats().seconds / n;
+  std::cout << "occupancy ray casting: " << map.stats().rays / n << " rays/keyframe, " << ms << " ms/keyframe\n";
+  EXPECT_LT(ms, 100.0);  // a real-time budget at a few keyframes per second
+}
