@@ -50,6 +50,9 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   if (o.window_size < o.init_min_frames)
     ini.fail(s, "init_min_frames", "must not exceed window_size");
   o.estimate_time_offset = ini.getBool(s, "estimate_time_offset", o.estimate_time_offset);
+  o.time_offset_prior_sigma_s =
+      ini.getDouble(s, "time_offset_prior_sigma_s", o.time_offset_prior_sigma_s, 1e-5, 1.0);
+  o.update_rate_hz = ini.getDouble(s, "update_rate_hz", o.update_rate_hz, 0.0, 1000.0);
   o.fail_max_acc_bias_m_s2 =
       ini.getDouble(s, "fail_max_acc_bias_m_s2", o.fail_max_acc_bias_m_s2, 0.01, 100);
   o.fail_max_gyr_bias_rad_s =

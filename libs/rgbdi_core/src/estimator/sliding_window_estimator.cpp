@@ -9,7 +9,7 @@
 
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/initializer.h"
-#include "rgbdi/estimator/inverse_depth_prior.h"
+#include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/marginalization.h"
 #include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/reprojection_factor.h"
@@ -90,6 +90,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, cons
       imu_opt_(imu),
       T_bc_(ext.T_body_cam),
       td_(ext.time_offset_s),
+      td_config_(ext.time_offset_s),
       sqrt_info_(EstimatorOptions::kVirtualFocalPx / opt.reprojection_sigma_px),
       imu_(std::make_unique<imu::ImuBuffer>()) {
   depth_opt_.tolerance_norm = opt.depth_verify_tolerance_px / EstimatorOptions::kVirtualFocalPx;
@@ -395,6 +396,24 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
     if (window_.size() >= 2) optimise(&out);
   } else {
+    if (opt_.update_rate_hz > 0.0 && t - window_.back().t < 0.9 / opt_.update_rate_hz) {
+      // Between estimator updates: the causal pose is the IMU propagation of the newest state.
+      const Slot& s = window_.back();
+      imu::Preintegration pre(s.ba(), s.bg(), imu::ImuNoise::fromOptions(imu_opt_));
+      for (const ImuSample& m : imu_->between(s.t, t)) pre.push(m);
+      Eigen::Vector3d P, V;
+      Eigen::Quaterniond Q;
+      pre.predict(s.p(), s.q(), s.v(), Eigen::Vector3d(0, 0, -imu_opt_.gravity_m_s2), P, Q, V);
+      out.has_pose = true;
+      out.T_world_body.linear() = Q.normalized().toRotationMatrix();
+      out.T_world_body.translation() = P;
+      out.v_world = V;
+      out.bias_acc = s.ba();
+      out.bias_gyr = s.bg();
+      out.time_offset_s = td_;
+      out.status = status_;
+      return out;
+    }
     addSlot(frame, t, true);
     optimise(&out);
     if (failureDetected()) {
@@ -458,6 +477,11 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
   if (use_init_prior_) {
     problem.AddResidualBlock(new SpeedBiasPrior(init_prior_mean_, init_prior_sigma_), nullptr,
                              window_.front().sb);
+    // The time offset is unobservable under uniform motion: anchor it to the configured value
+    // until the marginalisation prior carries that information.
+    if (opt_.estimate_time_offset)
+      problem.AddResidualBlock(new ScalarPrior(td_config_, opt_.time_offset_prior_sigma_s),
+                               nullptr, td_param_);
   }
   for (size_t k = 1; k < window_.size(); ++k) {
     Slot& a = window_[k - 1];
@@ -487,7 +511,7 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
       ++verified;
     } else {
       if (f.depthVerified()) {
-        problem.AddResidualBlock(new InverseDepthPrior(f.verified_inv_depth, depthPriorSigma(f)),
+        problem.AddResidualBlock(new ScalarPrior(f.verified_inv_depth, depthPriorSigma(f)),
                                  nullptr, &f.inv_depth);
         ++verified;
       }
@@ -580,6 +604,10 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
     if (use_init_prior_) {
       info->add({std::make_shared<SpeedBiasPrior>(init_prior_mean_, init_prior_sigma_), nullptr,
                  {s0.sb}});
+      if (opt_.estimate_time_offset)
+        info->add({std::make_shared<ScalarPrior>(td_config_, opt_.time_offset_prior_sigma_s),
+                   nullptr,
+                   {td_param_}});
       use_init_prior_ = false;  // from now on it lives inside the marginalisation prior
     }
     info->add({std::make_shared<imu::ImuFactor>(window_[1].preint.get(), g_w), nullptr,
@@ -600,7 +628,7 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
       } else {
         remove.insert(&f.inv_depth);
         if (f.depthVerified()) {
-          info->add({std::make_shared<InverseDepthPrior>(f.verified_inv_depth, depthPriorSigma(f)),
+          info->add({std::make_shared<ScalarPrior>(f.verified_inv_depth, depthPriorSigma(f)),
                      nullptr,
                      {&f.inv_depth}});
         }

@@ -73,7 +73,7 @@ void VioSystem::processReady(bool flush) {
     if (est.has_pose) {
       traj_body_.push_back(StampedPose::fromIsometry(est.t_imu, est.T_world_body));
       traj_cam_.push_back(
-          StampedPose::fromIsometry(est.t_imu, est.T_world_body * cfg_.extrinsic.T_body_cam));
+          StampedPose::fromIsometry(est.t_image, est.T_world_body * cfg_.extrinsic.T_body_cam));
     }
     estimates_.push_back(est);
     if (frame_cb_) frame_cb_(est, p.frame);

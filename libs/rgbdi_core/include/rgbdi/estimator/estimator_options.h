@@ -40,6 +40,9 @@ struct EstimatorOptions {
   double repropagate_acc_bias_m_s2 = 0.05;  ///< [m/s^2] re-integrate when ba moves this far
   double repropagate_gyr_bias_rad_s = 0.005; ///< [rad/s] re-integrate when bg moves this far
   bool estimate_time_offset = true;
+  double time_offset_prior_sigma_s = 0.02;  ///< [s] prior std of the time offset around the config value
+  /// [Hz] rate of estimator updates; frames in between get IMU-propagated poses. 0 = every frame.
+  double update_rate_hz = 0.0;
   double fail_max_acc_bias_m_s2 = 2.5;  ///< [m/s^2]
   double fail_max_gyr_bias_rad_s = 1.0; ///< [rad/s]
   double fail_max_jump_m = 5.0;         ///< [m]

@@ -1,13 +1,14 @@
-// Gaussian prior on a feature's inverse depth [1/m] from the verified sensor depth.
+// Gaussian prior on a scalar parameter block: a feature's inverse depth [1/m] from its verified
+// sensor depth, or the camera-IMU time offset [s] from the configuration.
 #pragma once
 
 #include <ceres/sized_cost_function.h>
 
 namespace rgbdi::estimator {
 
-class InverseDepthPrior final : public ceres::SizedCostFunction<1, 1> {
+class ScalarPrior final : public ceres::SizedCostFunction<1, 1> {
  public:
-  InverseDepthPrior(double inv_depth, double sigma) : mean_(inv_depth), inv_sigma_(1.0 / sigma) {}
+  ScalarPrior(double mean, double sigma) : mean_(mean), inv_sigma_(1.0 / sigma) {}
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     residuals[0] = inv_sigma_ * (parameters[0][0] - mean_);

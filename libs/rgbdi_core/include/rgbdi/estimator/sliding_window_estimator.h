@@ -109,6 +109,7 @@ class SlidingWindowEstimator {
   ImuOptions imu_opt_;
   Eigen::Isometry3d T_bc_;
   double td_;
+  double td_config_;  ///< configured time offset: the prior mean
   double sqrt_info_;
   DepthCheckOptions depth_opt_;
 

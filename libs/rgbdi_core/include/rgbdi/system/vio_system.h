@@ -41,7 +41,7 @@ class VioSystem : public MeasurementSink {
 
   /// Causal trajectory: one pose per image processed after initialisation (body frame, IMU time).
   const Trajectory& trajectoryBody() const { return traj_body_; }
-  /// The same poses in the colour-camera frame.
+  /// The same poses in the colour-camera frame, stamped with the image stamps (camera clock).
   const Trajectory& trajectoryCamera() const { return traj_cam_; }
   const std::vector<estimator::FrameEstimate>& estimates() const { return estimates_; }
   const estimator::EstimatorStats& estimatorStats() const { return estimator_->stats(); }
