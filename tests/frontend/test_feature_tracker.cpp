@@ -159,6 +159,69 @@ TEST(FeatureTracker, SubPixelHomographyIsTrackedToATenthOfAPixel) {
   EXPECT_LT(worst_drift, 0.3);
 }
 
+TEST(FeatureTracker, DetectsTheCornersOfIsolatedSquares) {
+  // Known answer: four bright squares on black have exactly 16 corners, and only those.
+  cv::Mat img(480, 640, CV_8UC1, cv::Scalar(0));
+  const int x0[4] = {100, 400, 150, 450}, y0[4] = {80, 100, 300, 320};
+  std::vector<Eigen::Vector2d> truth;
+  for (int i = 0; i < 4; ++i) {
+    img(cv::Rect(x0[i], y0[i], 60, 60)).setTo(200);
+    for (double dx : {-0.5, 59.5})
+      for (double dy : {-0.5, 59.5}) truth.emplace_back(x0[i] + dx, y0[i] + dy);  // pixel-edge corners
+  }
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 1.0);
+  FrontendOptions options;
+  options.max_features = 16;
+  FeatureTracker tracker(options, simpleCamera());
+  const FeatureFrame f = tracker.track(colourFrame(img, 0.0, 0, simpleCamera()));
+  ASSERT_EQ(f.features.size(), 16u);
+  // The Shi-Tomasi response of a blurred right angle peaks slightly inside the bright square (on
+  // the bisector, about 1.5 px per axis here), exactly as for cv::goodFeaturesToTrack.
+  std::vector<cv::Point2f> reference;
+  cv::goodFeaturesToTrack(img, reference, 16, options.shi_tomasi_quality, options.min_distance_px, cv::noArray(),
+                          options.shi_tomasi_block_size, false);
+  std::set<size_t> matched;
+  for (const FeatureObservation& o : f.features) {
+    size_t best = 0;
+    for (size_t i = 1; i < truth.size(); ++i)
+      if ((truth[i] - o.uv).norm() < (truth[best] - o.uv).norm()) best = i;
+    EXPECT_LT((truth[best] - o.uv).norm(), 2.5) << o.uv.transpose();
+    matched.insert(best);
+    double nearest_reference = 1e9;
+    for (const cv::Point2f& r : reference)
+      nearest_reference = std::min(nearest_reference, (o.uv - Eigen::Vector2d(r.x, r.y)).norm());
+    EXPECT_LE(nearest_reference, 1.0) << o.uv.transpose();
+  }
+  EXPECT_EQ(matched.size(), 16u);  // every corner found once
+}
+
+TEST(FeatureTracker, CornersAgreeWithOpenCvGoodFeaturesToTrack) {
+  // The detector computes the Shi-Tomasi response from the KLT pyramid's Scharr derivatives;
+  // its corners must be those cv::goodFeaturesToTrack finds with the same parameters.
+  const cv::Mat grey = toGrey8(randomRectangleTexture(640, 480, 21));
+  const FrontendOptions options;
+  FeatureTracker tracker(options, simpleCamera());
+  const FeatureFrame f = tracker.track(colourFrame(grey, 0.0, 0, simpleCamera()));
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(1, 1, 638, 478)).setTo(255);
+  std::vector<cv::Point2f> reference;
+  cv::goodFeaturesToTrack(grey, reference, options.max_features, options.shi_tomasi_quality, options.min_distance_px,
+                          mask, options.shi_tomasi_block_size, false);
+  ASSERT_EQ(f.features.size(), reference.size());
+  int agreeing = 0;
+  for (const FeatureObservation& o : f.features)
+    for (const cv::Point2f& r : reference)
+      if ((o.uv - Eigen::Vector2d(r.x, r.y)).norm() <= 1.5) {
+        ++agreeing;
+        break;
+      }
+  std::cout << "corners within 1.5 px of a goodFeaturesToTrack corner: " << agreeing << " of " << reference.size()
+            << "\n";
+  // Scharr instead of Sobel derivatives changes the response slightly, so where corners of
+  // similar strength compete for the same neighbourhood a few choices differ.
+  EXPECT_GE(agreeing, static_cast<int>(reference.size()) * 85 / 100);
+}
+
 TEST(FeatureTracker, NormalisedPositionsAndVelocitiesFollowTheCameraModel) {
   PinholeCamera cam = simpleCamera();
   cam.dist = {-0.21, 0.05, 0.001, -0.0005, 0.0};

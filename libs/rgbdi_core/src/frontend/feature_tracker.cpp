@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "frontend/corner_detector.h"
 #include "frontend/epipolar_ransac.h"
 #include "frontend/feature_spacing.h"
 #include "frontend/stopwatch.h"
@@ -29,7 +30,7 @@ const cv::Size kClaheTiles(8, 8);
 }  // namespace
 
 FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCamera& cam_color)
-    : options_(options), cam_(cam_color), registrar_(options) {
+    : options_(options), cam_(cam_color), registrar_(options), detector_(std::make_unique<CornerDetector>()) {
   options_.validate();
   if (!cam_.valid())
     throw std::invalid_argument("FeatureTracker: colour camera intrinsics are not valid (size " +
@@ -38,6 +39,10 @@ FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCame
   if (options_.clahe_clip_limit > 0.0) clahe_ = cv::createCLAHE(options_.clahe_clip_limit, kClaheTiles);
 }
 
+FeatureTracker::~FeatureTracker() = default;
+FeatureTracker::FeatureTracker(FeatureTracker&&) noexcept = default;
+FeatureTracker& FeatureTracker::operator=(FeatureTracker&&) noexcept = default;
+
 void FeatureTracker::reset() {
   has_previous_ = false;
   previous_pyramid_.clear();
@@ -45,15 +50,15 @@ void FeatureTracker::reset() {
 }
 
 cv::Mat FeatureTracker::toGrey(const RgbdFrame& frame) {
-  cv::Mat grey;
-  if (frame.rgb.type() == CV_8UC3)
-    cv::cvtColor(frame.rgb, grey, cv::COLOR_RGB2GRAY);
-  else
-    grey = frame.rgb;  // already grey (checked by the caller)
+  // Written into member buffers: fresh 300 kB images every frame cost page faults.
+  cv::Mat grey = frame.rgb;  // already grey when CV_8UC1 (checked by the caller)
+  if (frame.rgb.type() == CV_8UC3) {
+    cv::cvtColor(frame.rgb, grey_, cv::COLOR_RGB2GRAY);
+    grey = grey_;
+  }
   if (clahe_) {
-    cv::Mat equalised;
-    clahe_->apply(grey, equalised);
-    return equalised;
+    clahe_->apply(grey, equalised_);
+    return equalised_;
   }
   return grey;
 }
@@ -130,7 +135,8 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   return kept;
 }
 
-void FeatureTracker::distributeAndDetect(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out) {
+void FeatureTracker::distributeAndDetect(const cv::Mat& grey, const cv::Mat& derivatives, std::vector<Track>& tracks,
+                                         FeatureFrame& out) {
   // Longest-tracked features claim their neighbourhood first: they carry the most constraints
   // for the estimator. Ties go to the older (smaller) id, which keeps the result deterministic.
   std::vector<size_t> order(tracks.size());
@@ -157,22 +163,22 @@ void FeatureTracker::distributeAndDetect(const cv::Mat& grey, std::vector<Track>
 
   const int missing = options_.max_features - static_cast<int>(tracks.size());
   if (missing <= 0) return;
-  // The mask keeps the detector away from the border band and from existing features; its
-  // circles are one pixel wider than min_distance_px because they are drawn around rounded
-  // centres. The exact distance test below has the last word.
-  cv::Mat mask(grey.size(), CV_8UC1, cv::Scalar(0));
+  // The mask keeps the detector away from the border band and from existing features (which
+  // also makes the quality threshold relative to the strongest corner where new ones can go);
+  // its circles are one pixel wider than min_distance_px because they are drawn around rounded
+  // centres. The exact distance test in the detector has the last word.
+  cv::Mat& mask = detection_mask_;
+  mask.create(grey.size(), CV_8UC1);
+  mask.setTo(0);
   const int b = options_.border_px;
   if (grey.cols > 2 * b && grey.rows > 2 * b)
     mask(cv::Rect(b, b, grey.cols - 2 * b, grey.rows - 2 * b)).setTo(255);
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px)) + 1;
   for (const Track& t : tracks)
     cv::circle(mask, cv::Point(cvRound(t.uv.x), cvRound(t.uv.y)), radius, cv::Scalar(0), cv::FILLED);
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(grey, corners, missing, options_.shi_tomasi_quality, options_.min_distance_px,
-                          mask, options_.shi_tomasi_block_size, false);
+  const std::vector<cv::Point2f> corners =
+      detector_->detect(derivatives, mask, missing, options_.shi_tomasi_quality, options_.shi_tomasi_block_size, spacing);
   for (const cv::Point2f& c : corners) {
-    if (!spacing.isFree(c) || !cam_.inImage({c.x, c.y}, options_.border_px)) continue;
-    spacing.accept(c);
     tracks.push_back(Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
     ++out.n_new;
   }
@@ -202,17 +208,19 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
 
   const cv::Mat grey = toGrey(frame);
   out.timings.grey_ms = step.lapMs();
-  std::vector<cv::Mat> pyramid;
+  // Two pyramids alternate: the one of the image before last is rebuilt in place (no new
+  // allocations). Derivatives are stored with the pyramid: this image is the source of the
+  // backward check now and of the forward pass next time, so they are computed once, not twice.
+  std::vector<cv::Mat>& pyramid = spare_pyramid_;
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
-  // Derivatives are stored with the pyramid: this image is the source of the backward check now
-  // and of the forward pass next time, so they are computed once instead of twice.
   cv::buildOpticalFlowPyramid(grey, pyramid, window, options_.klt_pyramid_levels, true);
   out.timings.pyramid_ms = step.lapMs();
 
   std::vector<Track> tracks;
   if (has_previous_) tracks = trackPrevious(pyramid, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
-  distributeAndDetect(grey, tracks, out);
+  // pyramid[1]: Scharr derivatives of the full-resolution image (stored after each level).
+  distributeAndDetect(grey, pyramid[1], tracks, out);
   out.timings.detect_ms = step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
@@ -238,7 +246,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
   }
   out.timings.depth_ms = step.lapMs();
 
-  previous_pyramid_ = std::move(pyramid);
+  std::swap(previous_pyramid_, spare_pyramid_);
   previous_tracks_ = std::move(tracks);
   previous_t_ = frame.t;
   has_previous_ = true;

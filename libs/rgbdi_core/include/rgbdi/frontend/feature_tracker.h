@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "rgbdi/common/camera.h"
@@ -14,6 +15,8 @@
 #include "rgbdi/frontend/frontend_options.h"
 
 namespace rgbdi::frontend {
+
+class CornerDetector;
 
 /// Tracks Shi-Tomasi corners with pyramidal KLT across consecutive colour images.
 ///
@@ -33,6 +36,9 @@ class FeatureTracker {
   /// intrinsics stored in frames are not used). Throws ConfigError for invalid options and
   /// std::invalid_argument for invalid intrinsics.
   FeatureTracker(const FrontendOptions& options, const PinholeCamera& cam_color);
+  ~FeatureTracker();
+  FeatureTracker(FeatureTracker&&) noexcept;
+  FeatureTracker& operator=(FeatureTracker&&) noexcept;
 
   /// Throws std::invalid_argument (naming frame.source_label) when the frame has no colour image,
   /// an unsupported image type, a size different from the camera's, or a stamp not after the
@@ -60,17 +66,21 @@ class FeatureTracker {
   /// current image (positions updated, lengths incremented).
   std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid, FeatureFrame& out);
   /// Keeps features min_distance_px apart (longest-tracked first), then tops up with new corners.
-  void distributeAndDetect(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out);
+  void distributeAndDetect(const cv::Mat& grey, const cv::Mat& derivatives, std::vector<Track>& tracks,
+                           FeatureFrame& out);
 
   FrontendOptions options_;
   PinholeCamera cam_;
   DepthRegistrar registrar_;
+  std::unique_ptr<CornerDetector> detector_;  ///< keeps its work buffers between images
   cv::Mat depth_m_;  ///< registered depth around the current features (reused buffer)
   cv::Ptr<cv::CLAHE> clahe_;  ///< only when clahe_clip_limit > 0
 
   bool has_previous_ = false;
   double previous_t_ = 0.0;
   std::vector<cv::Mat> previous_pyramid_;
+  std::vector<cv::Mat> spare_pyramid_;  ///< rebuilt for each new image (keeps its memory)
+  cv::Mat grey_, equalised_, detection_mask_;  ///< per-image work buffers, reused
   std::vector<Track> previous_tracks_;
   std::uint64_t next_id_ = 0;
 };

@@ -1,0 +1,38 @@
+// Shi-Tomasi corner detection from image derivatives that the KLT pyramid already holds.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace rgbdi::frontend {
+
+class FeatureSpacing;
+
+/// Shi-Tomasi corners: the response is the smaller eigenvalue of the structure tensor summed over
+/// a block_size x block_size window; a corner is a 3x3 local maximum of the response, at least
+/// `quality` times the strongest response inside the mask. Corners are taken strongest first
+/// (ties by row, then column) while they keep `spacing`'s minimum distance to everything
+/// accepted so far. This is the rule of cv::goodFeaturesToTrack, computed from the Scharr
+/// derivatives of the KLT pyramid instead of a second derivative pass, and in buffers kept
+/// between calls (fresh multi-megabyte buffers every frame cost page faults).
+class CornerDetector {
+ public:
+  /// `derivatives`: CV_16SC2 (dI/dx, dI/dy) of the image; `mask`: CV_8UC1 of the same size,
+  /// nonzero where corners may be. Accepted corners are added to `spacing` and returned.
+  std::vector<cv::Point2f> detect(const cv::Mat& derivatives, const cv::Mat& mask, int max_corners,
+                                  double quality, int block_size, FeatureSpacing& spacing);
+
+  /// The response image of the last call (CV_32FC1), for tests and diagnostics.
+  const cv::Mat& response() const { return response_; }
+
+ private:
+  cv::Mat xx_, xy_, yy_, sum_xx_, sum_xy_, sum_yy_, response_, dilated_;
+  struct Candidate {
+    float response;
+    int u, v;
+  };
+  std::vector<Candidate> candidates_;
+};
+
+}  // namespace rgbdi::frontend
