@@ -4,8 +4,9 @@
 // included via PinholeCamera::pixelToNormalized) is computed once in the constructor. Each frame
 // culls the primitives against the frustum of every 16x16-pixel tile (bounds of the tile's
 // undistorted rays, so culling is exact-conservative with distortion too) and sorts them by
-// distance; each pixel then tests the primitive its neighbour hit first and the tile's
-// candidates nearer than the best hit. The result is identical to Scene::raycast per pixel.
+// distance; each pixel then tests the primitive its neighbour hit first and those of the tile's
+// candidates that are nearer than the best hit and whose projected bounds contain the pixel.
+// The result is identical to Scene::raycast per pixel.
 // Rendering is single-threaded and deterministic; render() is const and may run concurrently.
 #pragma once
 
@@ -54,6 +55,8 @@ class Renderer {
   RenderOptions opt_;
   /// Per pixel (row-major): unit ray in the camera frame, and its z component (t -> depth).
   std::vector<Eigen::Vector3d> rays_cam_;
+  /// Per pixel: undistorted normalised coordinates (x/z, y/z) of the ray, for bounds tests.
+  std::vector<Eigen::Vector2f> normalized_;
   /// Per pixel: angular size of the pixel [rad] (footprint on a surface = t * spread / cos).
   std::vector<float> spread_;
   /// An image tile and the bounds of its pixels' undistorted normalised coordinates (x/z, y/z).

@@ -27,10 +27,42 @@ double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
+// Margin of the per-pixel bounds test in normalised image coordinates (float rounding).
+constexpr float kRectSlack = 1e-5f;
+
 struct Candidate {
   double near;  ///< distance from the camera centre to the primitive's bounds [m]
   std::uint32_t prim;
+  /// Bounds of the primitive's projection in undistorted normalised coordinates (x/z, y/z);
+  /// unbounded when part of its box is not in front of the camera.
+  float x_min, x_max, y_min, y_max;
 };
+
+// Rectangle covering the central projection of a box: the projection of a convex solid lying in
+// front of the camera is the convex hull of its projected corners.
+void projectBounds(const Eigen::AlignedBox3d& b, const Eigen::Matrix3d& R_cam_world,
+                   const Eigen::Vector3d& origin, Candidate& c) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d corner(k & 1 ? b.max().x() : b.min().x(), k & 2 ? b.max().y() : b.min().y(),
+                                 k & 4 ? b.max().z() : b.min().z());
+    const Eigen::Vector3d p = R_cam_world * (corner - origin);
+    if (!(p.z() > 1e-6)) {
+      c.x_min = c.y_min = -kInf;
+      c.x_max = c.y_max = kInf;
+      return;
+    }
+    x0 = std::min(x0, p.x() / p.z());
+    x1 = std::max(x1, p.x() / p.z());
+    y0 = std::min(y0, p.y() / p.z());
+    y1 = std::max(y1, p.y() / p.z());
+  }
+  c.x_min = static_cast<float>(x0) - kRectSlack;
+  c.x_max = static_cast<float>(x1) + kRectSlack;
+  c.y_min = static_cast<float>(y0) - kRectSlack;
+  c.y_max = static_cast<float>(y1) + kRectSlack;
+}
 
 // True when the box lies entirely on the positive side of the plane n.(x - o) = 0.
 bool outside(const Eigen::Vector3d& n, const Eigen::Vector3d& o, const Eigen::AlignedBox3d& b) {
@@ -50,12 +82,15 @@ Renderer::Renderer(const Scene& scene, const PinholeCamera& cam, const RenderOpt
     throw std::invalid_argument("Renderer: invalid render options");
   const std::size_t n = static_cast<std::size_t>(cam.width) * static_cast<std::size_t>(cam.height);
   rays_cam_.resize(n);
+  normalized_.resize(n);
   spread_.resize(n);
   for (int v = 0; v < cam.height; ++v)
     for (int u = 0; u < cam.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(cam.width) +
                             static_cast<std::size_t>(u);
       rays_cam_[i] = unitRay(cam, u, v);
+      normalized_[i] = {static_cast<float>(rays_cam_[i].x() / rays_cam_[i].z()),
+                        static_cast<float>(rays_cam_[i].y() / rays_cam_[i].z())};
       // Angular pixel size from the rays through the pixel's edges (larger of the two axes:
       // blurring a little is harmless, aliasing creates false corners).
       const double ax = angleBetween(unitRay(cam, u - 0.5, v), unitRay(cam, u + 0.5, v));
@@ -93,9 +128,13 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
   // Primitives within range, with their distance from the camera (once per frame).
   std::vector<Candidate> in_range;
   in_range.reserve(prims);
+  const Eigen::Matrix3d R_cam_world = R.transpose();
   for (std::uint32_t p = 0; p < prims; ++p) {
-    const double near = std::sqrt(scene_.primitiveBounds(p).squaredExteriorDistance(origin));
-    if (near <= max_range) in_range.push_back({near, p});
+    const Eigen::AlignedBox3d& b = scene_.primitiveBounds(p);
+    Candidate c{std::sqrt(b.squaredExteriorDistance(origin)), p, 0, 0, 0, 0};
+    if (c.near > max_range) continue;
+    projectBounds(b, R_cam_world, origin, c);
+    in_range.push_back(c);
   }
   // Sorted once, so every tile's list comes out sorted (ties by index, for determinism).
   std::sort(in_range.begin(), in_range.end(), [](const Candidate& a, const Candidate& b) {
@@ -128,6 +167,7 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
       for (int u = tile.u0; u < tile.u1; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * cam_.width + u;
         const Eigen::Vector3d dir = R * rays_cam_[i];
+        const float xn = normalized_[i].x(), yn = normalized_[i].y();
         // Closest hit: the neighbour's primitive first (usually the answer, giving a tight
         // bound), then candidates in order of distance until they start beyond the best hit.
         PrimitiveHit best, ph;
@@ -139,7 +179,8 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
         }
         for (const Candidate& c : cand) {
           if (c.near > t_max) break;
-          if (c.prim == hint) continue;
+          if (c.prim == hint || xn < c.x_min || xn > c.x_max || yn < c.y_min || yn > c.y_max)
+            continue;
           if (scene_.intersectPrimitive(c.prim, origin, dir, t_max, ph) &&
               Scene::closerHit(ph, c.prim, best, best_prim)) {
             best = ph;
