@@ -257,6 +257,7 @@ cv::Mat DepthRegistrar::registerDepth(const RgbdFrame& frame, const PinholeCamer
 
 void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
                                          const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
+  if (radius_px < 0) throw std::invalid_argument("registerDepthAround: negative radius " + std::to_string(radius_px));
   prepare(frame, cam_color);
   out.create(cam_color.height, cam_color.width, CV_32F);
   out.setTo(0.0f);
