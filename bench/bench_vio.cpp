@@ -1,6 +1,6 @@
 // Benchmark of the whole odometry on a simulated sequence streamed in-process (no disk):
 // per-stage timings, throughput and accuracy.
-//   bench_vio [--profile NAME] [--duration S] [--fps N] [--seed N] [--no-depth]
+//   bench_vio [--profile NAME] [--duration S] [--fps N] [--seed N] [--no-depth] [--time-offset S]
 //             [--set SECTION.KEY=VALUE ...]   (overrides of the generated slam config)
 #include <chrono>
 #include <iomanip>
@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   double duration = 0.0, fps = 30.0;
   std::uint64_t seed = 1;
   bool no_depth = false;
+  double time_offset = 0.0;
   std::map<std::string, std::map<std::string, std::string>> overrides;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -29,11 +30,18 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--profile") profile = next();
-    else if (a == "--duration") duration = std::stod(next());
-    else if (a == "--fps") fps = std::stod(next());
-    else if (a == "--seed") seed = std::stoull(next());
-    else if (a == "--no-depth") no_depth = true;
+    if (a == "--profile")
+      profile = next();
+    else if (a == "--duration")
+      duration = std::stod(next());
+    else if (a == "--fps")
+      fps = std::stod(next());
+    else if (a == "--seed")
+      seed = std::stoull(next());
+    else if (a == "--no-depth")
+      no_depth = true;
+    else if (a == "--time-offset")
+      time_offset = std::stod(next());
     else if (a == "--set") {
       const std::string kv = next();
       const auto dot = kv.find('.'), eq = kv.find('=');
@@ -54,6 +62,7 @@ int main(int argc, char** argv) {
   so.profile.duration_s = duration;
   so.fps = fps;
   so.seed = seed;
+  so.time_offset_s = time_offset;
   sim::SimulatedSequence seq(so);
 
   // The slam configuration a user would have for this sequence, plus overrides.
@@ -74,17 +83,19 @@ int main(int argc, char** argv) {
   const auto& st = vio.estimatorStats();
   const double nt = std::max(1, tm.frames_tracked), ne = std::max(1, tm.frames_estimated);
   std::cout << std::fixed << std::setprecision(3);
-  std::cout << "profile " << profile << (no_depth ? " (--no-depth)" : "") << ", " << seq.frameCount()
-            << " frames at " << fps << " Hz, " << seq.duration() << " s\n";
+  std::cout << "profile " << profile << (no_depth ? " (--no-depth)" : "") << ", "
+            << seq.frameCount() << " frames at " << fps << " Hz, " << seq.duration() << " s\n";
   std::cout << "per frame [ms]: tracking " << tm.tracking_ms / nt << ", pre-integration "
             << tm.preintegration_ms / ne << ", optimisation " << tm.optimisation_ms / ne
             << ", marginalisation " << tm.marginalisation_ms / ne << "\n";
   std::cout << "wall " << wall << " s incl. rendering; odometry only "
-            << (tm.tracking_ms + tm.optimisation_ms + tm.marginalisation_ms + tm.preintegration_ms) /
+            << (tm.tracking_ms + tm.optimisation_ms + tm.marginalisation_ms +
+                tm.preintegration_ms) /
                    1000.0
             << " s -> "
             << nt / ((tm.tracking_ms + tm.optimisation_ms + tm.marginalisation_ms +
-                      tm.preintegration_ms) / 1000.0)
+                      tm.preintegration_ms) /
+                     1000.0)
             << " frames/s\n";
   std::cout << "resets " << st.resets << ", first pose at "
             << (st.first_pose_t_image - seq.frameStamp(0)) << " s, time offset "
@@ -97,8 +108,8 @@ int main(int argc, char** argv) {
       const auto r = eval::evaluate(gt, vio.trajectoryBody(), eo);
       std::cout << eval::alignModeName(mode) << ": ATE rmse " << std::setprecision(4) << r.ate.rmse
                 << " m, max " << r.ate.max << " m, scale " << std::setprecision(5)
-                << r.alignment.scale << ", coverage " << std::setprecision(4)
-                << r.coverage.coverage << ", RPE(1s) " << r.rpe.trans_rmse_m << " m\n";
+                << r.alignment.scale << ", coverage " << std::setprecision(4) << r.coverage.coverage
+                << ", RPE(1s) " << r.rpe.trans_rmse_m << " m\n";
     } catch (const std::exception& e) {
       std::cout << "evaluation failed: " << e.what() << "\n";
     }

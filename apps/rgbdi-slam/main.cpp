@@ -16,10 +16,13 @@ void onSignal(int) { g_stop.store(true); }
 void usage(std::ostream& os) {
   os << "Usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
         "                  [--no-depth] [--quiet]\n"
-        "  --input FILE   MRPT rawlog with CObservation3DRangeScan (colour+depth) and CObservationIMU\n"
-        "  --out DIR      output directory (created): trajectory.tum, trajectory_cam.tum, summary.json\n"
+        "  --input FILE   MRPT rawlog with CObservation3DRangeScan (colour+depth) and "
+        "CObservationIMU\n"
+        "  --out DIR      output directory (created): trajectory.tum, trajectory_cam.tum, "
+        "summary.json\n"
         "  --config FILE  rgbdi INI configuration (default: built-in values = share/config.ini)\n"
-        "  --gt FILE      ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval figures\n"
+        "  --gt FILE      ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval "
+        "figures\n"
         "  --no-depth     monocular-inertial baseline: ignore depth\n"
         "  --quiet        no progress line\n"
         "Ctrl-C stops reading and still writes all outputs for the part processed.\n";
@@ -38,12 +41,18 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--input" || a == "-i") opt.input = value("--input");
-    else if (a == "--out" || a == "-o") opt.out_dir = value("--out");
-    else if (a == "--config") opt.config_path = value("--config");
-    else if (a == "--gt") opt.gt_path = value("--gt");
-    else if (a == "--no-depth") opt.no_depth = true;
-    else if (a == "--quiet") opt.quiet = true;
+    if (a == "--input" || a == "-i")
+      opt.input = value("--input");
+    else if (a == "--out" || a == "-o")
+      opt.out_dir = value("--out");
+    else if (a == "--config")
+      opt.config_path = value("--config");
+    else if (a == "--gt")
+      opt.gt_path = value("--gt");
+    else if (a == "--no-depth")
+      opt.no_depth = true;
+    else if (a == "--quiet")
+      opt.quiet = true;
     else if (a == "--help" || a == "-h") {
       usage(std::cout);
       return 0;

@@ -5,7 +5,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <random>
 #include <vector>
@@ -17,10 +16,10 @@
 namespace rgbdi::test {
 
 struct SyntheticWorld {
-  double radius = 2.0;         ///< [m] circle radius
-  double omega = 0.2;          ///< [rad/s] final angular speed around the circle
-  double start_s = 1.5;        ///< logistic speed-up centre [s]
-  double steepness = 5.0;      ///< [1/s] of the speed-up
+  double radius = 2.0;     ///< [m] circle radius
+  double omega = 0.2;      ///< [rad/s] final angular speed around the circle
+  double start_s = 1.5;    ///< logistic speed-up centre [s]
+  double steepness = 5.0;  ///< [1/s] of the speed-up
   double gravity = 9.81;
   Eigen::Isometry3d T_bc = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3d> landmarks;
@@ -32,8 +31,7 @@ struct SyntheticWorld {
   Eigen::Isometry3d pose(double t) const {
     const double a = angle(t);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() << radius * std::cos(a), radius * std::sin(a),
-        0.3 + 0.05 * std::sin(3.0 * a);
+    T.translation() << radius * std::cos(a), radius * std::sin(a), 0.3 + 0.05 * std::sin(3.0 * a);
     // Facing along the tangent, with small roll/pitch oscillations (real 6-DOF motion).
     const double yaw = a + M_PI / 2;
     T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *

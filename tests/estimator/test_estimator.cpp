@@ -59,7 +59,8 @@ TEST(Initializer, LinearAlignmentRecoversVelocitiesAndGravity) {
     if (k == 0) {
       pre.emplace_back();
     } else {
-      auto p = std::make_unique<imu::Preintegration>(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), noise);
+      auto p = std::make_unique<imu::Preintegration>(Eigen::Vector3d::Zero(),
+                                                     Eigen::Vector3d::Zero(), noise);
       for (double s = t - dt_frame; s <= t + 1e-9; s += dt_frame / 10) p->push(w.imu(s));
       pre.push_back(std::move(p));
     }
@@ -111,7 +112,8 @@ RunResult runSynthetic(double duration, double depth_sigma, double start_t, doub
       est.feedImu(w.imu(t_imu));
       t_imu += imu_dt;
     }
-    const FrameEstimate e = est.processFrame(w.observe(t_cam, index++, depth_sigma, rng, pixel_sigma));
+    const FrameEstimate e =
+        est.processFrame(w.observe(t_cam, index++, depth_sigma, rng, pixel_sigma));
     if (e.reset) ++r.resets;
     if (!e.has_pose) continue;
     if (r.first_pose_t < 0) r.first_pose_t = t_cam - start_t;
@@ -120,7 +122,8 @@ RunResult runSynthetic(double duration, double depth_sigma, double start_t, doub
       // Position + yaw anchor (roll and pitch are observable and must not be corrected).
       const double dyaw = yawOf(T_true.rotation()) - yawOf(e.T_world_body.rotation());
       T_align.linear() = Eigen::AngleAxisd(dyaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      T_align.translation() = T_true.translation() - T_align.linear() * e.T_world_body.translation();
+      T_align.translation() =
+          T_true.translation() - T_align.linear() * e.T_world_body.translation();
       anchored = true;
     }
     const double err = ((T_align * e.T_world_body).translation() - T_true.translation()).norm();
@@ -153,9 +156,10 @@ TEST(SlidingWindowEstimator, MovingStartInitialisesWithinOneSecond) {
 TEST(SlidingWindowEstimator, NoisyDepthAndPixelsStayAccurateInBothDepthModes) {
   // D435-like depth noise (0.004 z^2) and 0.5 px tracking noise; 12 s, about 4 m travelled.
   for (const char* mode : {"constant", "prior"}) {
-    const RunResult r = runSynthetic(12.0, 0.004, 0.0, 0.5,
-                                     [&](EstimatorOptions& o) { o.verified_depth = mode; });
-    std::cout << mode << ": max error " << r.max_pos_err << " m, final " << r.final_pos_err << " m\n";
+    const RunResult r =
+        runSynthetic(12.0, 0.004, 0.0, 0.5, [&](EstimatorOptions& o) { o.verified_depth = mode; });
+    std::cout << mode << ": max error " << r.max_pos_err << " m, final " << r.final_pos_err
+              << " m\n";
     EXPECT_EQ(r.resets, 0) << mode;
     EXPECT_LT(r.max_pos_err, 0.02) << mode;
     EXPECT_LT(r.final_pos_err, 0.01) << mode;

@@ -1,8 +1,7 @@
 // Reprojection factor, pose manifold and marginalisation: analytic vs numeric Jacobians and
 // known-answer checks.
-#include <gtest/gtest.h>
-
 #include <ceres/ceres.h>
+#include <gtest/gtest.h>
 
 #include <random>
 
@@ -27,8 +26,8 @@ Eigen::Matrix<double, 7, 1> randomPose(std::mt19937_64& rng) {
 }
 
 /// Numeric Jacobian of a cost function w.r.t. the tangent of block `b` (PoseManifold for 7-blocks).
-Eigen::MatrixXd numericJacobian(const ceres::CostFunction& f, std::vector<std::vector<double>> params,
-                                int b) {
+Eigen::MatrixXd numericJacobian(const ceres::CostFunction& f,
+                                std::vector<std::vector<double>> params, int b) {
   const int nres = f.num_residuals();
   const int size = f.parameter_block_sizes()[static_cast<size_t>(b)];
   const int tangent = size == 7 ? 6 : size;
@@ -59,8 +58,8 @@ Eigen::MatrixXd numericJacobian(const ceres::CostFunction& f, std::vector<std::v
   return J;
 }
 
-Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f, std::vector<std::vector<double>> params,
-                                 int b) {
+Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f,
+                                 std::vector<std::vector<double>> params, int b) {
   const int nres = f.num_residuals();
   std::vector<const double*> ptrs;
   std::vector<std::vector<double>> jac;
@@ -123,9 +122,10 @@ TEST(ReprojectionFactor, ZeroResidualAtTruthAndJacobiansMatchNumeric) {
     oi.td_at_stamp = 0.004;
     oj.td_at_stamp = 0.004;
     ReprojectionFactor f(oi, oj, T_bc, 460.0 / 1.5);
-    std::vector<std::vector<double>> params = {
-        std::vector<double>(pi.data(), pi.data() + 7), std::vector<double>(pj.data(), pj.data() + 7),
-        {1.0 / p_ci.z()}, {0.004}};
+    std::vector<std::vector<double>> params = {std::vector<double>(pi.data(), pi.data() + 7),
+                                               std::vector<double>(pj.data(), pj.data() + 7),
+                                               {1.0 / p_ci.z()},
+                                               {0.004}};
     // At the truth (td equal to the stamping offset) the residual is zero.
     std::vector<const double*> ptrs;
     for (auto& v : params) ptrs.push_back(v.data());
@@ -184,9 +184,9 @@ TEST(Marginalization, SchurComplementOfLinearProblemIsExact) {
   ASSERT_TRUE(info.marginalize({x1}, {}));
   // Expected: H = A^T A; prior Hessian on x2 = H22 - H21 H11^-1 H12 (x1 is the 3rd variable).
   const Eigen::Matrix3d H = A.transpose() * A;
-  const Eigen::Matrix2d expected = H.topLeftCorner<2, 2>() -
-                                   H.topRightCorner<2, 1>() * (1.0 / H(2, 2)) *
-                                       H.bottomLeftCorner<1, 2>();
+  const Eigen::Matrix2d expected = H.topLeftCorner<2, 2>() - H.topRightCorner<2, 1>() *
+                                                                 (1.0 / H(2, 2)) *
+                                                                 H.bottomLeftCorner<1, 2>();
   const Eigen::MatrixXd Jp = info.jacobian();
   EXPECT_TRUE((Jp.transpose() * Jp).isApprox(expected, 1e-9));
   // The prior's minimum equals the minimiser of the full problem over x2.

@@ -65,7 +65,8 @@ ImuOptions ImuOptions::load(IniReader& ini) {
 }
 
 ExtrinsicOptions::ExtrinsicOptions() {
-  T_body_cam.linear() = datasetRotation();
+  // The published rotation is rounded to 7 digits: re-orthonormalise, exactly as load() does.
+  T_body_cam.linear() = Eigen::Quaterniond(datasetRotation()).normalized().toRotationMatrix();
   T_body_cam.translation() = Eigen::Vector3d(1.30441e-05, 0.0149225, 0.000316835);
 }
 

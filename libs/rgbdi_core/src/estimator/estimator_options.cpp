@@ -6,11 +6,13 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   EstimatorOptions o;
   const std::string s = "estimator";
   o.window_size = ini.getInt(s, "window_size", o.window_size, 4, 50);
-  o.keyframe_parallax_px = ini.getDouble(s, "keyframe_parallax_px", o.keyframe_parallax_px, 0.5, 200);
+  o.keyframe_parallax_px =
+      ini.getDouble(s, "keyframe_parallax_px", o.keyframe_parallax_px, 0.5, 200);
   o.keyframe_min_tracked = ini.getInt(s, "keyframe_min_tracked", o.keyframe_min_tracked, 0, 10000);
   o.max_iterations = ini.getInt(s, "max_iterations", o.max_iterations, 1, 1000);
   o.max_solver_time_s = ini.getDouble(s, "max_solver_time_s", o.max_solver_time_s, 0.0, 10.0);
-  o.reprojection_sigma_px = ini.getDouble(s, "reprojection_sigma_px", o.reprojection_sigma_px, 0.05, 50);
+  o.reprojection_sigma_px =
+      ini.getDouble(s, "reprojection_sigma_px", o.reprojection_sigma_px, 0.05, 50);
   o.cauchy_loss_sigma = ini.getDouble(s, "cauchy_loss_sigma", o.cauchy_loss_sigma, 0.01, 100);
   o.depth_verify_tolerance_px =
       ini.getDouble(s, "depth_verify_tolerance_px", o.depth_verify_tolerance_px, 0.1, 200);
@@ -28,7 +30,8 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
       ini.getDouble(s, "init_static_max_gyro_rad_s", o.init_static_max_gyro_rad_s, 0.0, 1.0);
   o.init_static_max_acc_std_m_s2 =
       ini.getDouble(s, "init_static_max_acc_std_m_s2", o.init_static_max_acc_std_m_s2, 0.0, 5.0);
-  o.init_static_window_s = ini.getDouble(s, "init_static_window_s", o.init_static_window_s, 0.05, 5.0);
+  o.init_static_window_s =
+      ini.getDouble(s, "init_static_window_s", o.init_static_window_s, 0.05, 5.0);
   o.init_static_max_acc_dev_m_s2 =
       ini.getDouble(s, "init_static_max_acc_dev_m_s2", o.init_static_max_acc_dev_m_s2, 0.0, 5.0);
   o.init_static_max_motion_px =

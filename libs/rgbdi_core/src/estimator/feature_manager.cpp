@@ -22,16 +22,17 @@ double triangulate(const FeatureTrack& f, const SlotPoses& T_wb, const Eigen::Is
     A.row(2 * static_cast<Eigen::Index>(k)) = x.x() * P.row(2) - P.row(0);
     A.row(2 * static_cast<Eigen::Index>(k) + 1) = x.y() * P.row(2) - P.row(1);
   }
-  const Eigen::Vector4d X = Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV).matrixV().col(3);
+  const Eigen::Vector4d X =
+      Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV).matrixV().col(3);
   if (std::abs(X.w()) < 1e-12) return 0.0;
   return X.z() / X.w();
 }
 
 }  // namespace
 
-void FeatureManager::addFrame(int slot,
-                              const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
-                              double* parallax, int* n_tracked) {
+void FeatureManager::addFrame(
+    int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
+    double* parallax, int* n_tracked) {
   int tracked = 0;
   for (const auto& [id, o] : features) {
     auto it = tracks_.find(id);
@@ -72,8 +73,8 @@ void FeatureManager::updateDepths(const SlotPoses& T_wb, const Eigen::Isometry3d
     for (size_t k = 0; k < f.obs.size(); ++k) {
       const double d = f.obs[k].depth_m;
       if (d < opt.min_depth_m || d > opt.max_depth_m) continue;
-      const Eigen::Vector3d p_w = worldCam(T_wb, f.start_slot + static_cast<int>(k), T_bc) *
-                                  (f.obs[k].meas.xn * d);
+      const Eigen::Vector3d p_w =
+          worldCam(T_wb, f.start_slot + static_cast<int>(k), T_bc) * (f.obs[k].meas.xn * d);
       bool agreed = false;
       for (size_t l = 0; l < f.obs.size(); ++l) {
         if (l == k) continue;

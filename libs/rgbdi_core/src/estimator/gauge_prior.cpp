@@ -9,7 +9,8 @@ double wrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 GaugePrior::GaugePrior(const double* pose, double stiffness)
     : p0_(pose[0], pose[1], pose[2]), w_(stiffness) {
-  const Eigen::Matrix3d R = Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]).toRotationMatrix();
   yaw0_ = std::atan2(R(1, 0), R(0, 0));
 }
 

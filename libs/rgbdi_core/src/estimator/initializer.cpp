@@ -1,10 +1,9 @@
 #include "rgbdi/estimator/initializer.h"
 
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
-
 #include <Eigen/Dense>
 #include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 
 #include "rgbdi/common/so3.h"
 #include "rgbdi/imu/preintegration.h"
@@ -30,10 +29,9 @@ std::optional<PnpResult> relativePoseByPnP(const std::vector<Eigen::Vector3d>& p
   std::vector<int> inliers;
   // OpenCV's RANSAC uses cv::theRNG(); seed it so results are repeatable run to run.
   cv::theRNG().state = opt.seed;
-  const bool ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false,
-                                     opt.ransac_iterations,
-                                     static_cast<float>(opt.ransac_threshold_norm), 0.99, inliers,
-                                     cv::SOLVEPNP_EPNP);
+  const bool ok = cv::solvePnPRansac(
+      obj, img, K, cv::noArray(), rvec, tvec, false, opt.ransac_iterations,
+      static_cast<float>(opt.ransac_threshold_norm), 0.99, inliers, cv::SOLVEPNP_EPNP);
   if (!ok || static_cast<int>(inliers.size()) < opt.min_inliers) return std::nullopt;
   // Refine on the inliers (Levenberg-Marquardt from the RANSAC estimate).
   std::vector<cv::Point3d> obj_in;
@@ -92,9 +90,9 @@ Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& g) {
 
 /// Builds and solves the linear system. Unknowns: v_0..v_n (reference frame) then either the full
 /// gravity vector (3) or, when g_fixed is given, a 2-DOF correction w: g = g_fixed + B w.
-bool solveLinear(const std::vector<Eigen::Isometry3d>& T, const std::vector<const imu::Preintegration*>& pre,
-                 const Eigen::Vector3d* g_fixed, std::vector<Eigen::Vector3d>* v, Eigen::Vector3d* g,
-                 double* rms) {
+bool solveLinear(const std::vector<Eigen::Isometry3d>& T,
+                 const std::vector<const imu::Preintegration*>& pre, const Eigen::Vector3d* g_fixed,
+                 std::vector<Eigen::Vector3d>* v, Eigen::Vector3d* g, double* rms) {
   const int n = static_cast<int>(T.size());
   const int ng = g_fixed ? 2 : 3;
   const int N = 3 * n + ng;

@@ -9,10 +9,10 @@
 
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/initializer.h"
-#include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/marginalization.h"
 #include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/reprojection_factor.h"
+#include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
 #include "rgbdi/imu/imu_buffer.h"
 #include "rgbdi/imu/imu_factor.h"
@@ -23,9 +23,12 @@ namespace rgbdi::estimator {
 
 const char* toString(EstimatorStatus s) {
   switch (s) {
-    case EstimatorStatus::kInitializing: return "initialising";
-    case EstimatorStatus::kTracking: return "tracking";
-    case EstimatorStatus::kLost: return "lost";
+    case EstimatorStatus::kInitializing:
+      return "initialising";
+    case EstimatorStatus::kTracking:
+      return "tracking";
+    case EstimatorStatus::kLost:
+      return "lost";
   }
   return "?";
 }
@@ -72,10 +75,19 @@ struct SlidingWindowEstimator::Slot {
   }
   void setPose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
     const Eigen::Quaterniond qn = q.normalized();
-    pose[0] = p.x(); pose[1] = p.y(); pose[2] = p.z();
-    pose[3] = qn.x(); pose[4] = qn.y(); pose[5] = qn.z(); pose[6] = qn.w();
+    pose[0] = p.x();
+    pose[1] = p.y();
+    pose[2] = p.z();
+    pose[3] = qn.x();
+    pose[4] = qn.y();
+    pose[5] = qn.z();
+    pose[6] = qn.w();
   }
-  void setV(const Eigen::Vector3d& v) { sb[0] = v.x(); sb[1] = v.y(); sb[2] = v.z(); }
+  void setV(const Eigen::Vector3d& v) {
+    sb[0] = v.x();
+    sb[1] = v.y();
+    sb[2] = v.z();
+  }
   void setBiases(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg) {
     for (int i = 0; i < 3; ++i) {
       sb[3 + i] = ba[i];
@@ -86,7 +98,8 @@ struct SlidingWindowEstimator::Slot {
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, const ImuOptions& imu,
                                                const ExtrinsicOptions& ext)
-    : opt_(opt),
+    : mrpt::system::COutputLogger("rgbdi.estimator"),
+      opt_(opt),
       imu_opt_(imu),
       T_bc_(ext.T_body_cam),
       td_(ext.time_offset_s),
@@ -103,8 +116,14 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, cons
 
 SlidingWindowEstimator::~SlidingWindowEstimator() = default;
 
+bool SlidingWindowEstimator::initFail(const char* why) {
+  logFmt(mrpt::system::LVL_DEBUG, "initialisation not yet possible: %s\n", why);
+  return false;
+}
+
 void SlidingWindowEstimator::feedImu(const ImuSample& s) {
-  if (!imu_->empty() && s.t <= imu_->newestTime()) return;  // the stream stage already reports these
+  if (!imu_->empty() && s.t <= imu_->newestTime())
+    return;  // the stream stage already reports these
   imu_->push(s);
 }
 
@@ -153,8 +172,8 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
     if (predict_from_previous) {
       Eigen::Vector3d Pj, Vj;
       Eigen::Quaterniond Qj;
-      s.preint->predict(prev.p(), prev.q(), prev.v(),
-                        Eigen::Vector3d(0, 0, -imu_opt_.gravity_m_s2), Pj, Qj, Vj);
+      s.preint->predict(prev.p(), prev.q(), prev.v(), Eigen::Vector3d(0, 0, -imu_opt_.gravity_m_s2),
+                        Pj, Qj, Vj);
       s.setPose(Pj, Qj);
       s.setV(Vj);
     }
@@ -165,15 +184,17 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
   features_.addFrame(static_cast<int>(window_.size()) - 1, toObservations(frame), &parallax,
                      &n_tracked);
   const double min_parallax = opt_.keyframe_parallax_px / EstimatorOptions::kVirtualFocalPx;
-  newest_but_one_keyframe_ = window_.size() < 3 || n_tracked < opt_.keyframe_min_tracked ||
-                             parallax >= min_parallax;
-  imu_->popOlderThan(window_.front().t);
+  newest_but_one_keyframe_ =
+      window_.size() < 3 || n_tracked < opt_.keyframe_min_tracked || parallax >= min_parallax;
+  // Keep what the window needs, and enough history for the stillness test of initialisation.
+  imu_->popOlderThan(std::min(window_.front().t, t - 2.0 * opt_.init_static_window_s));
   stats_.sum_ms_preintegration += msSince(t0);
 }
 
 bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, double t) {
   const double t_start = t - opt_.init_static_window_s;
-  if (imu_->empty() || imu_->oldestTime() > t_start || imu_->newestTime() < t) return false;
+  if (imu_->empty() || imu_->oldestTime() > t_start || imu_->newestTime() < t)
+    return initFail("not enough IMU history for the stillness test");
   // IMU: mean gyro small, |mean acc| close to g, and little spread of 50 ms means.
   Eigen::Vector3d sum_acc = Eigen::Vector3d::Zero(), sum_gyr = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> bins;
@@ -195,15 +216,16 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
     bin_sum += m.acc;
     ++bin_n;
   }
-  if (n < 10 || bins.size() < 3) return false;
+  if (n < 10 || bins.size() < 3) return initFail("too few IMU samples in the stillness window");
   const Eigen::Vector3d mean_acc = sum_acc / n, mean_gyr = sum_gyr / n;
-  if (mean_gyr.norm() > opt_.init_static_max_gyro_rad_s) return false;
+  if (mean_gyr.norm() > opt_.init_static_max_gyro_rad_s)
+    return initFail("gyro mean above init_static_max_gyro_rad_s");
   if (std::abs(mean_acc.norm() - imu_opt_.gravity_m_s2) > opt_.init_static_max_acc_dev_m_s2)
-    return false;
+    return initFail("|mean acc| differs from g by more than init_static_max_acc_dev_m_s2");
   double var = 0.0;
   for (const auto& b : bins) var += (b - mean_acc).squaredNorm();
   if (std::sqrt(var / static_cast<double>(bins.size())) > opt_.init_static_max_acc_std_m_s2)
-    return false;
+    return initFail("accelerometer spread above init_static_max_acc_std_m_s2");
   // Vision: the features of the oldest frame within the window must not have moved.
   const Slot* oldest = nullptr;
   for (const auto& s : window_)
@@ -211,7 +233,8 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
       oldest = &s;
       break;
     }
-  if (!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s) return false;
+  if (!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s)
+    return initFail("not enough frames in the stillness window");
   std::unordered_map<std::uint64_t, Eigen::Vector2d> old_pos;
   for (const auto& f : oldest->raw_features) old_pos[f.id] = f.xn;
   double motion = 0.0;
@@ -224,7 +247,7 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
   }
   if (matched < opt_.keyframe_min_tracked ||
       motion / matched > opt_.init_static_max_motion_px / EstimatorOptions::kVirtualFocalPx)
-    return false;
+    return initFail("features moved (or too few tracked) during the stillness window");
 
   // Still: attitude from gravity, zero velocity, gyro bias from the mean rate.
   const double yaw = have_anchor_ ? anchor_yaw_ : 0.0;
@@ -282,13 +305,15 @@ bool SlidingWindowEstimator::tryMovingInit() {
       frontend::FeatureFrame ff;
       ff.features = window_.front().raw_features;
       features_.addFrame(0, toObservations(ff), &parallax, &tracked);
-      return false;
+      logFmt(mrpt::system::LVL_DEBUG, "PnP with %zu depth-backed correspondences failed\n",
+             pts.size());
+      return initFail("PnP between consecutive frames failed");
     }
     cur.T_c0_c = prev.T_c0_c * pnp->T_curr_prev.inverse();
   }
   if (static_cast<int>(window_.size()) < opt_.init_min_frames ||
       window_.back().t - window_.front().t < opt_.init_min_span_s) {
-    return false;
+    return initFail("too few frames or too short a span for a moving initialisation");
   }
   // Enough parallax, or a full window (depth makes the problem metric, so excitation is not
   // needed: waiting longer only delays the first pose).
@@ -308,7 +333,7 @@ bool SlidingWindowEstimator::tryMovingInit() {
   }
   if (max_parallax < opt_.init_min_parallax_px &&
       static_cast<int>(window_.size()) < opt_.window_size) {
-    return false;
+    return initFail("not enough parallax yet");
   }
 
   // Body poses in the first camera's frame.
@@ -330,13 +355,14 @@ bool SlidingWindowEstimator::tryMovingInit() {
   try {
     bg += imu::solveGyroBias(pairs);
   } catch (const std::exception&) {
-    return false;
+    return initFail("gyro-bias solve failed");
   }
-  if (bg.norm() > opt_.fail_max_gyr_bias_rad_s) return false;
+  if (bg.norm() > opt_.fail_max_gyr_bias_rad_s)
+    return initFail("gyro bias above fail_max_gyr_bias_rad_s");
   for (size_t k = 1; k < window_.size(); ++k)
     window_[k].preint->repropagate(Eigen::Vector3d::Zero(), bg);
   const auto align = alignVelocitiesAndGravity(T_ref_body, pre, imu_opt_.gravity_m_s2);
-  if (!align) return false;
+  if (!align) return initFail("velocity/gravity alignment failed or inconsistent");
 
   const double yaw0 = have_anchor_ ? anchor_yaw_ : 0.0;
   const Eigen::Matrix3d R_w_ref = worldFromGravity(align->g_ref, T_ref_body[0].rotation(), yaw0);
@@ -417,6 +443,8 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     addSlot(frame, t, true);
     optimise(&out);
     if (failureDetected()) {
+      logFmt(mrpt::system::LVL_WARN, "failure detected at t=%.3f (%s): re-initialising\n", t,
+             failureReason().c_str());
       ++stats_.resets;
       reset(true);
       out.reset = true;
@@ -480,8 +508,8 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
     // The time offset is unobservable under uniform motion: anchor it to the configured value
     // until the marginalisation prior carries that information.
     if (opt_.estimate_time_offset)
-      problem.AddResidualBlock(new ScalarPrior(td_config_, opt_.time_offset_prior_sigma_s),
-                               nullptr, td_param_);
+      problem.AddResidualBlock(new ScalarPrior(td_config_, opt_.time_offset_prior_sigma_s), nullptr,
+                               td_param_);
   }
   for (size_t k = 1; k < window_.size(); ++k) {
     Slot& a = window_[k - 1];
@@ -490,8 +518,8 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
                                      opt_.repropagate_gyr_bias_rad_s)) {
       b.preint->repropagate(a.ba(), a.bg());
     }
-    problem.AddResidualBlock(new imu::ImuFactor(b.preint.get(), g_w), nullptr, a.pose, a.sb,
-                             b.pose, b.sb);
+    problem.AddResidualBlock(new imu::ImuFactor(b.preint.get(), g_w), nullptr, a.pose, a.sb, b.pose,
+                             b.sb);
   }
   const int newest = static_cast<int>(window_.size()) - 1;
   int used = 0, verified = 0;
@@ -503,16 +531,16 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
       const int j = i + static_cast<int>(k);
       problem.AddResidualBlock(
           new ReprojectionFactor(f.obs.front().meas, f.obs[k].meas, T_bc_, sqrt_info_), &cauchy,
-          window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose,
-          &f.inv_depth, td_param_);
+          window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose, &f.inv_depth,
+          td_param_);
     }
     if (f.depthVerified() && depth_opt_.hold_constant) {
       problem.SetParameterBlockConstant(&f.inv_depth);
       ++verified;
     } else {
       if (f.depthVerified()) {
-        problem.AddResidualBlock(new ScalarPrior(f.verified_inv_depth, depthPriorSigma(f)),
-                                 nullptr, &f.inv_depth);
+        problem.AddResidualBlock(new ScalarPrior(f.verified_inv_depth, depthPriorSigma(f)), nullptr,
+                                 &f.inv_depth);
         ++verified;
       }
       problem.SetParameterLowerBound(&f.inv_depth, 0, 1e-3);
@@ -546,8 +574,7 @@ void SlidingWindowEstimator::rejectOutliers() {
     const Eigen::Vector3d p_w = T_w_ci * (f.obs.front().meas.xn / f.inv_depth);
     double err = 0.0;
     for (size_t k = 1; k < f.obs.size(); ++k) {
-      const Eigen::Isometry3d T_w_cj =
-          window_[static_cast<size_t>(f.start_slot) + k].T() * T_bc_;
+      const Eigen::Isometry3d T_w_cj = window_[static_cast<size_t>(f.start_slot) + k].T() * T_bc_;
       const Eigen::Vector3d p_c = T_w_cj.inverse() * p_w;
       err += p_c.z() > 0 ? (p_c.head<2>() / p_c.z() - f.obs[k].meas.xn.head<2>()).norm() : 1.0;
     }
@@ -556,17 +583,19 @@ void SlidingWindowEstimator::rejectOutliers() {
   features_.removeOutliers();
 }
 
-bool SlidingWindowEstimator::failureDetected() const {
+std::string SlidingWindowEstimator::failureReason() const {
   const Slot& s = window_.back();
-  if (s.ba().norm() > opt_.fail_max_acc_bias_m_s2) return true;
-  if (s.bg().norm() > opt_.fail_max_gyr_bias_rad_s) return true;
+  if (s.ba().norm() > opt_.fail_max_acc_bias_m_s2) return "accelerometer bias too large";
+  if (s.bg().norm() > opt_.fail_max_gyr_bias_rad_s) return "gyro bias too large";
   const Eigen::Vector3d jump = s.p() - prev_newest_p_;
-  if (jump.norm() > opt_.fail_max_jump_m) return true;
-  if (std::abs(jump.z()) > opt_.fail_max_vertical_jump_m) return true;
+  if (jump.norm() > opt_.fail_max_jump_m) return "position jump";
+  if (std::abs(jump.z()) > opt_.fail_max_vertical_jump_m) return "vertical jump";
   for (const auto& w : window_)
-    if (!w.p().allFinite() || !w.q().coeffs().allFinite()) return true;
-  return false;
+    if (!w.p().allFinite() || !w.q().coeffs().allFinite()) return "non-finite state";
+  return {};
 }
+
+bool SlidingWindowEstimator::failureDetected() const { return !failureReason().empty(); }
 
 void SlidingWindowEstimator::reset(bool keep_anchor) {
   if (!keep_anchor) have_anchor_ = false;
@@ -602,7 +631,8 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
       info->add({std::make_shared<MarginalizationFactor>(prior_), nullptr, prior_->keptBlocks()});
     }
     if (use_init_prior_) {
-      info->add({std::make_shared<SpeedBiasPrior>(init_prior_mean_, init_prior_sigma_), nullptr,
+      info->add({std::make_shared<SpeedBiasPrior>(init_prior_mean_, init_prior_sigma_),
+                 nullptr,
                  {s0.sb}});
       if (opt_.estimate_time_offset)
         info->add({std::make_shared<ScalarPrior>(td_config_, opt_.time_offset_prior_sigma_s),
@@ -610,7 +640,8 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
                    {td_param_}});
       use_init_prior_ = false;  // from now on it lives inside the marginalisation prior
     }
-    info->add({std::make_shared<imu::ImuFactor>(window_[1].preint.get(), g_w), nullptr,
+    info->add({std::make_shared<imu::ImuFactor>(window_[1].preint.get(), g_w),
+               nullptr,
                {s0.pose, s0.sb, window_[1].pose, window_[1].sb}});
     auto loss = std::make_shared<ceres::CauchyLoss>(opt_.cauchy_loss_sigma);
     const int newest = static_cast<int>(N);
@@ -663,8 +694,8 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
       }
     }
     // Merge pre-integrations: (N-2 -> N-1) followed by (N-1 -> N).
-    auto merged = std::make_unique<imu::Preintegration>(
-        s1.preint->biasAcc(), s1.preint->biasGyr(), imu::ImuNoise::fromOptions(imu_opt_));
+    auto merged = std::make_unique<imu::Preintegration>(s1.preint->biasAcc(), s1.preint->biasGyr(),
+                                                        imu::ImuNoise::fromOptions(imu_opt_));
     for (const auto& m : s1.preint->samples()) merged->push(m);
     const auto& next = window_[N].preint->samples();
     for (size_t k = 1; k < next.size(); ++k) merged->push(next[k]);

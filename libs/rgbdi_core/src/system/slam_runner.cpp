@@ -48,8 +48,8 @@ class Progress {
     std::ostringstream line;
     line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] " << frames << " frames, "
          << (wall > 0 ? frames / wall : 0.0) << " frames/s, stream " << (stream_t - stream_t0)
-         << " s (" << (wall > 0 ? (stream_t - stream_t0) / wall : 0.0) << "x real time), "
-         << state << "   ";
+         << " s (" << (wall > 0 ? (stream_t - stream_t0) / wall : 0.0) << "x real time), " << state
+         << "   ";
     os_ << line.str() << std::flush;
     printed_ = true;
   }

@@ -33,7 +33,8 @@ void VioSystem::feedRgbd(const RgbdFrame& in) {
     ++frames_dropped_;
     return;
   }
-  if (!tracker_) tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, chooseCamera(in));
+  if (!tracker_)
+    tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, chooseCamera(in));
   Pending p;
   p.frame = in;
   if (!use_depth_) p.frame.depth.release();

@@ -8,44 +8,46 @@
 namespace rgbdi::estimator {
 
 struct EstimatorOptions {
-  int window_size = 10;                 ///< [frames] keyframes in the sliding window
-  double keyframe_parallax_px = 10.0;   ///< [px at focal 460] mean parallax making a keyframe
-  int keyframe_min_tracked = 20;        ///< [count] fewer tracked features -> keyframe
-  int max_iterations = 8;               ///< [count] solver iterations per update
-  double max_solver_time_s = 0.0;       ///< [s] live-mode budget; 0 = unbounded (deterministic)
-  double reprojection_sigma_px = 1.5;   ///< [px at focal 460]
-  double cauchy_loss_sigma = 1.0;       ///< [unitless] Cauchy scale in units of reprojection sigma
+  int window_size = 10;                ///< [frames] keyframes in the sliding window
+  double keyframe_parallax_px = 10.0;  ///< [px at focal 460] mean parallax making a keyframe
+  int keyframe_min_tracked = 20;       ///< [count] fewer tracked features -> keyframe
+  int max_iterations = 8;              ///< [count] solver iterations per update
+  double max_solver_time_s = 0.0;      ///< [s] live-mode budget; 0 = unbounded (deterministic)
+  double reprojection_sigma_px = 1.5;  ///< [px at focal 460]
+  double cauchy_loss_sigma = 1.0;      ///< [unitless] Cauchy scale in units of reprojection sigma
   double depth_verify_tolerance_px = 10.0;  ///< [px at focal 460]
-  double depth_verify_min_m = 0.1;      ///< [m]
-  double depth_verify_max_m = 3.0;      ///< [m]
+  double depth_verify_min_m = 0.1;          ///< [m]
+  double depth_verify_max_m = 3.0;          ///< [m]
   /// How depth-verified features enter the optimisation: "constant" (paper: inverse depth held
   /// fixed) or "prior" (free inverse depth with a Gaussian prior from the verified mean, sigma
   /// from depth_noise_coeff and the number of agreeing observations).
   std::string verified_depth = "constant";
-  double depth_noise_coeff = 0.004;     ///< [1/m] sensor depth sigma = coeff * z^2
-  double init_depth_max_m = 10.0;       ///< [m]
-  int init_min_correspondences = 20;    ///< [count]
-  double init_min_parallax_px = 30.0;   ///< [px at focal 460]
-  double init_static_max_gyro_rad_s = 0.02;   ///< [rad/s]
-  double init_static_max_acc_std_m_s2 = 0.15; ///< [m/s^2]
-  double init_static_window_s = 0.3;    ///< [s] stillness is judged over this much data
-  double init_static_max_acc_dev_m_s2 = 0.3;  ///< [m/s^2] | |mean acc| - g | allowed when still
-  double init_static_max_motion_px = 1.0;     ///< [px at focal 460] mean feature motion when still
-  int init_min_frames = 5;              ///< [count] frames for a moving (PnP) initialisation
-  double init_min_span_s = 0.15;        ///< [s] time spanned by those frames
-  double init_acc_bias_sigma_m_s2 = 0.2;    ///< [m/s^2] prior std of the accelerometer bias
-  double init_gyr_bias_sigma_rad_s = 0.01;  ///< [rad/s] prior std of the gyro bias
+  double depth_noise_coeff = 0.004;            ///< [1/m] sensor depth sigma = coeff * z^2
+  double init_depth_max_m = 10.0;              ///< [m]
+  int init_min_correspondences = 20;           ///< [count]
+  double init_min_parallax_px = 30.0;          ///< [px at focal 460]
+  double init_static_max_gyro_rad_s = 0.02;    ///< [rad/s]
+  double init_static_max_acc_std_m_s2 = 0.15;  ///< [m/s^2]
+  double init_static_window_s = 0.3;           ///< [s] stillness is judged over this much data
+  double init_static_max_acc_dev_m_s2 = 0.3;   ///< [m/s^2] | |mean acc| - g | allowed when still
+  double init_static_max_motion_px = 1.0;      ///< [px at focal 460] mean feature motion when still
+  int init_min_frames = 5;                     ///< [count] frames for a moving (PnP) initialisation
+  double init_min_span_s = 0.15;               ///< [s] time spanned by those frames
+  double init_acc_bias_sigma_m_s2 = 0.2;       ///< [m/s^2] prior std of the accelerometer bias
+  double init_gyr_bias_sigma_rad_s = 0.01;     ///< [rad/s] prior std of the gyro bias
   double init_static_velocity_sigma_m_s = 0.02;  ///< [m/s] prior std of velocity at a static start
-  double outlier_reprojection_px = 3.0; ///< [px at focal 460] mean reprojection error that rejects a feature
-  double repropagate_acc_bias_m_s2 = 0.05;  ///< [m/s^2] re-integrate when ba moves this far
-  double repropagate_gyr_bias_rad_s = 0.005; ///< [rad/s] re-integrate when bg moves this far
+  double outlier_reprojection_px =
+      3.0;  ///< [px at focal 460] mean reprojection error that rejects a feature
+  double repropagate_acc_bias_m_s2 = 0.05;    ///< [m/s^2] re-integrate when ba moves this far
+  double repropagate_gyr_bias_rad_s = 0.005;  ///< [rad/s] re-integrate when bg moves this far
   bool estimate_time_offset = true;
-  double time_offset_prior_sigma_s = 0.02;  ///< [s] prior std of the time offset around the config value
+  double time_offset_prior_sigma_s =
+      0.02;  ///< [s] prior std of the time offset around the config value
   /// [Hz] rate of estimator updates; frames in between get IMU-propagated poses. 0 = every frame.
   double update_rate_hz = 0.0;
-  double fail_max_acc_bias_m_s2 = 2.5;  ///< [m/s^2]
-  double fail_max_gyr_bias_rad_s = 1.0; ///< [rad/s]
-  double fail_max_jump_m = 5.0;         ///< [m]
+  double fail_max_acc_bias_m_s2 = 2.5;    ///< [m/s^2]
+  double fail_max_gyr_bias_rad_s = 1.0;   ///< [rad/s]
+  double fail_max_jump_m = 5.0;           ///< [m]
   double fail_max_vertical_jump_m = 1.0;  ///< [m]
 
   /// The virtual focal length [px] in which pixel thresholds above are expressed (VINS convention),

@@ -7,7 +7,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -28,11 +27,11 @@ struct FeatureTrack {
   std::uint64_t id = 0;
   int start_slot = 0;
   std::vector<TrackObservation> obs;
-  /// Optimisation variable: inverse depth [1/m] in the reference frame (slot start_slot). Lives in a
-  /// std::map node, so its address is stable while the track exists (Ceres parameter block).
+  /// Optimisation variable: inverse depth [1/m] in the reference frame (slot start_slot). Lives in
+  /// a std::map node, so its address is stable while the track exists (Ceres parameter block).
   double inv_depth = 0.0;
   DepthSource source = DepthSource::kNone;
-  int verified_observations = 0;  ///< observations whose depth agreed with another one
+  int verified_observations = 0;    ///< observations whose depth agreed with another one
   double verified_inv_depth = 0.0;  ///< [1/m] inverse of the verified mean depth
   bool outlier = false;
 
@@ -74,7 +73,8 @@ class FeatureManager {
   /// Removes the oldest slot (0): observations in it are dropped; features whose reference frame
   /// was slot 0 get their depth moved into the new reference frame and lose "verified" (they are
   /// re-verified for the new reference frame). All slots shift down by one.
-  void removeOldest(const SlotPoses& T_world_body_before_shift, const Eigen::Isometry3d& T_body_cam);
+  void removeOldest(const SlotPoses& T_world_body_before_shift,
+                    const Eigen::Isometry3d& T_body_cam);
   /// Removes slot `slot` (the second newest, not a keyframe): its observations are dropped, later
   /// slots shift down by one.
   void removeSlot(int slot);

@@ -8,7 +8,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <optional>
 #include <vector>
 
@@ -21,10 +20,10 @@ class Preintegration;
 namespace rgbdi::estimator {
 
 struct PnpOptions {
-  int min_inliers = 20;              ///< inlier count needed to accept the pose
+  int min_inliers = 20;                        ///< inlier count needed to accept the pose
   double ransac_threshold_norm = 3.0 / 460.0;  ///< reprojection threshold on the normalised plane
   int ransac_iterations = 100;
-  std::uint64_t seed = 1;            ///< RANSAC sampling is made deterministic
+  std::uint64_t seed = 1;  ///< RANSAC sampling is made deterministic
 };
 
 struct PnpResult {

@@ -5,12 +5,14 @@
 // estimated when it was the newest (causal output, as a robot would use it).
 #pragma once
 
+#include <mrpt/system/COutputLogger.h>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <deque>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "rgbdi/common/sensor_options.h"
@@ -33,8 +35,8 @@ const char* toString(EstimatorStatus s);
 
 /// Per-frame output.
 struct FrameEstimate {
-  double t_imu = 0.0;          ///< state time on the IMU clock (= image stamp + time offset) [s]
-  double t_image = 0.0;        ///< image stamp as received [s]
+  double t_imu = 0.0;    ///< state time on the IMU clock (= image stamp + time offset) [s]
+  double t_image = 0.0;  ///< image stamp as received [s]
   bool has_pose = false;
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
   Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
@@ -43,7 +45,7 @@ struct FrameEstimate {
   double time_offset_s = 0.0;
   EstimatorStatus status = EstimatorStatus::kInitializing;
   bool just_initialised = false;
-  bool reset = false;          ///< a failure was detected and the estimator restarted
+  bool reset = false;  ///< a failure was detected and the estimator restarted
   int n_features_used = 0;
   int n_depth_verified = 0;
   double ms_optimisation = 0.0;
@@ -67,7 +69,7 @@ struct EstimatorStats {
   double sum_ms_optimisation = 0.0, sum_ms_marginalisation = 0.0, sum_ms_preintegration = 0.0;
 };
 
-class SlidingWindowEstimator {
+class SlidingWindowEstimator : public mrpt::system::COutputLogger {
  public:
   SlidingWindowEstimator(const EstimatorOptions& opt, const ImuOptions& imu,
                          const ExtrinsicOptions& ext);
@@ -98,6 +100,8 @@ class SlidingWindowEstimator {
   void optimise(FrameEstimate* out);
   void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
   bool failureDetected() const;
+  std::string failureReason() const;
+  bool initFail(const char* why);
   void reset(bool keep_anchor);
   SlotPoses slotPoses() const;
   double depthPriorSigma(const FeatureTrack& f) const;
