@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <random>
 
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/sim/renderer.h"
@@ -169,6 +170,53 @@ TEST(RenderImage, GeneratedTexturesAreDeterministicPerSeed) {
     EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0) << toString(style);
     EXPECT_GT(cv::norm(a, c, cv::NORM_L1) / a.total(), 10.0) << toString(style);
   }
+}
+
+// Reference bilinear of an RGB image at texel coordinates (u, v), wrapping (texel centres at
+// integer + 0.5).
+Eigen::Vector3f referenceBilinear(const cv::Mat& img, double u, double v) {
+  const int n = img.cols;
+  const double x = u - 0.5, y = v - 0.5;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double ax = x - x0, ay = y - y0;
+  auto texel = [&](int xi, int yi) {
+    const cv::Vec3b c = img.at<cv::Vec3b>(((yi % n) + n) % n, ((xi % n) + n) % n);
+    return Eigen::Vector3d(c[0], c[1], c[2]);
+  };
+  const Eigen::Vector3d top = (1 - ax) * texel(x0, y0) + ax * texel(x0 + 1, y0);
+  const Eigen::Vector3d bottom = (1 - ax) * texel(x0, y0 + 1) + ax * texel(x0 + 1, y0 + 1);
+  return ((1 - ay) * top + ay * bottom).cast<float>();
+}
+
+TEST(RenderImage, MipTextureSamplingIsTrilinearOverBoxFilteredLevels) {
+  const cv::Mat level0 = generateTexture(TextureStyle::Tiles, 64, 0.004, 5);
+  // Level 1 by hand: rounded 2x2 averages.
+  cv::Mat level1(32, 32, CV_8UC3);
+  for (int r = 0; r < 32; ++r)
+    for (int c = 0; c < 32; ++c)
+      for (int k = 0; k < 3; ++k) {
+        const int sum = level0.at<cv::Vec3b>(2 * r, 2 * c)[k] + level0.at<cv::Vec3b>(2 * r, 2 * c + 1)[k] +
+                        level0.at<cv::Vec3b>(2 * r + 1, 2 * c)[k] + level0.at<cv::Vec3b>(2 * r + 1, 2 * c + 1)[k];
+        level1.at<cv::Vec3b>(r, c)[k] = static_cast<std::uint8_t>((sum + 2) / 4);
+      }
+  const MipTexture tex(level0);
+  EXPECT_EQ(tex.levels(), 7);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> coord(-200.0, 200.0), frac(0.0, 1.0);
+  for (int i = 0; i < 500; ++i) {
+    const double u = coord(rng), v = coord(rng);
+    const Eigen::Vector3f c0 = referenceBilinear(level0, u, v);
+    const Eigen::Vector3f c1 = referenceBilinear(level1, u / 2, v / 2);
+    EXPECT_LT((tex.sample(u, v, 0.0f) - c0).cwiseAbs().maxCoeff(), 1e-3);
+    EXPECT_LT((tex.sample(u, v, -3.0f) - c0).cwiseAbs().maxCoeff(), 1e-3);  // magnified
+    EXPECT_LT((tex.sample(u, v, 1.0f) - c1).cwiseAbs().maxCoeff(), 1e-3);
+    const float f = static_cast<float>(frac(rng));
+    EXPECT_LT((tex.sample(u, v, f) - (c0 + f * (c1 - c0))).cwiseAbs().maxCoeff(), 1e-3);
+  }
+  // The coarsest level is the mean colour (up to one rounding of at most 0.5 per level).
+  const cv::Scalar mean = cv::mean(level0);
+  EXPECT_LT((tex.sample(3.3, 7.1, 50.0f) - Eigen::Vector3f(mean[0], mean[1], mean[2])).cwiseAbs().maxCoeff(), 3.0);
+  EXPECT_THROW(MipTexture(cv::Mat(48, 48, CV_8UC3)), std::invalid_argument);
 }
 
 // Texture must not repeat at short scales (KLT would lock onto the wrong period): along each

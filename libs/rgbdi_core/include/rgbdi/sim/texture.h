@@ -11,6 +11,9 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <array>
 #include <cstdint>
@@ -52,12 +55,10 @@ class MipTexture {
  private:
   struct Level {
     int size = 0, mask = 0;
-    /// size*size texels, row-major, packed R | G << 8 | B << 16 (one load per texel, and the
-    /// bilinear filter works on two channels per integer multiply).
+    /// size*size texels, row-major, packed R | G << 8 | B << 16 (one load per texel; the
+    /// filter unpacks a texel's three channels at once).
     std::vector<std::uint32_t> texels;
   };
-  /// Bilinear sample of one level, packed like the texels.
-  std::uint32_t bilinear(const Level& lv, float u, float v) const;
   std::vector<Level> levels_;
   std::vector<float> scale_;  ///< texel coordinate scale of each level (2^-level)
   int size0_ = 0;
@@ -135,55 +136,79 @@ inline float fastLog2(float x) {
   return static_cast<float>(exponent) + t * (1.3465557f - 0.3465557f * t);
 }
 
-inline Eigen::Vector3f unpackTexel(std::uint32_t t) {
-  return {static_cast<float>(t & 0xffu), static_cast<float>((t >> 8) & 0xffu),
-          static_cast<float>((t >> 16) & 0xffu)};
+// Filtered colour R, G, B (and 0) in four float lanes: SSE2 registers where available (baseline
+// on x86-64), otherwise a plain array with the same operations in the same order.
+#if defined(__SSE2__)
+using Rgb4 = __m128;
+inline Rgb4 lerp4(Rgb4 a, Rgb4 b, float f) {
+  return _mm_add_ps(a, _mm_mul_ps(_mm_set1_ps(f), _mm_sub_ps(b, a)));
+}
+inline Eigen::Vector3f toVector3(Rgb4 c) {
+  alignas(16) float o[4];
+  _mm_store_ps(o, c);
+  return {o[0], o[1], o[2]};
+}
+// The four texels t00, t01, t10, t11 of a bilinear footprint, unpacked to float lanes.
+inline void unpack4(std::uint32_t t00, std::uint32_t t01, std::uint32_t t10, std::uint32_t t11,
+                    Rgb4 out[4]) {
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i t = _mm_set_epi32(static_cast<int>(t11), static_cast<int>(t10),
+                                  static_cast<int>(t01), static_cast<int>(t00));
+  const __m128i first = _mm_unpacklo_epi8(t, zero), second = _mm_unpackhi_epi8(t, zero);
+  out[0] = _mm_cvtepi32_ps(_mm_unpacklo_epi16(first, zero));
+  out[1] = _mm_cvtepi32_ps(_mm_unpackhi_epi16(first, zero));
+  out[2] = _mm_cvtepi32_ps(_mm_unpacklo_epi16(second, zero));
+  out[3] = _mm_cvtepi32_ps(_mm_unpackhi_epi16(second, zero));
+}
+#else
+struct Rgb4 {
+  float v[4];
+};
+inline Rgb4 lerp4(const Rgb4& a, const Rgb4& b, float f) {
+  Rgb4 r;
+  for (int k = 0; k < 4; ++k) r.v[k] = a.v[k] + f * (b.v[k] - a.v[k]);
+  return r;
+}
+inline Eigen::Vector3f toVector3(const Rgb4& c) { return {c.v[0], c.v[1], c.v[2]}; }
+inline void unpack4(std::uint32_t t00, std::uint32_t t01, std::uint32_t t10, std::uint32_t t11,
+                    Rgb4 out[4]) {
+  const std::uint32_t t[4] = {t00, t01, t10, t11};
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k) out[i].v[k] = static_cast<float>((t[i] >> (8 * k)) & 0xffu);
+}
+#endif
+
+// Bilinear filter of one level at texel coordinates (u, v) (texel centres at integer + 0.5),
+// wrapping at the borders.
+inline Rgb4 bilinear(const std::uint32_t* texels, int size, int mask, float u, float v) {
+  const float x = u - 0.5f, y = v - 0.5f;
+  const int xi = floorToInt(x), yi = floorToInt(y);
+  const float ax = x - static_cast<float>(xi), ay = y - static_cast<float>(yi);
+  const std::size_t s = static_cast<std::size_t>(size);
+  const std::size_t x0 = static_cast<std::size_t>(xi & mask);
+  const std::size_t x1 = static_cast<std::size_t>((xi + 1) & mask);
+  const std::size_t r0 = static_cast<std::size_t>(yi & mask) * s;
+  const std::size_t r1 = static_cast<std::size_t>((yi + 1) & mask) * s;
+  Rgb4 t[4];
+  unpack4(texels[r0 + x0], texels[r0 + x1], texels[r1 + x0], texels[r1 + x1], t);
+  return lerp4(lerp4(t[0], t[1], ax), lerp4(t[2], t[3], ax), ay);
 }
 
 }  // namespace detail
-
-inline std::uint32_t MipTexture::bilinear(const Level& lv, float u, float v) const {
-  constexpr std::uint32_t kEvenBytes = 0x00ff00ffu;  // R and B lanes of a packed texel
-  const float x = u - 0.5f, y = v - 0.5f;
-  const int xi = detail::floorToInt(x), yi = detail::floorToInt(y);
-  // 8-bit fixed-point weights summing to exactly 256, so each 16-bit lane of the packed sums
-  // stays below 2^16 (255 * 256).
-  const std::uint32_t wx = static_cast<std::uint32_t>((x - static_cast<float>(xi)) * 256.0f);
-  const std::uint32_t wy = static_cast<std::uint32_t>((y - static_cast<float>(yi)) * 256.0f);
-  const std::uint32_t w11 = (wx * wy) >> 8, w01 = (wx * (256 - wy)) >> 8;
-  const std::uint32_t w10 = ((256 - wx) * wy) >> 8, w00 = 256 - w01 - w10 - w11;
-  const std::size_t s = static_cast<std::size_t>(lv.size);
-  const std::size_t x0 = static_cast<std::size_t>(xi & lv.mask);
-  const std::size_t x1 = static_cast<std::size_t>((xi + 1) & lv.mask);
-  const std::size_t r0 = static_cast<std::size_t>(yi & lv.mask) * s;
-  const std::size_t r1 = static_cast<std::size_t>((yi + 1) & lv.mask) * s;
-  const std::uint32_t* t = lv.texels.data();
-  const std::uint32_t t00 = t[r0 + x0], t01 = t[r0 + x1], t10 = t[r1 + x0], t11 = t[r1 + x1];
-  const std::uint32_t rb = (((t00 & kEvenBytes) * w00 + (t01 & kEvenBytes) * w01 +
-                             (t10 & kEvenBytes) * w10 + (t11 & kEvenBytes) * w11) >> 8) & kEvenBytes;
-  const std::uint32_t g = ((((t00 >> 8) & kEvenBytes) * w00 + ((t01 >> 8) & kEvenBytes) * w01 +
-                            ((t10 >> 8) & kEvenBytes) * w10 + ((t11 >> 8) & kEvenBytes) * w11) >> 8) &
-                          0xffu;
-  return rb | g << 8;
-}
 
 inline Eigen::Vector3f MipTexture::sample(double u, double v, float lod) const {
   const float uf = detail::wrapPeriod(u, period_, inv_period_);
   const float vf = detail::wrapPeriod(v, period_, inv_period_);
   const int top = levels() - 1;
-  if (!(lod > 0.0f)) return detail::unpackTexel(bilinear(levels_[0], uf, vf));  // also NaN
-  if (lod >= static_cast<float>(top)) {
-    const float s = scale_[static_cast<std::size_t>(top)];
-    return detail::unpackTexel(bilinear(levels_[static_cast<std::size_t>(top)], uf * s, vf * s));
-  }
+  auto at = [&](int l, float scale) {
+    const Level& lv = levels_[static_cast<std::size_t>(l)];
+    return detail::bilinear(lv.texels.data(), lv.size, lv.mask, uf * scale, vf * scale);
+  };
+  if (!(lod > 0.0f)) return detail::toVector3(at(0, 1.0f));  // magnified (also catches NaN)
+  if (lod >= static_cast<float>(top)) return detail::toVector3(at(top, scale_[static_cast<std::size_t>(top)]));
   const int l = static_cast<int>(lod);
-  const float f = lod - static_cast<float>(l);
-  const float s0 = scale_[static_cast<std::size_t>(l)], s1 = 0.5f * s0;
-  const Eigen::Vector3f c0 =
-      detail::unpackTexel(bilinear(levels_[static_cast<std::size_t>(l)], uf * s0, vf * s0));
-  const Eigen::Vector3f c1 =
-      detail::unpackTexel(bilinear(levels_[static_cast<std::size_t>(l + 1)], uf * s1, vf * s1));
-  return c0 + f * (c1 - c0);
+  const float s0 = scale_[static_cast<std::size_t>(l)];
+  return detail::toVector3(detail::lerp4(at(l, s0), at(l + 1, 0.5f * s0), lod - static_cast<float>(l)));
 }
 
 inline Eigen::Vector3f TextureBank::sample(const MaterialAppearance& appearance,
