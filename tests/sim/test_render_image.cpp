@@ -317,6 +317,11 @@ TEST(RenderImage, EmptyViewAndBadArguments) {
   EXPECT_EQ(rgb.at<cv::Vec3b>(100, 100), cv::Vec3b(10, 20, 30));
   r.render(lookFrom({5, 0, 0.5}, M_PI), rgb, depth);  // facing it: the box face at 4.5 m
   EXPECT_NEAR(depth.at<float>(240, 324), 4.5, 1e-6);
+  Eigen::Isometry3d bad_pose = lookFrom({5, 0, 0.5}, M_PI);
+  bad_pose.linear() *= 1.01;
+  EXPECT_THROW(r.render(bad_pose, rgb, depth), std::invalid_argument);
+  bad_pose = lookFrom({std::nan(""), 0, 0.5}, M_PI);
+  EXPECT_THROW(r.render(bad_pose, rgb, depth), std::invalid_argument);
 }
 
 }  // namespace

@@ -43,7 +43,8 @@ class Renderer {
 
   /// Renders from the colour camera pose T_world_cam (optical frame: x right, y down, z forward):
   /// rgb CV_8UC3 (R,G,B), depth CV_32FC1 = camera-frame z [m] of the surface (0 = no hit).
-  /// Outputs are (re)allocated only when their size or type differs.
+  /// Outputs are (re)allocated only when their size or type differs. Throws
+  /// std::invalid_argument for a non-finite pose or a rotation that is not orthonormal.
   void render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Mat& depth) const;
 
   const PinholeCamera& camera() const { return cam_; }

@@ -116,6 +116,15 @@ Renderer::Renderer(const Scene& scene, const PinholeCamera& cam, const RenderOpt
 }
 
 void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Mat& depth) const {
+  // Rays are rotated, not re-normalised: a rotation that is not orthonormal would silently give
+  // wrong depths.
+  constexpr double kRotationTolerance = 1e-6;
+  if (!T_world_cam.matrix().allFinite() ||
+      !((T_world_cam.linear().transpose() * T_world_cam.linear() - Eigen::Matrix3d::Identity())
+            .cwiseAbs()
+            .maxCoeff() < kRotationTolerance))
+    throw std::invalid_argument(
+        "Renderer::render: camera pose must be finite with an orthonormal rotation");
   rgb.create(cam_.height, cam_.width, CV_8UC3);
   depth.create(cam_.height, cam_.width, CV_32FC1);
   const Eigen::Matrix3d R = T_world_cam.linear();
