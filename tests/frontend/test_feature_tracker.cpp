@@ -483,6 +483,17 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   int patch_kept_without_ransac = 0;
   for (const FeatureObservation& o : b1.features) patch_kept_without_ransac += patch_ids.count(o.id) ? 1 : 0;
   EXPECT_GE(patch_kept_without_ransac, static_cast<int>(patch_ids.size()) * 3 / 4);
+  // Every static feature KLT kept (it is in the loose run) is consistent with the epipolar
+  // geometry: RANSAC (with its least-squares refit) must keep all of them, including the near
+  // ones with the largest parallax.
+  int static_tracked = 0;
+  for (const FeatureObservation& o : b1.features) {
+    if (!static_ids.count(o.id)) continue;
+    ++static_tracked;
+    EXPECT_TRUE(in1.count(o.id)) << "static feature " << o.id << " at " << in0.at(o.id).uv.transpose()
+                                 << " wrongly rejected";
+  }
+  EXPECT_GE(static_tracked, static_cast<int>(static_ids.size()) * 9 / 10);
 
   // Depth: exact on a surface interior within range, 0 beyond depth_max_m (the 4 m wall) and
   // 0 when the 5x5 window crosses an edge (all surfaces here differ by far more than 3 %).

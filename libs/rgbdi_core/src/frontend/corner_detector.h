@@ -14,8 +14,9 @@ class FeatureSpacing;
 /// `quality` times the strongest response inside the mask. Corners are taken strongest first
 /// (ties by row, then column) while they keep `spacing`'s minimum distance to everything
 /// accepted so far. This is the rule of cv::goodFeaturesToTrack, computed from the Scharr
-/// derivatives of the KLT pyramid instead of a second derivative pass, and in buffers kept
-/// between calls (fresh multi-megabyte buffers every frame cost page faults).
+/// derivatives of the KLT pyramid instead of a second derivative pass, in a single pass with
+/// row buffers kept between calls (fresh multi-megabyte buffers every frame cost page faults).
+/// Pixels within half a block of the border get no response.
 class CornerDetector {
  public:
   /// `derivatives`: CV_16SC2 (dI/dx, dI/dy) of the image; `mask`: CV_8UC1 of the same size,
@@ -27,7 +28,13 @@ class CornerDetector {
   const cv::Mat& response() const { return response_; }
 
  private:
-  cv::Mat xx_, xy_, yy_, sum_xx_, sum_xy_, sum_yy_, response_, dilated_;
+  /// Fills response_ (0 within half a block of the border).
+  void computeResponse(const cv::Mat& derivatives, int block_size);
+
+  cv::Mat response_;
+  std::vector<float> ring_;      ///< row sums of the products for the last block_size rows
+  std::vector<float> products_;  ///< Ix^2, Ix Iy, Iy^2 of one row
+  std::vector<float> sums_;      ///< window sums of one row (three planes) and a square-root row
   struct Candidate {
     float response;
     int u, v;
