@@ -1,0 +1,23 @@
+// Where a dataset converter delivers what it decodes, in (roughly) time order: the writer behind
+// it re-orders within a window and writes the rawlog and the ground truth.
+#pragma once
+
+#include <functional>
+
+#include "rgbdi/common/types.h"
+
+namespace rgbdi::bag {
+
+class ConversionSink {
+ public:
+  virtual ~ConversionSink() = default;
+  virtual void imu(const ImuSample& sample) = 0;
+  virtual void frame(const RgbdFrame& frame) = 0;
+  /// Ground-truth pose of the tracked body in the world frame.
+  virtual void groundTruth(const StampedPose& pose) = 0;
+};
+
+/// Called often during a conversion with the fraction of the input consumed, in [0, 1].
+using ProgressCallback = std::function<void(double fraction)>;
+
+}  // namespace rgbdi::bag

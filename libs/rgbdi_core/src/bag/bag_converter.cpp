@@ -1,0 +1,414 @@
+#include "rgbdi/bag/bag_converter.h"
+
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/serialization.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <std_msgs/Float32.h>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "rgbdi/bag/accel_gyro_merger.h"
+#include "rgbdi/bag/bag_reader.h"
+#include "rgbdi/bag/rgbd_pairer.h"
+#include "rgbdi/bag/ros_calibration.h"
+#include "rgbdi/bag/ros_image.h"
+#include "rgbdi/common/sensor_options.h"
+
+namespace rgbdi::bag {
+namespace {
+
+enum class Role { Color, Depth, Imu, Accel, Gyro, GroundTruth };
+
+/// A calibration that does not fit the images: ends the conversion (the output would be wrong).
+class CalibrationMismatch : public BagError {
+ public:
+  using BagError::BagError;
+};
+
+template <typename M>
+void deserialize(const std::uint8_t* data, std::uint32_t size, M& out) {
+  ros::serialization::IStream s(const_cast<std::uint8_t*>(data), size);
+  ros::serialization::deserialize(s, out);
+}
+
+std::string fixed(double v, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+std::string describeCamera(const PinholeCamera& c) {
+  std::ostringstream os;
+  os << c.width << "x" << c.height << ", fx " << fixed(c.fx, 3) << " fy " << fixed(c.fy, 3) << " cx "
+     << fixed(c.cx, 3) << " cy " << fixed(c.cy, 3);
+  if (c.hasDistortion())
+    os << ", distortion " << c.dist[0] << " " << c.dist[1] << " " << c.dist[2] << " " << c.dist[3] << " "
+       << c.dist[4];
+  return os.str();
+}
+
+std::string describePose(const Eigen::Isometry3d& T) {
+  const Eigen::AngleAxisd aa(T.rotation());
+  std::ostringstream os;
+  os << "translation (" << fixed(T.translation().x(), 4) << ", " << fixed(T.translation().y(), 4) << ", "
+     << fixed(T.translation().z(), 4) << ") m, rotation " << fixed(aa.angle() * 180.0 / M_PI, 3) << " deg";
+  return os.str();
+}
+
+}  // namespace
+
+FallbackCalibration FallbackCalibration::defaults() {
+  FallbackCalibration f;
+  f.color = CameraOptions().camera;
+  f.color_source = "built-in defaults (share/config.ini [camera])";
+  f.T_body_cam = ExtrinsicOptions().T_body_cam;
+  f.extrinsic_source = "built-in defaults (share/config.ini [extrinsic])";
+  return f;
+}
+
+struct BagConverter::Impl {
+  std::string path;
+  ConvertOptions options;
+  std::unique_ptr<BagReader> reader;
+  BagLayout layout;
+  std::map<std::string, Role> roles;
+  PinholeCamera cam_color, cam_depth;
+  double depth_unit = 1e-3;
+  Eigen::Isometry3d T_color_depth = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+  std::vector<std::string> calibration_lines, notes;
+  bool ran = false;
+
+  // Per-run state.
+  ConversionReport report;
+  std::uint64_t frame_index = 0;
+  bool checked_color_size = false, checked_depth_size = false;
+  std::string color_source, depth_source;
+
+  template <typename M>
+  bool firstMessage(const std::string& topic, M& msg) const {
+    std::vector<std::uint8_t> bytes;
+    if (topic.empty() || !reader->firstMessage(topic, bytes)) return false;
+    try {
+      deserialize(bytes.data(), static_cast<std::uint32_t>(bytes.size()), msg);
+    } catch (const std::exception& e) {
+      throw CalibrationError(path + " " + topic + ": unreadable first message: " + e.what());
+    }
+    return true;
+  }
+
+  void readCalibration(const FallbackCalibration& fallback) {
+    sensor_msgs::CameraInfo info;
+    if (firstMessage(layout.color_info, info)) {
+      cam_color = cameraFromInfo(info, path + " " + layout.color_info);
+      color_source = "camera_info " + layout.color_info;
+    } else {
+      cam_color = fallback.color;
+      color_source = fallback.color_source;
+    }
+    calibration_lines.push_back("colour intrinsics: " + describeCamera(cam_color) + " (" + color_source + ")");
+
+    if (layout.depth_aligned) {
+      cam_depth = cam_color;
+      depth_source = "aligned to colour";
+      calibration_lines.push_back("depth: aligned to the colour image (same intrinsics)");
+    } else if (firstMessage(layout.depth_info, info)) {
+      cam_depth = cameraFromInfo(info, path + " " + layout.depth_info);
+      depth_source = "camera_info " + layout.depth_info;
+      calibration_lines.push_back("depth intrinsics: " + describeCamera(cam_depth) + " (" + depth_source + ")");
+    } else {
+      cam_depth = cam_color;
+      depth_source = color_source;
+      calibration_lines.push_back("depth intrinsics: none in the bag; the colour intrinsics are used");
+    }
+
+    std_msgs::Float32 units;
+    if (firstMessage(layout.depth_units, units)) {
+      if (!(units.data > 0.0f) || !(units.data < 1.0f))
+        throw CalibrationError(path + " " + layout.depth_units + ": depth unit " + std::to_string(units.data) +
+                               " m is not plausible");
+      // The option is a float: 0.001f read back as the decimal it was meant to be.
+      depth_unit = std::stod(fixed(static_cast<double>(units.data), 9));
+      calibration_lines.push_back("depth unit: " + fixed(depth_unit * 1e3, 6) + " mm for 16-bit depth (" +
+                                  layout.depth_units + ")");
+    } else {
+      depth_unit = options.integer_depth_unit_m;
+      calibration_lines.push_back("depth unit: " + fixed(depth_unit * 1e3, 6) +
+                                  " mm for 16-bit depth (default; the bag does not say)");
+    }
+
+    geometry_msgs::Transform tf;
+    Eigen::Isometry3d T_ref_color = Eigen::Isometry3d::Identity(), T_ref_depth = Eigen::Isometry3d::Identity();
+    const bool have_color_tf = firstMessage(layout.color_tf, tf);
+    if (have_color_tf) T_ref_color = isometryFromTransform(tf, path + " " + layout.color_tf);
+    if (firstMessage(layout.depth_tf, tf)) T_ref_depth = isometryFromTransform(tf, path + " " + layout.depth_tf);
+    if (!layout.depth_aligned) {
+      if (have_color_tf) {
+        T_color_depth = T_ref_color.inverse() * T_ref_depth;
+        calibration_lines.push_back("depth camera in the colour camera: " + describePose(T_color_depth) + " (" +
+                                    layout.color_tf + ")");
+      } else {
+        calibration_lines.push_back(
+            "depth camera in the colour camera: unknown (no extrinsics in the bag); identity used");
+      }
+    }
+
+    const bool has_imu = !layout.imu.empty() || !layout.accel.empty();
+    if (has_imu && have_color_tf && firstMessage(layout.imu_tf, tf)) {
+      const Eigen::Isometry3d T_ref_imu = isometryFromTransform(tf, path + " " + layout.imu_tf);
+      T_body_cam = T_ref_imu.inverse() * T_ref_color;
+      calibration_lines.push_back("colour camera in the IMU (body) frame: " + describePose(T_body_cam) + " (" +
+                                  layout.imu_tf + ", " + layout.color_tf + ")");
+    } else {
+      T_body_cam = fallback.T_body_cam;
+      calibration_lines.push_back("colour camera in the body frame (sensorPose): " + describePose(T_body_cam) +
+                                  " (" + fallback.extrinsic_source + ")");
+    }
+  }
+
+  std::string label(const BagMessage& m, double stamp) const {
+    return path + " " + *m.topic + " message " + std::to_string(m.ordinal) + " (stamp " + fixed(stamp, 6) + " s)";
+  }
+
+  void checkSize(const cv::Mat& img, const PinholeCamera& cam, const std::string& what,
+                 const std::string& source, const std::string& where, bool& checked) {
+    if (checked) return;
+    checked = true;
+    if (img.cols != cam.width || img.rows != cam.height) {
+      throw CalibrationMismatch(where + ": " + what + " images are " + std::to_string(img.cols) + "x" +
+                                std::to_string(img.rows) + " but the intrinsics (" + source + ") are for " +
+                                std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                                "; give this camera's calibration with --config or --camera-yaml");
+    }
+  }
+
+  void deliverFrames(RgbdPairer& pairer, ConversionSink& sink) {
+    PairedImages p;
+    while (pairer.pop(p)) {
+      if (!p.depth) continue;  // colour alone: counted by the pairer, dropped
+      if (!p.color && options.require_colour) {
+        ++report.depth_alone_dropped;
+        continue;
+      }
+      RgbdFrame f;
+      f.t = p.color ? p.color->t : p.depth->t;
+      f.index = frame_index++;
+      if (p.color) f.rgb = p.color->image;
+      f.depth = p.depth->image;
+      f.depth_unit_m = p.depth->unit_m;
+      f.cam_color = cam_color;
+      f.cam_depth = cam_depth;
+      f.T_color_depth = T_color_depth;
+      f.depth_aligned_to_color = layout.depth_aligned;
+      f.source_label = p.color ? p.color->label : p.depth->label;
+      sink.frame(f);
+    }
+  }
+
+  void deliverImu(AccelGyroMerger& merger, ConversionSink& sink) {
+    ImuSample s;
+    while (merger.pop(s)) sink.imu(s);
+  }
+
+  /// Handles one message; unreadable messages are reported and skipped.
+  void handle(const BagMessage& m, Role role, RgbdPairer& pairer, AccelGyroMerger& merger, ConversionSink& sink) {
+    const auto stampOf = [&](const std_msgs::Header& h) {
+      if (h.stamp.isZero()) {
+        ++report.stamps_from_bag_time;
+        return m.bag_time;
+      }
+      return h.stamp.toSec();
+    };
+    std::string where = path + " " + *m.topic + " message " + std::to_string(m.ordinal);
+    try {
+      switch (role) {
+        case Role::Color:
+        case Role::Depth: {
+          StampedImage img;
+          const bool compressed = role == Role::Color ? layout.color_compressed : layout.depth_compressed;
+          if (compressed) {
+            sensor_msgs::CompressedImage msg;
+            deserialize(m.data, m.size, msg);
+            img.t = stampOf(msg.header);
+            img.label = where = label(m, img.t);
+            if (role == Role::Color) {
+              img.image = decodeColorImage(msg, where);
+            } else {
+              DepthImage d = decodeDepthImage(msg, depth_unit, options.float_depth_unit_m, where);
+              img.image = d.depth;
+              img.unit_m = d.unit_m;
+              report.depth_clipped_pixels += d.clipped;
+            }
+          } else {
+            sensor_msgs::Image msg;
+            deserialize(m.data, m.size, msg);
+            img.t = stampOf(msg.header);
+            img.label = where = label(m, img.t);
+            if (role == Role::Color) {
+              img.image = decodeColorImage(msg, where);
+            } else {
+              DepthImage d = decodeDepthImage(msg, depth_unit, options.float_depth_unit_m, where);
+              img.image = d.depth;
+              img.unit_m = d.unit_m;
+              report.depth_clipped_pixels += d.clipped;
+            }
+          }
+          if (role == Role::Color) {
+            checkSize(img.image, cam_color, "colour", color_source, where, checked_color_size);
+            ++report.color_images;
+            pairer.pushColor(std::move(img));
+          } else {
+            checkSize(img.image, cam_depth, "depth", depth_source, where, checked_depth_size);
+            ++report.depth_images;
+            pairer.pushDepth(std::move(img));
+          }
+          deliverFrames(pairer, sink);
+          break;
+        }
+        case Role::Imu: {
+          sensor_msgs::Imu msg;
+          deserialize(m.data, m.size, msg);
+          ImuSample s;
+          s.t = stampOf(msg.header);
+          s.acc = Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z);
+          s.gyr = Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z);
+          ++report.imu_messages;
+          sink.imu(s);
+          break;
+        }
+        case Role::Accel:
+        case Role::Gyro: {
+          sensor_msgs::Imu msg;
+          deserialize(m.data, m.size, msg);
+          const double t = stampOf(msg.header);
+          if (role == Role::Accel)
+            merger.pushAccel(t, Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y,
+                                                msg.linear_acceleration.z));
+          else
+            merger.pushGyro(t, Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z));
+          deliverImu(merger, sink);
+          break;
+        }
+        case Role::GroundTruth: {
+          geometry_msgs::PoseStamped msg;
+          deserialize(m.data, m.size, msg);
+          StampedPose p;
+          p.t = stampOf(msg.header);
+          p.p = Eigen::Vector3d(msg.pose.position.x, msg.pose.position.y, msg.pose.position.z);
+          p.q = Eigen::Quaterniond(msg.pose.orientation.w, msg.pose.orientation.x, msg.pose.orientation.y,
+                                   msg.pose.orientation.z);
+          if (!(p.q.norm() > 1e-6) || !p.p.allFinite() || !p.q.coeffs().allFinite()) {
+            ++report.unreadable;
+            report.addIssue("unreadable", where + ": invalid pose (zero or non-finite quaternion/position)",
+                            options.max_listed_issues);
+            break;
+          }
+          p.q.normalize();
+          ++report.groundtruth_poses;
+          sink.groundTruth(p);
+          break;
+        }
+      }
+    } catch (const ImageDecodeError& e) {
+      ++report.unreadable;
+      report.addIssue("unreadable", e.what(), options.max_listed_issues);
+    } catch (const ros::Exception& e) {
+      // Message bytes that do not deserialise (e.g. a damaged record in an uncompressed chunk).
+      ++report.unreadable;
+      report.addIssue("unreadable", where + ": cannot deserialise: " + e.what(), options.max_listed_issues);
+    }
+  }
+};
+
+BagConverter::BagConverter(const std::string& path, const ConvertOptions& options, const BagInputOptions& input,
+                           const FallbackCalibration& fallback)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  d.path = path;
+  d.options = options;
+  d.reader = std::make_unique<BagReader>(path);
+  d.layout = resolveBagLayout(d.reader->topics(), input.topics, input.depth_aligned, path);
+  d.roles[d.layout.color] = Role::Color;
+  d.roles[d.layout.depth] = Role::Depth;
+  d.roles[d.layout.imu] = Role::Imu;
+  d.roles[d.layout.accel] = Role::Accel;
+  d.roles[d.layout.gyro] = Role::Gyro;
+  d.roles[d.layout.groundtruth] = Role::GroundTruth;
+  d.roles.erase("");
+  if (d.roles.size() != d.layout.streamedTopics().size())
+    throw BagLayoutError(path + ": one topic is given for two different streams");
+  d.readCalibration(fallback);
+}
+
+BagConverter::~BagConverter() = default;
+
+const BagLayout& BagConverter::layout() const { return impl_->layout; }
+const Eigen::Isometry3d& BagConverter::T_body_cam() const { return impl_->T_body_cam; }
+const PinholeCamera& BagConverter::colorCamera() const { return impl_->cam_color; }
+const PinholeCamera& BagConverter::depthCamera() const { return impl_->cam_depth; }
+double BagConverter::depthUnit() const { return impl_->depth_unit; }
+const Eigen::Isometry3d& BagConverter::T_color_depth() const { return impl_->T_color_depth; }
+
+ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback& progress,
+                                   const std::atomic<bool>* stop) {
+  Impl& d = *impl_;
+  if (d.ran) throw BagError(d.path + ": BagConverter::run() called twice");
+  d.ran = true;
+  const auto start = std::chrono::steady_clock::now();
+  ConversionReport& r = d.report;
+  r.input = d.path;
+  r.format = "ROS1 bag, " + toString(d.layout.kind);
+  r.input_bytes = d.reader->fileSize();
+  r.pair_tolerance_s = d.options.pair_tolerance_s;
+  r.calibration = d.calibration_lines;
+  for (const BagTopic& t : d.reader->topics()) {
+    const auto it = d.roles.find(t.topic);
+    if (it == d.roles.end()) continue;
+    static const char* names[] = {"colour", "depth", "IMU", "accelerometer", "gyroscope", "ground truth"};
+    r.streams.push_back(std::string(names[static_cast<int>(it->second)]) + ": " + t.topic + " (" + t.datatype +
+                        ", " + std::to_string(t.messages) + " messages)");
+  }
+  r.notes = d.layout.notes;
+  if (!d.reader->indexed()) r.notes.push_back(d.reader->recoveryReason());
+
+  RgbdPairer pairer(d.options.pair_tolerance_s, d.options.max_wait_s);
+  AccelGyroMerger merger(d.options.max_accel_gap_s, d.options.max_wait_s);
+  d.reader->select(d.layout.streamedTopics());
+  BagMessage m;
+  bool calibration_failed = false;
+  try {
+    while (!(stop && stop->load())) {
+      if (!d.reader->next(m)) break;
+      d.handle(m, d.roles.at(*m.topic), pairer, merger, sink);
+      if (progress) progress(d.reader->fraction());
+    }
+    if (stop && stop->load()) r.notes.push_back("interrupted: the conversion stopped before the end of the bag");
+  } catch (const BagReadError& e) {
+    r.error = e.what();
+  } catch (const CalibrationMismatch& e) {
+    // Nothing more is written: frames with the wrong intrinsics would mislead every user.
+    r.error = e.what();
+    calibration_failed = true;
+  }
+  if (r.error.empty() && !d.reader->indexed())
+    r.error = d.path + ": " + d.reader->recoveryReason() + "; every chunk up to the end of the file was read";
+  pairer.finish();
+  merger.finish();
+  if (!calibration_failed) {
+    d.deliverFrames(pairer, sink);
+    d.deliverImu(merger, sink);
+  }
+  r.pairing = pairer.stats();
+  r.merge = merger.stats();
+  if (progress) progress(1.0);
+  r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace rgbdi::bag

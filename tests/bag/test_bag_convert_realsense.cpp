@@ -1,0 +1,152 @@
+// BagConverter on the real RealSense SDK recording (realsense-viewer layout, lz4 chunks, written by
+// Intel's code, not ours): facts from ../shared/data/README.md.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "rgbdi/bag/bag_converter.h"
+#include "testing/fixtures.h"
+
+namespace rgbdi::bag {
+namespace {
+
+struct RecordingSink : ConversionSink {
+  std::vector<ImuSample> imus;
+  std::vector<RgbdFrame> frames;
+  std::vector<StampedPose> poses;
+  void imu(const ImuSample& s) override { imus.push_back(s); }
+  void frame(const RgbdFrame& f) override { frames.push_back(f); }
+  void groundTruth(const StampedPose& p) override { poses.push_back(p); }
+};
+
+std::string fixture() {
+  return test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+}
+
+TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
+  RGBDI_REQUIRE_FIXTURE(fixture());
+  BagConverter conv(fixture(), ConvertOptions(), BagInputOptions(), FallbackCalibration::defaults());
+  const BagLayout& l = conv.layout();
+  EXPECT_EQ(l.kind, BagLayoutKind::RealSense);
+  EXPECT_EQ(l.color, "/device_0/sensor_1/Color_0/image/data");
+  EXPECT_EQ(l.depth, "/device_0/sensor_0/Depth_0/image/data");
+  EXPECT_EQ(l.color_info, "/device_0/sensor_1/Color_0/info/camera_info");
+  EXPECT_EQ(l.depth_info, "/device_0/sensor_0/Depth_0/info/camera_info");
+  EXPECT_EQ(l.depth_units, "/device_0/sensor_0/option/Depth Units/value");
+  EXPECT_EQ(l.color_tf, "/device_0/sensor_1/Color_0/tf/0");
+  EXPECT_EQ(l.depth_tf, "/device_0/sensor_0/Depth_0/tf/0");
+  EXPECT_TRUE(l.imu.empty());
+  EXPECT_TRUE(l.accel.empty());
+  EXPECT_FALSE(l.depth_aligned);
+
+  EXPECT_NEAR(conv.depthCamera().fx, 390.43, 0.005);
+  EXPECT_NEAR(conv.depthCamera().cx, 331.39, 0.005);
+  EXPECT_EQ(conv.depthCamera().width, 640);
+  EXPECT_NEAR(conv.colorCamera().fx, 613.20, 0.005);
+  EXPECT_NEAR(conv.colorCamera().cx, 319.94, 0.005);
+  EXPECT_DOUBLE_EQ(conv.depthUnit(), 0.001);
+  // The tf is the colour camera in the depth camera: T_depth_color translation (0.0143, 0.0006, 0.0006).
+  const Eigen::Isometry3d T_depth_color = conv.T_color_depth().inverse();
+  EXPECT_NEAR(T_depth_color.translation().x(), 0.0143, 5e-5);
+  EXPECT_NEAR(T_depth_color.translation().y(), 0.0006, 5e-5);
+  EXPECT_NEAR(T_depth_color.translation().z(), 0.0006, 5e-5);
+  // No IMU in the recording: the sensor pose is the configured extrinsic.
+  EXPECT_TRUE(conv.T_body_cam().isApprox(FallbackCalibration::defaults().T_body_cam));
+}
+
+TEST(BagConvertRealSense, TwoDepthOnlyFramesAndOneUnpairedColourFrame) {
+  RGBDI_REQUIRE_FIXTURE(fixture());
+  BagConverter conv(fixture(), ConvertOptions(), BagInputOptions(), FallbackCalibration::defaults());
+  RecordingSink sink;
+  std::vector<double> progress;
+  const ConversionReport r = conv.run(sink, [&](double f) { progress.push_back(f); });
+  EXPECT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(sink.frames.size(), 2u);
+  EXPECT_TRUE(sink.imus.empty());
+  EXPECT_TRUE(sink.poses.empty());
+  EXPECT_NEAR(sink.frames[0].t, 360.8151, 5e-5);
+  EXPECT_NEAR(sink.frames[1].t, 360.9818, 5e-5);
+  for (const RgbdFrame& f : sink.frames) {
+    EXPECT_FALSE(f.hasColor());
+    ASSERT_TRUE(f.hasDepth());
+    EXPECT_EQ(f.depth.type(), CV_16UC1);
+    EXPECT_EQ(f.depth.cols, 640);
+    EXPECT_EQ(f.depth.rows, 480);
+    EXPECT_DOUBLE_EQ(f.depth_unit_m, 0.001);
+    EXPECT_FALSE(f.depth_aligned_to_color);
+    EXPECT_NEAR(f.cam_depth.fx, 390.43, 0.005);
+    EXPECT_NEAR(f.cam_color.fx, 613.20, 0.005);
+    EXPECT_TRUE(f.T_color_depth.isApprox(conv.T_color_depth()));
+    // A real scene: a good share of valid depth with a plausible median (0.3 - 10 m).
+    std::vector<std::uint16_t> valid;
+    for (int r2 = 0; r2 < f.depth.rows; r2 += 4)
+      for (int c = 0; c < f.depth.cols; c += 4)
+        if (const std::uint16_t v = f.depth.at<std::uint16_t>(r2, c)) valid.push_back(v);
+    ASSERT_GT(valid.size(), 640u * 480u / 16u / 4u);
+    std::nth_element(valid.begin(), valid.begin() + static_cast<long>(valid.size() / 2), valid.end());
+    const double median_m = valid[valid.size() / 2] * f.depth_unit_m;
+    EXPECT_GT(median_m, 0.3);
+    EXPECT_LT(median_m, 10.0);
+  }
+  EXPECT_EQ(r.color_images, 1u);
+  EXPECT_EQ(r.depth_images, 2u);
+  EXPECT_EQ(r.pairing.pairs, 0u);
+  EXPECT_EQ(r.pairing.color_alone, 1u);
+  EXPECT_EQ(r.pairing.depth_alone, 2u);
+  const std::string text = r.text();
+  EXPECT_NE(text.find("1 colour image(s) without a depth image within 0.020 s"), std::string::npos) << text;
+  EXPECT_NE(text.find("no IMU topic (the recording has no Accel/Gyro streams)"), std::string::npos) << text;
+  ASSERT_FALSE(progress.empty());
+  EXPECT_DOUBLE_EQ(progress.back(), 1.0);
+  for (std::size_t i = 1; i < progress.size(); ++i) EXPECT_GE(progress[i], progress[i - 1]);
+}
+
+TEST(BagConvertRealSense, ToleranceWideEnoughPairsTheColourFrame) {
+  RGBDI_REQUIRE_FIXTURE(fixture());
+  ConvertOptions o;
+  o.pair_tolerance_s = 0.15;  // colour 360.7135 is 0.1016 s before the first depth image
+  BagConverter conv(fixture(), o, BagInputOptions(), FallbackCalibration::defaults());
+  RecordingSink sink;
+  const ConversionReport r = conv.run(sink);
+  ASSERT_EQ(sink.frames.size(), 2u);
+  EXPECT_TRUE(sink.frames[0].hasColor());
+  EXPECT_NEAR(sink.frames[0].t, 360.7135, 5e-5);  // a pair takes the colour stamp
+  EXPECT_EQ(sink.frames[0].rgb.type(), CV_8UC3);
+  EXPECT_FALSE(sink.frames[1].hasColor());
+  EXPECT_EQ(r.pairing.pairs, 1u);
+
+  o.require_colour = true;
+  BagConverter strict(fixture(), o, BagInputOptions(), FallbackCalibration::defaults());
+  RecordingSink sink2;
+  const ConversionReport r2 = strict.run(sink2);
+  ASSERT_EQ(sink2.frames.size(), 1u);
+  EXPECT_EQ(r2.depth_alone_dropped, 1u);
+}
+
+TEST(BagConvertRealSense, MissingTopicListsTheTopicsThatExist) {
+  RGBDI_REQUIRE_FIXTURE(fixture());
+  BagInputOptions in;
+  in.topics.color = "/camera/color/image_raw";
+  try {
+    BagConverter conv(fixture(), ConvertOptions(), in, FallbackCalibration::defaults());
+    FAIL() << "expected BagLayoutError";
+  } catch (const BagLayoutError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("colour topic '/camera/color/image_raw' is not in the bag"), std::string::npos) << what;
+    EXPECT_NE(what.find("/device_0/sensor_0/Depth_0/image/data"), std::string::npos) << what;
+    EXPECT_NE(what.find("sensor_msgs/Image"), std::string::npos) << what;
+  }
+  in.topics.color = "/device_0/sensor_0/Depth_0/info/camera_info";
+  try {
+    BagConverter conv(fixture(), ConvertOptions(), in, FallbackCalibration::defaults());
+    FAIL() << "expected BagLayoutError";
+  } catch (const BagLayoutError& e) {
+    EXPECT_NE(std::string(e.what()).find("has type sensor_msgs/CameraInfo, expected sensor_msgs/Image or "
+                                         "sensor_msgs/CompressedImage"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rgbdi::bag
