@@ -306,6 +306,44 @@ TEST(FeatureTracker, ContrastEqualisationIsAppliedAndStillTracks) {
   EXPECT_GT(differing, 0);  // equalisation changes the image the corners are found on
 }
 
+TEST(FeatureTracker, ForwardBackwardCheckDropsTracksWhoseContentChanged) {
+  // The scene stays still but a region suddenly shows different texture (e.g. a screen, or a
+  // moving object filling it): KLT still "converges" somewhere for many features there; the
+  // round trip exposes them.
+  const PinholeCamera cam = simpleCamera();
+  const cv::Mat before = toGrey8(randomRectangleTexture(640, 480, 31));
+  cv::Mat after = before.clone();
+  const cv::Rect region(200, 150, 200, 160);
+  toGrey8(randomRectangleTexture(640, 480, 32))(region).copyTo(after(region));
+  auto survivorsInRegion = [&](const FrontendOptions& options, int* inside_before) {
+    FeatureTracker tracker(options, cam);
+    const FeatureFrame f0 = tracker.track(colourFrame(before, 0.0, 0, cam));
+    const FeatureFrame f1 = tracker.track(colourFrame(after, kDt, 1, cam));
+    std::set<std::uint64_t> inside;
+    const int m = options.klt_window_px / 2 + 1;  // whole window inside the changed region
+    for (const FeatureObservation& o : f0.features)
+      if (o.uv.x() >= region.x + m && o.uv.x() < region.x + region.width - m && o.uv.y() >= region.y + m &&
+          o.uv.y() < region.y + region.height - m)
+        inside.insert(o.id);
+    *inside_before = static_cast<int>(inside.size());
+    int survivors = 0;
+    for (const FeatureObservation& o : f1.features) survivors += inside.count(o.id) ? 1 : 0;
+    return survivors;
+  };
+  // RANSAC would also reject most of them; switched off here to see the round trip alone.
+  FrontendOptions with_check;
+  with_check.ransac_threshold_px = 20.0;
+  FrontendOptions no_check = with_check;
+  no_check.klt_max_forward_backward_px = 20.0;
+  int inside = 0;
+  const int without_check = survivorsInRegion(no_check, &inside);
+  ASSERT_GE(inside, 8);
+  std::cout << "features in the changed region: " << inside << ", kept without the round trip: " << without_check
+            << "\n";
+  EXPECT_GE(without_check, 2) << "the test needs KLT to report false tracks without the check";
+  EXPECT_EQ(survivorsInRegion(with_check, &inside), 0);
+}
+
 TEST(FeatureTracker, SameInputGivesIdenticalOutput) {
   const PinholeCamera cam = simpleCamera();
   const HomographySequence seq(4);

@@ -92,16 +92,15 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
     candidates.push_back(i);
   }
 
-  // Backward check: track the new positions back, starting from the old ones.
-  std::vector<cv::Point2f> forward(candidates.size()), backward(candidates.size());
-  for (size_t k = 0; k < candidates.size(); ++k) {
-    forward[k] = current_uv[candidates[k]];
-    backward[k] = previous_uv[candidates[k]];
-  }
+  // Backward check: track the new positions back to the previous image. It starts from the new
+  // positions themselves (no hint from the old ones), so a wrong forward match cannot be pulled
+  // back onto its starting point by the initial guess.
+  std::vector<cv::Point2f> forward(candidates.size()), backward;
+  for (size_t k = 0; k < candidates.size(); ++k) forward[k] = current_uv[candidates[k]];
   std::vector<std::uint8_t> back_status;
   if (!forward.empty())
     cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status, error, window,
-                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+                             options_.klt_pyramid_levels, criteria);
   const double max_fb2 = options_.klt_max_forward_backward_px * options_.klt_max_forward_backward_px;
   std::vector<Track> survivors;
   std::vector<Eigen::Vector2d> previous_xn, current_xn;
