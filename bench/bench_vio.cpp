@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   double duration = 0.0, fps = 30.0;
   std::uint64_t seed = 1;
   bool no_depth = false;
+  bool verbose = false;
   double time_offset = 0.0;
   std::map<std::string, std::map<std::string, std::string>> overrides;
   for (int i = 1; i < argc; ++i) {
@@ -40,6 +41,8 @@ int main(int argc, char** argv) {
       seed = std::stoull(next());
     else if (a == "--no-depth")
       no_depth = true;
+    else if (a == "--verbose")
+      verbose = true;
     else if (a == "--time-offset")
       time_offset = std::stod(next());
     else if (a == "--set") {
@@ -75,6 +78,7 @@ int main(int argc, char** argv) {
   const system::SystemConfig cfg = system::SystemConfig::load(ini);
 
   system::VioSystem vio(cfg, !no_depth);
+  if (verbose) vio.estimator().setMinLoggingLevel(mrpt::system::LVL_DEBUG);
   const auto t0 = std::chrono::steady_clock::now();
   seq.pump(vio);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

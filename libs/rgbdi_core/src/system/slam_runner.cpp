@@ -10,6 +10,7 @@
 #include "rgbdi/eval/evaluate.h"
 #include "rgbdi/eval/tum_reader.h"
 #include "rgbdi/io/rawlog_source.h"
+#include "rgbdi/output/pose_graph.h"
 #include "rgbdi/output/summary_json.h"
 #include "rgbdi/output/tum_writer.h"
 #include "rgbdi/system/system_config.h"
@@ -64,6 +65,38 @@ class Progress {
   Clock::time_point start_, last_;
   bool printed_ = false;
 };
+
+/// keyframes.tum and pose_graph.graph: keyframe nodes and odometry edges between consecutive
+/// keyframes (loop edges are added by loop closure).
+void writeKeyframeOutputs(const std::vector<estimator::KeyframeState>& kfs,
+                          const output::OutputOptions& oo, const std::string& kf_path,
+                          const std::string& graph_path) {
+  Trajectory kf_traj;
+  std::vector<output::PoseGraphNode> nodes;
+  std::vector<output::PoseGraphEdge> edges;
+  Eigen::Matrix<double, 6, 1> info_diag;
+  info_diag << Eigen::Vector3d::Constant(
+      1.0 / (oo.graph_translation_sigma_m * oo.graph_translation_sigma_m)),
+      Eigen::Vector3d::Constant(1.0 / (oo.graph_rotation_sigma_rad * oo.graph_rotation_sigma_rad));
+  for (const auto& kf : kfs) {
+    if (!kf_traj.empty() && kf.t_imu <= kf_traj.back().t) continue;  // after a reset: keep order
+    kf_traj.push_back(StampedPose::fromIsometry(kf.t_imu, kf.T_world_body));
+    nodes.push_back({kf.frame_index, kf.t_imu, kf.T_world_body});
+    if (nodes.size() >= 2) {
+      const auto& a = nodes[nodes.size() - 2];
+      const auto& b = nodes.back();
+      output::PoseGraphEdge e;
+      e.from = a.id;
+      e.to = b.id;
+      e.T_from_to = a.T_world_body.inverse() * b.T_world_body;
+      e.information = info_diag.asDiagonal();
+      e.kind = "odometry";
+      edges.push_back(e);
+    }
+  }
+  output::writeTum(kf_path, kf_traj);
+  if (!nodes.empty()) output::writePoseGraph(graph_path, nodes, edges);
+}
 
 }  // namespace
 
@@ -128,6 +161,9 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   const std::string traj_cam_path = opt.out_dir + "/trajectory_cam.tum";
   output::writeTum(traj_path, vio.trajectoryBody());
   output::writeTum(traj_cam_path, vio.trajectoryCamera());
+  const std::string kf_path = opt.out_dir + "/keyframes.tum";
+  const std::string graph_path = opt.out_dir + "/pose_graph.graph";
+  writeKeyframeOutputs(vio.keyframes(), cfg.output, kf_path, graph_path);
 
   const auto& st = vio.estimatorStats();
   const auto& tm = vio.timings();
@@ -156,7 +192,11 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
                                     {"optimisation", tm.optimisation_ms / n_est},
                                     {"marginalisation", tm.marginalisation_ms / n_est}};
   summary["stream_diagnostics"] = nlohmann::json::parse(source->diagnostics().toJson());
-  summary["outputs"] = {{"trajectory", traj_path}, {"trajectory_cam", traj_cam_path}};
+  summary["keyframes"] = vio.keyframes().size();
+  summary["outputs"] = {{"trajectory", traj_path},
+                        {"trajectory_cam", traj_cam_path},
+                        {"keyframes", kf_path},
+                        {"pose_graph", graph_path}};
 
   if (!opt.gt_path.empty()) {
     try {
@@ -184,7 +224,9 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
       << summary["frames_per_s"].get<double>() << " frames/s), " << vio.trajectoryBody().size()
       << " poses, " << st.resets << " resets" << (interrupted ? " (interrupted)" : "") << "\n";
   if (!read_error.empty()) log << "Input ended early: " << read_error << "\n";
-  log << "Outputs:\n  " << traj_path << "\n  " << traj_cam_path << "\n  " << summary_path << "\n";
+  log << "Outputs:\n";
+  for (const auto& [name, path] : summary["outputs"].items())
+    log << "  " << path.get<std::string>() << "\n";
   return summary;
 }
 

@@ -53,6 +53,7 @@ void VioSystem::feedRgbd(const RgbdFrame& in) {
 
 void VioSystem::endOfStream() {
   processReady(true);
+  emitKeyframes(estimator_->windowKeyframes());
   frames_dropped_ += pending_.size();
   pending_.clear();
 }
@@ -78,7 +79,28 @@ void VioSystem::processReady(bool flush) {
     }
     estimates_.push_back(est);
     if (frame_cb_) frame_cb_(est, p.frame);
+    recent_frames_.push_back(std::move(p.frame));
     pending_.pop_front();
+    emitKeyframes(estimator_->takeFinishedKeyframes());
+    // Frames older than the oldest window slot can no longer become keyframes.
+    const auto window = estimator_->windowKeyframes();
+    const std::uint64_t oldest =
+        window.empty() ? recent_frames_.back().index : window.front().frame_index;
+    while (!recent_frames_.empty() && recent_frames_.front().index < oldest)
+      recent_frames_.pop_front();
+  }
+}
+
+void VioSystem::emitKeyframes(std::vector<estimator::KeyframeState> kfs) {
+  for (auto& kf : kfs) {
+    keyframes_.push_back(kf);
+    if (!keyframe_cb_) continue;
+    for (const auto& f : recent_frames_) {
+      if (f.index == kf.frame_index) {
+        keyframe_cb_(kf, f);
+        break;
+      }
+    }
   }
 }
 
