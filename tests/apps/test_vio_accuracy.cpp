@@ -91,7 +91,9 @@ TEST(VioAccuracy, WheeledCircle30HzBeatsMonocularByHalf) {
   const Metrics mono = runProfile("wheeled_circle", 30.0, true);
   // A monocular run that never initialises counts as failed, so the comparison only needs it
   // to have produced a trajectory when it did.
-  if (mono.evaluated) EXPECT_LE(rgbd.ate_posyaw, 0.5 * mono.ate_posyaw);
+  if (mono.evaluated) {
+    EXPECT_LE(rgbd.ate_posyaw, 0.5 * mono.ate_posyaw);
+  }
 }
 
 TEST(VioAccuracy, WheeledCircle15Hz) {

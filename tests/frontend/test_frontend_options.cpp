@@ -79,7 +79,7 @@ TEST(FrontendOptions, DepthRangeMustBeOrdered) {
   IniReader bad = IniReader::fromText("[frontend]\ndepth_min_m = 4\ndepth_max_m = 3\n", "r.ini");
   EXPECT_THROW(FrontendOptions::load(bad), ConfigError);
   FrontendOptions o;
-  o.depth_min_m = 5.0;
+  o.depth_min_m = o.depth_max_m + 1.0;
   EXPECT_THROW(o.validate(), ConfigError);
 }
 

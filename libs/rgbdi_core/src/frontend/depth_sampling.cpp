@@ -7,7 +7,8 @@
 
 namespace rgbdi::frontend {
 
-double sampleDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv, const FrontendOptions& options) {
+double sampleDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
+                   const FrontendOptions& options) {
   if (depth_m.type() != CV_32FC1)
     throw std::invalid_argument("sampleDepth: depth image must be CV_32FC1 metres, got type " +
                                 std::to_string(depth_m.type()));
@@ -45,7 +46,11 @@ double sampleDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv, const Fron
   const size_t mid = window.size() / 2;
   std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(mid), window.end());
   const double median = window[mid];
-  if ((hi - lo) > options.depth_max_relative_spread * median) return 0.0;
+  // A depth edge is a spread larger than both the relative tolerance and what sensor noise
+  // (sigma = coeff z^2) produces in a window of this size.
+  const double noise_spread =
+      options.depth_max_noise_sigmas * options.depth_noise_coeff * median * median;
+  if ((hi - lo) > std::max(options.depth_max_relative_spread * median, noise_spread)) return 0.0;
 
   double z;
   if (bilinear) {

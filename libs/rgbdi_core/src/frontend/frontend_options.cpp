@@ -42,6 +42,8 @@ const DoubleKey kDoubleKeys[] = {
     {"depth_min_m", &FrontendOptions::depth_min_m, 0.0, 100.0},
     {"depth_max_m", &FrontendOptions::depth_max_m, 0.01, 1000.0},
     {"depth_max_relative_spread", &FrontendOptions::depth_max_relative_spread, 0.0, 1.0},
+    {"depth_noise_coeff", &FrontendOptions::depth_noise_coeff, 0.0, 1.0},
+    {"depth_max_noise_sigmas", &FrontendOptions::depth_max_noise_sigmas, 0.0, 100.0},
     {"registration_fill_max_relative_diff", &FrontendOptions::registration_fill_max_relative_diff,
      0.0, 1.0},
 };

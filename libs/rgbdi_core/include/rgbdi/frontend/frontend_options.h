@@ -30,9 +30,16 @@ struct FrontendOptions {
 
   // --- per-feature depth ---
   double depth_min_m = 0.1;               ///< [m] nearest accepted feature depth
-  double depth_max_m = 3.0;               ///< [m] farthest accepted feature depth
+  /// [m] farthest accepted feature depth: the sensor's useful range. The estimator applies its
+  /// own, tighter gates (depth verification 3 m, initialisation 10 m).
+  double depth_max_m = 10.0;
   int depth_neighbourhood_px = 2;         ///< [px] half-size of the hole/edge check window
   double depth_max_relative_spread = 0.03;  ///< [unitless] (max-min)/median allowed in that window
+  /// [1/m] sensor depth noise sigma = coeff * z^2 (D435: ~0.004). The window's spread may reach
+  /// depth_max_noise_sigmas of this noise before it counts as a depth edge, so that noise alone
+  /// never rejects a feature at range; 0 disables the allowance.
+  double depth_noise_coeff = 0.004;
+  double depth_max_noise_sigmas = 5.0;  ///< [unitless]
   /// [unitless] depth registration: a crack pixel is filled only when its two opposite neighbours
   /// agree within this fraction of their depth.
   double registration_fill_max_relative_diff = 0.02;
