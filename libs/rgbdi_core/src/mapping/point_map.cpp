@@ -60,7 +60,7 @@ struct PointMap::Impl {
   }
 
   void clearGeometry() {
-    tree.clear();
+    tree.clearAll();
     leaves.clear();
     points.clear();
     point_leaf.clear();
@@ -171,6 +171,8 @@ RebuildReport PointMap::rebuild(KeyframeStore& store) {
   std::vector<Source> sources;
   sources.reserve(store.pointCount());
   std::vector<std::vector<char>> keep(store.size());
+  m.points.reserve(store.pointCount());
+  m.point_leaf.reserve(store.pointCount());
   for (std::size_t slot = 0; slot < store.size(); ++slot) {
     const Keyframe& kf = store.at(slot);
     keep[slot].assign(kf.points.size(), 0);

@@ -22,18 +22,28 @@ PointLeafNode* PointOctree::touchLeaf(const octomap::OcTreeKey& key) {
     ++tree_size;
     size_changed = true;
   }
-  PointLeafNode* node = root;
   // Level i below the root is selected by bit (tree_depth - 1 - i) of the key (OctoMap's
   // convention, so OctoMap's keyToCoord/search agree with this tree).
-  for (int bit = static_cast<int>(tree_depth) - 1; bit >= 0; --bit) {
+  const unsigned shift = tree_depth - kCachedLevel;
+  const bool same_block = cached_block_ != nullptr &&
+                          (key[0] >> shift) == (cached_block_key_[0] >> shift) &&
+                          (key[1] >> shift) == (cached_block_key_[1] >> shift) &&
+                          (key[2] >> shift) == (cached_block_key_[2] >> shift);
+  PointLeafNode* node = same_block ? cached_block_ : root;
+  for (int bit = static_cast<int>(same_block ? shift : tree_depth) - 1; bit >= 0; --bit) {
     const unsigned child = octomap::computeChildIdx(key, bit);
     node = nodeChildExists(node, child) ? getNodeChild(node, child) : createNodeChild(node, child);
+    if (bit == static_cast<int>(shift)) {
+      cached_block_ = node;
+      cached_block_key_ = key;
+    }
   }
   return node;
 }
 
 bool PointOctree::eraseLeaf(const octomap::OcTreeKey& key) {
   if (root == nullptr) return false;
+  cached_block_ = nullptr;  // the cached ancestor may be deleted below
   std::array<PointLeafNode*, 17> path{};  // root .. leaf (tree_depth is 16)
   std::array<unsigned, 17> child_of{};
   path[0] = root;
@@ -59,6 +69,11 @@ bool PointOctree::eraseLeaf(const octomap::OcTreeKey& key) {
     size_changed = true;
   }
   return true;
+}
+
+void PointOctree::clearAll() {
+  cached_block_ = nullptr;
+  clear();
 }
 
 std::size_t PointOctree::nodeBytes(std::size_t leaf_count) const {

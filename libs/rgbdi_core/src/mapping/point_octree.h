@@ -38,6 +38,15 @@ class PointOctree : public octomap::OcTreeBase<PointLeafNode> {
   bool eraseLeaf(const octomap::OcTreeKey& key);
   /// Bytes of nodes and child arrays (tree_size is maintained by OcTreeBaseImpl).
   std::size_t nodeBytes(std::size_t leaf_count) const;
+  /// Empties the tree (and the descent cache).
+  void clearAll();
+
+ private:
+  // Consecutive insertions are spatially coherent (one keyframe's points): the descent starts
+  // at the ancestor block of the previous leaf when the new key lies in the same block.
+  static constexpr unsigned kCachedLevel = 11;  // levels below the root: 2^5 leaves per block side
+  PointLeafNode* cached_block_ = nullptr;
+  octomap::OcTreeKey cached_block_key_;
 };
 
 }  // namespace rgbdi::mapping::detail
