@@ -80,7 +80,8 @@ class PointMap {
   /// drops points that no longer fit and leaves with fewer than min_points_per_leaf_rebuild
   /// points, and removes the dropped points from the keyframes too.
   RebuildReport rebuild(KeyframeStore& store);
-  /// True when the store's poses changed since this map was last rebuilt from it.
+  /// True when setPose() was called on the store since this map was last rebuilt from it (or
+  /// since construction). A store just read by KeyframeStore::load always needs rebuild().
   bool isOutdated(const KeyframeStore& store) const;
 
   /// Removes every point and resets the statistics.
