@@ -15,7 +15,7 @@ void onSignal(int) { g_stop.store(true); }
 
 void usage(std::ostream& os) {
   os << "Usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
-        "                  [--no-depth] [--quiet]\n"
+        "                  [--no-depth] [--save-simplemap] [--quiet]\n"
         "  --input FILE   MRPT rawlog with CObservation3DRangeScan (colour+depth) and "
         "CObservationIMU\n"
         "  --out DIR      output directory (created): trajectory.tum, trajectory_cam.tum, "
@@ -24,6 +24,7 @@ void usage(std::ostream& os) {
         "  --gt FILE      ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval "
         "figures\n"
         "  --no-depth     monocular-inertial baseline: ignore depth\n"
+        "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
         "  --quiet        no progress line\n"
         "Ctrl-C stops reading and still writes all outputs for the part processed.\n";
 }
@@ -51,6 +52,8 @@ int main(int argc, char** argv) {
       opt.gt_path = value("--gt");
     else if (a == "--no-depth")
       opt.no_depth = true;
+    else if (a == "--save-simplemap")
+      opt.save_simplemap = true;
     else if (a == "--quiet")
       opt.quiet = true;
     else if (a == "--help" || a == "-h") {

@@ -9,7 +9,13 @@
 
 #include "rgbdi/eval/evaluate.h"
 #include "rgbdi/eval/tum_reader.h"
+#include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/rawlog_source.h"
+#include "rgbdi/mapping/keyframe_store.h"
+#include "rgbdi/mapping/map_export.h"
+#include "rgbdi/mapping/occupancy_map.h"
+#include "rgbdi/mapping/point_map.h"
+#include "rgbdi/mapping/trajectory_plot.h"
 #include "rgbdi/output/pose_graph.h"
 #include "rgbdi/output/summary_json.h"
 #include "rgbdi/output/tum_writer.h"
@@ -122,6 +128,39 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   source->setMinLoggingLevel(mrpt::system::LVL_ERROR);  // warnings go into the diagnostics
 
   VioSystem vio(cfg, !opt.no_depth);
+
+  // Mapping: every keyframe whose pose is final goes into the point octree (and the occupancy
+  // map); the store keeps its kept points and features for later pose-graph updates.
+  mapping::PointMap point_map(cfg.mapping);
+  std::unique_ptr<mapping::OccupancyMap> occupancy;
+  if (cfg.output.write_octomap) occupancy = std::make_unique<mapping::OccupancyMap>(cfg.mapping);
+  mapping::KeyframeStore store;
+  std::vector<mapping::SimpleMapEntry> simplemap;
+  double mapping_ms = 0.0;
+  const Eigen::Isometry3d T_bc = cfg.extrinsic.T_body_cam;
+  vio.setKeyframeCallback([&](const estimator::KeyframeState& kf, const RgbdFrame& frame,
+                              const frontend::FeatureFrame& ff) {
+    if (store.contains(kf.frame_index)) return;
+    const auto t_map = Clock::now();
+    mapping::Keyframe k;
+    k.id = kf.frame_index;
+    k.frame_index = kf.frame_index;
+    k.t = frame.t;
+    k.T_world_cam = kf.T_world_body * T_bc;
+    for (const auto& f : ff.features) {
+      mapping::KeyframeFeature kfe;
+      kfe.id = f.id;
+      kfe.uv = f.uv;
+      kfe.has_position = f.depth_m > 0.0;
+      if (kfe.has_position) kfe.p_cam = Eigen::Vector3d(f.xn.x(), f.xn.y(), 1.0) * f.depth_m;
+      k.features.push_back(kfe);
+    }
+    if (frame.hasDepth()) k.points = point_map.insertKeyframe(frame, k.T_world_cam);
+    if (occupancy) occupancy->insertPoints(k.points, k.T_world_cam);
+    if (opt.save_simplemap) simplemap.push_back({kf.T_world_body, io::toMrpt(frame, T_bc, "RGBD")});
+    store.add(std::move(k));
+    mapping_ms += std::chrono::duration<double, std::milli>(Clock::now() - t_map).count();
+  });
   Progress progress(log, opt.quiet, cfg.output.progress_interval_s);
   const auto wall0 = Clock::now();
   double t0 = NAN, t_last = NAN;
@@ -165,6 +204,59 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   const std::string graph_path = opt.out_dir + "/pose_graph.graph";
   writeKeyframeOutputs(vio.keyframes(), cfg.output, kf_path, graph_path);
 
+  // Map outputs.
+  nlohmann::json outputs_map;
+  Trajectory gt;
+  bool have_gt = false;
+  if (!opt.gt_path.empty()) {
+    try {
+      gt = eval::readTum(opt.gt_path);
+      have_gt = true;
+    } catch (const std::exception& e) {
+      throw UserError(e.what());
+    }
+  }
+  const auto t_out = Clock::now();
+  if (cfg.output.write_ply) {
+    outputs_map["map_ply"] = opt.out_dir + "/map.ply";
+    mapping::writePly(outputs_map["map_ply"], point_map);
+  }
+  outputs_map["map_pointsmap"] = opt.out_dir + "/map.pointsmap";
+  mapping::writePointsMap(outputs_map["map_pointsmap"], point_map);
+  if (occupancy) {
+    outputs_map["map_bt"] = opt.out_dir + "/map.bt";
+    occupancy->write(outputs_map["map_bt"]);
+  }
+  if (opt.save_simplemap) {
+    outputs_map["keyframes_simplemap"] = opt.out_dir + "/keyframes.simplemap";
+    mapping::writeSimpleMap(outputs_map["keyframes_simplemap"], simplemap);
+  }
+  // Ground truth expressed in the estimate's frame (position + yaw alignment) for the plot/scene.
+  Trajectory gt_in_est;
+  if (have_gt && vio.trajectoryBody().size() >= 2) {
+    try {
+      eval::EvalOptions eo;
+      eo.align = eval::AlignMode::PosYaw;
+      const auto r = eval::evaluate(gt, vio.trajectoryBody(), eo);
+      const Eigen::Isometry3d T_est_gt = r.alignment.rigid().inverse();
+      for (const auto& g : gt)
+        gt_in_est.push_back(StampedPose::fromIsometry(g.t, T_est_gt * g.isometry()));
+    } catch (const std::exception&) {
+      gt_in_est.clear();  // reported with the evaluation below
+    }
+  }
+  if (cfg.output.write_scene) {
+    outputs_map["scene"] = opt.out_dir + "/scene.3Dscene";
+    mapping::writeScene(outputs_map["scene"], point_map, vio.trajectoryBody(), store,
+                        cfg.mapping.scene, gt_in_est.empty() ? nullptr : &gt_in_est);
+  }
+  if (cfg.output.write_plot && vio.trajectoryBody().size() >= 2) {
+    outputs_map["plot"] = opt.out_dir + "/trajectory.png";
+    mapping::plotTrajectory(outputs_map["plot"], vio.trajectoryBody(),
+                            gt_in_est.empty() ? nullptr : &gt_in_est, cfg.mapping.plot);
+  }
+  const double output_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_out).count();
+
   const auto& st = vio.estimatorStats();
   const auto& tm = vio.timings();
   nlohmann::json summary;
@@ -191,16 +283,26 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
                                     {"preintegration", tm.preintegration_ms / n_est},
                                     {"optimisation", tm.optimisation_ms / n_est},
                                     {"marginalisation", tm.marginalisation_ms / n_est}};
+  const auto& ms = point_map.stats();
+  summary["map"] = {{"keyframes", store.size()},
+                    {"grid_points", ms.grid_points},
+                    {"points_with_depth_in_range", ms.candidates},
+                    {"rejected_full_leaf", ms.rejected_full_leaf},
+                    {"points", point_map.pointCount()},
+                    {"leaves", point_map.leafCount()},
+                    {"memory_bytes", point_map.memoryBytes() + store.memoryBytes()},
+                    {"mapping_ms_total", mapping_ms},
+                    {"output_ms", output_ms}};
   summary["stream_diagnostics"] = nlohmann::json::parse(source->diagnostics().toJson());
   summary["keyframes"] = vio.keyframes().size();
   summary["outputs"] = {{"trajectory", traj_path},
                         {"trajectory_cam", traj_cam_path},
                         {"keyframes", kf_path},
                         {"pose_graph", graph_path}};
+  for (const auto& [k, v] : outputs_map.items()) summary["outputs"][k] = v;
 
   if (!opt.gt_path.empty()) {
     try {
-      const Trajectory gt = eval::readTum(opt.gt_path);
       eval::EvalOptions eo;
       eo.align = eval::AlignMode::PosYaw;
       const eval::EvalResult posyaw = eval::evaluate(gt, vio.trajectoryBody(), eo);

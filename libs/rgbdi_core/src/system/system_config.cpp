@@ -17,10 +17,10 @@ SystemConfig SystemConfig::load(IniReader& ini) {
   c.frontend = frontend::FrontendOptions::load(ini);
   c.estimator = estimator::EstimatorOptions::load(ini);
   c.output = output::OutputOptions::load(ini);
+  c.mapping = mapping::MappingOptions::load(ini);
   // Sections read by other tools or by modules that are not part of this program yet.
   ini.acceptSection("sim");
   ini.acceptSection("loop");
-  ini.acceptSection("mapping");
   ini.checkNoUnknownKeys();
   return c;
 }

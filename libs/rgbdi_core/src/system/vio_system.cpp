@@ -79,14 +79,14 @@ void VioSystem::processReady(bool flush) {
     }
     estimates_.push_back(est);
     if (frame_cb_) frame_cb_(est, p.frame);
-    recent_frames_.push_back(std::move(p.frame));
+    recent_frames_.push_back(std::move(p));
     pending_.pop_front();
     emitKeyframes(estimator_->takeFinishedKeyframes());
     // Frames older than the oldest window slot can no longer become keyframes.
     const auto window = estimator_->windowKeyframes();
     const std::uint64_t oldest =
-        window.empty() ? recent_frames_.back().index : window.front().frame_index;
-    while (!recent_frames_.empty() && recent_frames_.front().index < oldest)
+        window.empty() ? recent_frames_.back().frame.index : window.front().frame_index;
+    while (!recent_frames_.empty() && recent_frames_.front().frame.index < oldest)
       recent_frames_.pop_front();
   }
 }
@@ -96,8 +96,8 @@ void VioSystem::emitKeyframes(std::vector<estimator::KeyframeState> kfs) {
     keyframes_.push_back(kf);
     if (!keyframe_cb_) continue;
     for (const auto& f : recent_frames_) {
-      if (f.index == kf.frame_index) {
-        keyframe_cb_(kf, f);
+      if (f.frame.index == kf.frame_index) {
+        keyframe_cb_(kf, f.frame, f.features);
         break;
       }
     }

@@ -17,6 +17,7 @@ struct SlamRunOptions {
   std::string gt_path;      ///< optional ground truth (TUM); body frame unless gt_frame = "camera"
   bool no_depth = false;    ///< monocular baseline
   bool quiet = false;       ///< no progress line
+  bool save_simplemap = false;  ///< also write keyframes.simplemap (keyframe observations + poses)
   const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C: stop reading, write what we have
 };
 
@@ -26,7 +27,9 @@ class UserError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Runs and writes DIR/trajectory.tum, DIR/trajectory_cam.tum, DIR/summary.json (+ evaluation).
+/// Runs and writes DIR/trajectory.tum, trajectory_cam.tum, keyframes.tum, pose_graph.graph,
+/// map.ply, map.bt, map.pointsmap, scene.3Dscene, trajectory.png and summary.json (with the
+/// evaluation when ground truth is given).
 /// Returns the summary. `log` receives the human-readable report and the progress line.
 nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log);
 

@@ -8,6 +8,7 @@
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/frontend/frontend_options.h"
 #include "rgbdi/io/stream_options.h"
+#include "rgbdi/mapping/mapping_options.h"
 #include "rgbdi/output/output_options.h"
 
 namespace rgbdi::system {
@@ -21,6 +22,7 @@ struct SystemConfig {
   frontend::FrontendOptions frontend;
   estimator::EstimatorOptions estimator;
   output::OutputOptions output;
+  mapping::MappingOptions mapping;
 
   /// Loads and validates `path` (empty = built-in defaults). Throws ConfigError naming file,
   /// section, key and accepted range.

@@ -41,10 +41,9 @@ class VioSystem : public MeasurementSink {
 
   /// Called for every keyframe whose pose is final for the odometry (it left the window), and
   /// for the keyframes still in the window at the end of the stream, with the source frame.
-  void setKeyframeCallback(
-      std::function<void(const estimator::KeyframeState&, const RgbdFrame&)> cb) {
-    keyframe_cb_ = std::move(cb);
-  }
+  using KeyframeCallback = std::function<void(const estimator::KeyframeState&, const RgbdFrame&,
+                                              const frontend::FeatureFrame&)>;
+  void setKeyframeCallback(KeyframeCallback cb) { keyframe_cb_ = std::move(cb); }
   /// All keyframes handed out so far (oldest first).
   const std::vector<estimator::KeyframeState>& keyframes() const { return keyframes_; }
 
@@ -80,11 +79,11 @@ class VioSystem : public MeasurementSink {
   VioTimings timings_;
   std::size_t frames_received_ = 0, frames_dropped_ = 0;
   std::function<void(const estimator::FrameEstimate&, const RgbdFrame&)> frame_cb_;
-  std::function<void(const estimator::KeyframeState&, const RgbdFrame&)> keyframe_cb_;
+  KeyframeCallback keyframe_cb_;
   std::vector<estimator::KeyframeState> keyframes_;
   /// Recent frames by index, so a keyframe leaving the window can be handed out with its images
   /// (bounded: the window spans at most this many frames).
-  std::deque<RgbdFrame> recent_frames_;
+  std::deque<Pending> recent_frames_;
 };
 
 }  // namespace rgbdi::system
