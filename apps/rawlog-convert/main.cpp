@@ -1,55 +1,100 @@
-// rawlog-convert: inspect (and, in a later version, convert) sensor datasets.
-// Only argument parsing and dispatch live here; each input format has its library function
-// in the io stage (see rgbdi/io/input_format.h).
-#include <cstring>
-#include <functional>
+// rawlog-convert: convert ROS1 bags (VINS-RGBD dataset, RealSense SDK recordings, other topics)
+// and TUM RGB-D folders into MRPT rawlogs, and inspect datasets (--info).
+// Only argument parsing and dispatch live here: the work is in the io, bag and convert stages.
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
 #include <iostream>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/convert/dataset_conversion.h"
+#include "rgbdi/convert/input_description.h"
 #include "rgbdi/io/input_format.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/io/stream_options.h"
 
 namespace {
 
-constexpr int kOk = 0, kDataError = 1, kUsageError = 2;
+constexpr int kOk = 0, kDataError = 1, kUsageError = 2, kInterrupted = 130;
 
 const char* const kUsage =
-    "Usage: rawlog-convert --info FILE [--json] [--config FILE] [--verbose]\n"
+    "Usage: rawlog-convert INPUT -o OUT.rawlog [options]   convert a ROS1 bag or a TUM RGB-D folder\n"
+    "       rawlog-convert --info FILE [--json] [--config FILE] [--verbose]\n"
     "       rawlog-convert --help\n"
     "\n"
-    "Options:\n"
-    "  --info FILE     Inspect a dataset: record counts, rates, durations, gaps, ordering\n"
-    "                  problems and data checks (IMU units, depth units, image sizes,\n"
-    "                  intrinsics, sensorPose vs [extrinsic]). Supported: MRPT rawlogs\n"
-    "                  (*.rawlog, *.rawlog.gz; external images in <name>_Images/).\n"
-    "  --json          With --info: print the diagnostics as one JSON object.\n"
-    "  --config FILE   rgbdi configuration; its [stream], [imu] and [extrinsic] sections set\n"
-    "                  the thresholds (default: built-in values = share/config.ini).\n"
-    "  --verbose       Also log every warning on stderr as it is found.\n"
-    "  -h, --help      Show this help.\n"
+    "Inputs (detected by content): ROS1 bags (uncompressed, bz2 or lz4 chunks) in the VINS-RGBD\n"
+    "dataset layout (/camera/color/image_raw, /camera/aligned_depth_to_color/image_raw, /camera/imu,\n"
+    "/vrpn_client_node/<name>/pose), RealSense SDK recordings (/device_0/sensor_N/..., detected\n"
+    "automatically) or any topics named below; TUM RGB-D folders (rgb.txt, depth.txt,\n"
+    "accelerometer.txt, groundtruth.txt). Output: OUT.rawlog (CObservation3DRangeScan +\n"
+    "CObservationIMU), OUT_groundtruth.tum when the input has ground truth, OUT.ini with --camera-yaml.\n"
     "\n"
-    "Conversions (ROS1 bag / TUM RGB-D -> rawlog) are not supported yet.\n"
+    "Conversion options:\n"
+    "  -o, --out FILE        output rawlog (*.rawlog; *.rawlog.gz is gzip-compressed)\n"
+    "  -i, --input INPUT     the input (same as the positional INPUT)\n"
+    "  --config FILE         rgbdi configuration: [camera] intrinsics and [extrinsic] used when the\n"
+    "                        input has none, [convert] settings (default: share/config.ini values)\n"
+    "  --camera-yaml FILE    VINS-RGBD calibration yaml (intrinsics, extrinsic, IMU noise, g, td);\n"
+    "                        overrides --config's calibration and also writes OUT.ini for rgbdi-slam\n"
+    "  --external-images     images as files in OUT_Images/ (colour PNG, lossless) instead of inside\n"
+    "                        the rawlog (colour JPEG): for large datasets\n"
+    "  --require-colour      drop depth images without a colour partner (default: depth-only\n"
+    "                        observations)\n"
+    "  --pair-tolerance S    colour/depth stamps at most S seconds apart form a frame (default 0.02)\n"
+    "  --depth-unit M        metres per unit of 16-bit depth when the bag does not say (default 0.001)\n"
+    "  --depth-aligned yes|no  depth registered to the colour image (default: dataset yes,\n"
+    "                        RealSense recordings no)\n"
+    "  --color-topic T  --depth-topic T  --imu-topic T  --accel-topic T  --gyro-topic T\n"
+    "  --groundtruth-topic T  --color-info-topic T  --depth-info-topic T\n"
+    "                        topic names for bags in other layouts; 'none' disables a stream\n"
+    "                        (--accel-topic with --gyro-topic: merged on the gyro stamps)\n"
+    "  --tum-camera NAME     TUM intrinsics: fr1, fr2, fr3, ros or config (default: from the folder\n"
+    "                        name)\n"
+    "  --quiet               no progress line on stderr\n"
     "\n"
-    "Exit status: 0 success (warnings included), 1 unreadable or corrupt data, 2 usage error.\n";
+    "Inspection:\n"
+    "  --info FILE           Inspect a dataset without converting. MRPT rawlogs (*.rawlog,\n"
+    "                        *.rawlog.gz; external images in <name>_Images/): record counts, rates,\n"
+    "                        gaps, ordering problems and data checks (IMU units, depth units, image\n"
+    "                        sizes, intrinsics, sensorPose vs [extrinsic]). ROS1 bags: topics, types,\n"
+    "                        counts, rates, the layout and calibration a conversion would use. TUM\n"
+    "                        folders: the lists and the camera.\n"
+    "  --json            With --info: print the result as one JSON object.\n"
+    "  --verbose         With --info on rawlogs: also log every warning on stderr as it is found.\n"
+    "  -h, --help        Show this help.\n"
+    "\n"
+    "Exit status: 0 success (warnings included), 1 unreadable, corrupt or damaged data (a damaged\n"
+    "input still leaves a valid rawlog of everything before the damage), 2 usage error, 130\n"
+    "interrupted (Ctrl-C; the output holds what was converted).\n";
 
 struct Args {
   std::optional<std::string> info;
-  std::optional<std::string> config;
-  bool json = false;
-  bool verbose = false;
-  bool help = false;
-  std::vector<std::string> other;  ///< anything that would request a conversion
+  std::string input, output, config, camera_yaml, tum_camera;
+  bool json = false, verbose = false, help = false, quiet = false, external_images = false;
+  bool require_colour = false;
+  std::optional<double> pair_tolerance, depth_unit;
+  std::optional<bool> depth_aligned;
+  rgbdi::bag::TopicOverrides topics;
 };
+
+double number(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v >= 0.0) || v > 1e9)
+    throw std::invalid_argument(option + " needs a non-negative number, got '" + text + "'");
+  return v;
+}
 
 /// Throws std::invalid_argument with a message for the user.
 Args parse(int argc, char** argv) {
   Args a;
+  std::vector<std::string> positional;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto value = [&](const char* opt) {
@@ -66,37 +111,84 @@ Args parse(int argc, char** argv) {
       a.json = true;
     } else if (arg == "--verbose") {
       a.verbose = true;
-    } else if (!arg.empty() && arg[0] == '-' && arg != "-i" && arg != "-o") {
+    } else if (arg == "-o" || arg == "--out") {
+      a.output = value("--out");
+    } else if (arg == "-i" || arg == "--input") {
+      positional.push_back(value("--input"));
+    } else if (arg == "--camera-yaml") {
+      a.camera_yaml = value("--camera-yaml");
+    } else if (arg == "--external-images") {
+      a.external_images = true;
+    } else if (arg == "--require-colour" || arg == "--require-color") {
+      a.require_colour = true;
+    } else if (arg == "--pair-tolerance") {
+      a.pair_tolerance = number(arg, value("--pair-tolerance"));
+    } else if (arg == "--depth-unit") {
+      a.depth_unit = number(arg, value("--depth-unit"));
+      if (!(*a.depth_unit > 0.0) || *a.depth_unit > 1.0)
+        throw std::invalid_argument("--depth-unit must be in (0, 1] metres per unit");
+    } else if (arg == "--depth-aligned") {
+      const std::string v = value("--depth-aligned");
+      if (v != "yes" && v != "no") throw std::invalid_argument("--depth-aligned takes yes or no, got '" + v + "'");
+      a.depth_aligned = v == "yes";
+    } else if (arg == "--color-topic" || arg == "--colour-topic") {
+      a.topics.color = value("--color-topic");
+    } else if (arg == "--depth-topic") {
+      a.topics.depth = value("--depth-topic");
+    } else if (arg == "--imu-topic") {
+      a.topics.imu = value("--imu-topic");
+    } else if (arg == "--accel-topic") {
+      a.topics.accel = value("--accel-topic");
+    } else if (arg == "--gyro-topic") {
+      a.topics.gyro = value("--gyro-topic");
+    } else if (arg == "--groundtruth-topic") {
+      a.topics.groundtruth = value("--groundtruth-topic");
+    } else if (arg == "--color-info-topic" || arg == "--colour-info-topic") {
+      a.topics.color_info = value("--color-info-topic");
+    } else if (arg == "--depth-info-topic") {
+      a.topics.depth_info = value("--depth-info-topic");
+    } else if (arg == "--tum-camera") {
+      a.tum_camera = value("--tum-camera");
+    } else if (arg == "--quiet") {
+      a.quiet = true;
+    } else if (!arg.empty() && arg[0] == '-') {
       throw std::invalid_argument("unknown option '" + arg + "'");
     } else {
-      a.other.push_back(arg);
+      positional.push_back(arg);
     }
   }
+  if (positional.size() > 1) throw std::invalid_argument("more than one input given ('" + positional[1] + "')");
+  if (!positional.empty()) a.input = positional.front();
   return a;
 }
 
-using Inspector = std::function<rgbdi::io::StreamDiagnostics(const std::string&,
-                                                             const rgbdi::io::StreamConfig&, bool)>;
-
-/// Input formats `--info` can read; a format plugs in here with its library function.
-const std::map<rgbdi::io::InputFormat, Inspector>& inspectors() {
-  static const std::map<rgbdi::io::InputFormat, Inspector> table = {
-      {rgbdi::io::InputFormat::Rawlog, &rgbdi::io::inspectRawlog},
-  };
-  return table;
-}
-
-int runInfo(const Args& a) {
+int infoRawlog(const Args& a, const std::string& path) {
   rgbdi::io::StreamConfig cfg;
-  if (a.config) {
+  if (!a.config.empty()) {
     try {
-      rgbdi::IniReader ini = rgbdi::IniReader::fromFile(*a.config);
+      rgbdi::IniReader ini = rgbdi::IniReader::fromFile(a.config);
       cfg = rgbdi::io::StreamConfig::load(ini);
     } catch (const rgbdi::ConfigError& e) {
       std::cerr << "rawlog-convert: " << e.what() << "\n";
       return kUsageError;
     }
   }
+  rgbdi::io::StreamDiagnostics d;
+  try {
+    d = rgbdi::io::inspectRawlog(path, cfg, !a.verbose);
+  } catch (const rgbdi::io::RawlogError& e) {
+    std::cerr << "rawlog-convert: " << e.what() << "\n";
+    return kDataError;
+  }
+  std::cout << (a.json ? d.toJson() + "\n" : d.report());
+  if (!d.ok()) {
+    std::cerr << "rawlog-convert: " << d.error << "\n";
+    return kDataError;
+  }
+  return kOk;
+}
+
+int runInfo(const Args& a) {
   const std::string& path = *a.info;
   rgbdi::io::InputFormat format;
   try {
@@ -105,34 +197,83 @@ int runInfo(const Args& a) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";
     return kDataError;
   }
-  const auto it = inspectors().find(format);
   if (format == rgbdi::io::InputFormat::Unknown) {
     std::cerr << "rawlog-convert: " << path
-              << ": unrecognised format (expected an MRPT rawlog: *.rawlog or *.rawlog.gz)\n";
+              << ": unrecognised format (expected an MRPT rawlog, a ROS1 bag or a TUM RGB-D folder)\n";
     return kDataError;
   }
-  if (it == inspectors().end()) {
-    std::cerr << "rawlog-convert: " << path << ": --info on a " << rgbdi::io::formatName(format)
-              << " is not yet supported (only MRPT rawlogs for now)\n";
+  if (format == rgbdi::io::InputFormat::Rawlog) return infoRawlog(a, path);
+  rgbdi::convert::ConversionSettings settings;
+  try {
+    settings = rgbdi::convert::loadConversionSettings(a.config, a.camera_yaml);
+  } catch (const rgbdi::ConfigError& e) {
+    std::cerr << "rawlog-convert: " << e.what() << "\n";
     return kUsageError;
   }
-  rgbdi::io::StreamDiagnostics d;
+  rgbdi::convert::InputDescription d;
   try {
-    d = it->second(path, cfg, !a.verbose);
-  } catch (const rgbdi::io::RawlogError& e) {
+    d = format == rgbdi::io::InputFormat::Ros1Bag ? rgbdi::convert::describeBag(path, settings, a.topics)
+                                                  : rgbdi::convert::describeTumFolder(path);
+  } catch (const std::exception& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";
     return kDataError;
   }
-  if (a.json) {
-    std::cout << d.toJson() << "\n";
-  } else {
-    std::cout << d.report();
-  }
-  if (!d.ok()) {
+  std::cout << (a.json ? d.json + "\n" : d.text);
+  if (!d.error.empty()) {
     std::cerr << "rawlog-convert: " << d.error << "\n";
     return kDataError;
   }
   return kOk;
+}
+
+// Set from the SIGINT handler; a lock-free atomic is the one thing a handler may touch.
+std::atomic<bool> g_stop{false};
+extern "C" void onSigint(int) { g_stop.store(true); }
+
+int runConversion(const Args& a) {
+  rgbdi::convert::ConversionRequest q;
+  q.input = a.input;
+  q.output = a.output;
+  try {
+    q.settings = rgbdi::convert::loadConversionSettings(a.config, a.camera_yaml);
+  } catch (const rgbdi::ConfigError& e) {
+    std::cerr << "rawlog-convert: " << e.what() << "\n";
+    return kUsageError;
+  }
+  if (a.pair_tolerance) q.settings.options.pair_tolerance_s = *a.pair_tolerance;
+  if (q.settings.options.max_wait_s < q.settings.options.pair_tolerance_s)
+    q.settings.options.max_wait_s = q.settings.options.pair_tolerance_s;
+  if (a.depth_unit) q.settings.options.integer_depth_unit_m = *a.depth_unit;
+  if (a.require_colour) q.settings.options.require_colour = true;
+  q.topics = a.topics;
+  q.depth_aligned = a.depth_aligned;
+  q.tum_camera = a.tum_camera;
+  q.external_images = a.external_images;
+  q.progress = a.quiet ? nullptr : &std::cerr;
+  q.progress_interactive = ::isatty(STDERR_FILENO) != 0;
+  q.stop = &g_stop;
+  std::signal(SIGINT, onSigint);
+
+  rgbdi::bag::ConversionReport report;
+  try {
+    report = rgbdi::convert::convertDataset(q);
+  } catch (const rgbdi::convert::UsageError& e) {
+    std::cerr << "rawlog-convert: " << e.what() << "\n";
+    return kUsageError;
+  } catch (const rgbdi::ConfigError& e) {
+    std::cerr << "rawlog-convert: " << e.what() << "\n";
+    return kUsageError;
+  } catch (const std::exception& e) {
+    // Unreadable input, missing topics, unusable calibration, output that cannot be written.
+    std::cerr << "rawlog-convert: " << e.what() << "\n";
+    return kDataError;
+  }
+  std::cout << report.text();
+  if (!report.ok()) {
+    std::cerr << "rawlog-convert: " << report.error << "\n";
+    return kDataError;
+  }
+  return g_stop.load() ? kInterrupted : kOk;
 }
 
 }  // namespace
@@ -149,14 +290,24 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kOk;
   }
-  if (!a.other.empty()) {
-    std::cerr << "rawlog-convert: converting datasets (" << a.other.front()
-              << " ...) is not yet supported; only --info is available in this version\n";
-    return kUsageError;
+  if (a.info) {
+    if (!a.input.empty() || !a.output.empty()) {
+      std::cerr << "rawlog-convert: --info takes one input and writes nothing (drop INPUT / -o)\n";
+      return kUsageError;
+    }
+    return runInfo(a);
   }
-  if (!a.info) {
+  if (a.input.empty() && a.output.empty()) {
     std::cerr << "rawlog-convert: nothing to do\n\n" << kUsage;
     return kUsageError;
   }
-  return runInfo(a);
+  if (a.input.empty()) {
+    std::cerr << "rawlog-convert: no input given (rawlog-convert INPUT -o OUT.rawlog)\n";
+    return kUsageError;
+  }
+  if (a.output.empty()) {
+    std::cerr << "rawlog-convert: no output given (-o OUT.rawlog)\n";
+    return kUsageError;
+  }
+  return runConversion(a);
 }

@@ -67,8 +67,8 @@ TEST_F(RawlogConvertInfo, HelpAndUsageErrors) {
   EXPECT_NE(out.find("unknown option '--frobnicate'"), std::string::npos) << out;
   EXPECT_EQ(runCommand(app() + " --info", &out), 2);
   EXPECT_NE(out.find("--info needs a value"), std::string::npos) << out;
-  EXPECT_EQ(runCommand(app() + " -i in.bag -o out.rawlog", &out), 2);
-  EXPECT_NE(out.find("is not yet supported; only --info is available"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(app() + " -i " + dir_ + "/in.bag -o " + dir_ + "/out.rawlog", &out), 1);
+  EXPECT_NE(out.find(dir_ + "/in.bag: no such file or directory"), std::string::npos) << out;
 }
 
 TEST_F(RawlogConvertInfo, RealOpenNi2Rawlog) {
@@ -128,12 +128,13 @@ TEST_F(RawlogConvertInfo, DataErrorsExitWithOne) {
   EXPECT_NE(out.find(dir_ + "/none.rawlog: no such file or directory"), std::string::npos) << out;
 }
 
-TEST_F(RawlogConvertInfo, BagIsNotYetSupported) {
+TEST_F(RawlogConvertInfo, BagInfoListsTopicsAndLayout) {
   const std::string bag = rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
   RGBDI_REQUIRE_FIXTURE(bag);
   std::string out;
-  EXPECT_EQ(runCommand(app() + " --info '" + bag + "'", &out), 2);
-  EXPECT_NE(out.find("--info on a ROS1 bag is not yet supported"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(app() + " --info '" + bag + "'", &out), 0) << out;
+  EXPECT_NE(out.find("Layout: RealSense SDK recording layout"), std::string::npos) << out;
+  EXPECT_NE(out.find("/device_0/sensor_0/Depth_0/image/data"), std::string::npos) << out;
 }
 
 // MRPT's own tool must read what RawlogWriter produces (both layouts, gzip).

@@ -15,6 +15,7 @@ struct RecordingSink : ConversionSink {
   std::vector<RgbdFrame> frames;
   std::vector<StampedPose> poses;
   void imu(const ImuSample& s) override { imus.push_back(s); }
+  void accelerometer(double, const Eigen::Vector3d&) override { ADD_FAILURE() << "no accelerometer-only data in bags"; }
   void frame(const RgbdFrame& f) override { frames.push_back(f); }
   void groundTruth(const StampedPose& p) override { poses.push_back(p); }
 };

@@ -116,7 +116,7 @@ struct BagConverter::Impl {
 
     if (layout.depth_aligned) {
       cam_depth = cam_color;
-      depth_source = "aligned to colour";
+      depth_source = color_source;
       calibration_lines.push_back("depth: aligned to the colour image (same intrinsics)");
     } else if (firstMessage(layout.depth_info, info)) {
       cam_depth = cameraFromInfo(info, path + " " + layout.depth_info);
@@ -354,6 +354,8 @@ const PinholeCamera& BagConverter::colorCamera() const { return impl_->cam_color
 const PinholeCamera& BagConverter::depthCamera() const { return impl_->cam_depth; }
 double BagConverter::depthUnit() const { return impl_->depth_unit; }
 const Eigen::Isometry3d& BagConverter::T_color_depth() const { return impl_->T_color_depth; }
+const std::vector<std::string>& BagConverter::calibration() const { return impl_->calibration_lines; }
+const BagReader& BagConverter::reader() const { return *impl_->reader; }
 
 ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback& progress,
                                    const std::atomic<bool>* stop) {

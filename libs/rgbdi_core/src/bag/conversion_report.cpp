@@ -1,5 +1,6 @@
 #include "rgbdi/bag/conversion_report.h"
 
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 
@@ -14,6 +15,20 @@ void ConversionReport::addIssue(const std::string& kind, const std::string& mess
 std::size_t ConversionReport::issueCount(const std::string& kind) const {
   const auto it = issues_.find(kind);
   return it == issues_.end() ? 0 : it->second.count;
+}
+
+void ConversionReport::absorbWriter(const ConversionReport& w, int max_listed) {
+  frames_written += w.frames_written;
+  imu_written += w.imu_written;
+  groundtruth_written += w.groundtruth_written;
+  dropped_by_ordering += w.dropped_by_ordering;
+  outputs.insert(outputs.end(), w.outputs.begin(), w.outputs.end());
+  for (const auto& [kind, l] : w.issues_) {
+    IssueList& mine = issues_[kind];
+    mine.count += l.count;
+    for (const std::string& m : l.listed)
+      if (mine.listed.size() < static_cast<std::size_t>(std::max(0, max_listed))) mine.listed.push_back(m);
+  }
 }
 
 std::string ConversionReport::text() const {

@@ -35,6 +35,8 @@ struct FallbackCalibration {
   std::string color_source;      ///< where they come from, for the report
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();  ///< colour optical frame in body
   std::string extrinsic_source;
+  /// True when the user gave them (--config / --camera-yaml), false for built-in defaults.
+  bool intrinsics_from_user = false, extrinsic_from_user = false;
   /// share/config.ini's [camera] and [extrinsic] defaults.
   static FallbackCalibration defaults();
 };
@@ -62,6 +64,10 @@ class BagConverter {
   double depthUnit() const;
   /// Pose of the depth optical frame in the colour optical frame (identity when aligned).
   const Eigen::Isometry3d& T_color_depth() const;
+  /// One line per calibration item and where it comes from (also in the run's report).
+  const std::vector<std::string>& calibration() const;
+  /// The bag being read (topics, times, recovery state).
+  const BagReader& reader() const;
 
   /// Streams the bag into `sink` (once). `progress` gets the fraction of the input consumed;
   /// when *stop becomes true, reading stops and what is buffered is delivered.

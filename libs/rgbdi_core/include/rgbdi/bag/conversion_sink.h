@@ -12,6 +12,8 @@ class ConversionSink {
  public:
   virtual ~ConversionSink() = default;
   virtual void imu(const ImuSample& sample) = 0;
+  /// An accelerometer sample without gyroscope data (TUM RGB-D's Kinect accelerometer) [m/s^2].
+  virtual void accelerometer(double t, const Eigen::Vector3d& acc) = 0;
   virtual void frame(const RgbdFrame& frame) = 0;
   /// Ground-truth pose of the tracked body in the world frame.
   virtual void groundTruth(const StampedPose& pose) = 0;

@@ -1,0 +1,47 @@
+// VINS-Mono / VINS-RGBD calibration files (OpenCV FileStorage "%YAML:1.0"): reading them, and
+// writing the same calibration as an rgbdi configuration ([camera] [imu] [extrinsic], the
+// format of share/config.ini), so that a VINS-RGBD user keeps the calibration they have.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <string>
+
+#include "rgbdi/common/camera.h"
+#include "rgbdi/common/sensor_options.h"
+
+namespace rgbdi::convert {
+
+/// The VINS noise values: white noise acc_n [m/s^2], gyr_n [rad/s] and bias random walk acc_w
+/// [m/s^3], gyr_w [rad/s^2] as VINS uses them per IMU sample.
+struct VinsImuNoise {
+  double acc_n = 0.0, gyr_n = 0.0, acc_w = 0.0, gyr_w = 0.0;
+};
+
+struct VinsCalibration {
+  std::string path;
+  PinholeCamera camera;        ///< image_width/height, projection_parameters, distortion_parameters
+  bool has_extrinsic = false;  ///< extrinsicRotation and extrinsicTranslation present
+  Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();  ///< camera in the IMU frame
+  Eigen::Matrix3d R_body_cam_as_given = Eigen::Matrix3d::Identity();  ///< before re-orthonormalising
+  VinsImuNoise noise;
+  double g_norm = 9.81;        ///< [m/s^2]
+  double td = 0.0;             ///< [s] t_imu = t_cam + td
+};
+
+/// Reads a VINS yaml. Throws ConfigError naming the file and the key that is missing or invalid
+/// (non-PINHOLE model_type, extrinsicRotation that is not a rotation, non-positive noise, ...).
+VinsCalibration readVinsYaml(const std::string& path);
+
+/// VINS per-sample noise -> continuous densities of [imu] at sample rate `rate_hz` (doc/imu.md):
+///   acc_noise_density = acc_n * sqrt(dt / 2), gyr_noise_density = gyr_n * sqrt(dt / 2),
+///   acc_random_walk = acc_w * sqrt(dt),       gyr_random_walk = gyr_w * sqrt(dt),  dt = 1/rate.
+ImuOptions imuOptionsFromVins(const VinsImuNoise& noise, double g_norm, double rate_hz);
+
+/// The rgbdi configuration text ([camera] [imu] [extrinsic]) for `v` with the IMU sampled at
+/// `imu_rate_hz`; `rate_note` says where that rate comes from. The text is loaded back through
+/// the option loaders before it is returned; throws ConfigError naming the yaml when a value is
+/// outside what rgbdi accepts.
+std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz, const std::string& rate_note);
+
+}  // namespace rgbdi::convert

@@ -1,0 +1,200 @@
+#include "rgbdi/convert/vins_yaml.h"
+
+#include <opencv2/core.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "rgbdi/common/ini_reader.h"
+
+namespace rgbdi::convert {
+namespace {
+
+class YamlReader {
+ public:
+  explicit YamlReader(const std::string& path) : path_(path) {
+    if (!std::filesystem::is_regular_file(path)) throw ConfigError(path + ": no such file");
+    try {
+      fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
+    } catch (const cv::Exception& e) {
+      throw ConfigError(path + ": not a readable OpenCV YAML file: " + e.err);
+    }
+    if (!fs_.isOpened()) throw ConfigError(path + ": not a readable OpenCV YAML file");
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw ConfigError(path_ + " " + key + ": " + what);
+  }
+
+  cv::FileNode node(const std::string& key) const { return fs_[key]; }
+
+  double number(const cv::FileNode& n, const std::string& key) const {
+    if (n.empty() || n.isNone()) fail(key, "missing");
+    if (!n.isReal() && !n.isInt()) fail(key, "not a number");
+    const double v = static_cast<double>(n);
+    if (!std::isfinite(v)) fail(key, "not a finite number");
+    return v;
+  }
+  double number(const std::string& key) const { return number(fs_[key], key); }
+  double positive(const std::string& key) const {
+    const double v = number(key);
+    if (!(v > 0.0)) fail(key, "must be positive");
+    return v;
+  }
+  cv::Mat matrix(const std::string& key, int rows, int cols) const {
+    cv::Mat m;
+    try {
+      fs_[key] >> m;
+    } catch (const cv::Exception& e) {
+      fail(key, "not an opencv-matrix: " + e.err);
+    }
+    if (m.empty()) fail(key, "missing or not an opencv-matrix");
+    if (m.total() != static_cast<std::size_t>(rows * cols))
+      fail(key, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix, got " +
+                    std::to_string(m.rows) + "x" + std::to_string(m.cols));
+    m.convertTo(m, CV_64F);
+    return m.reshape(1, rows);
+  }
+
+ private:
+  std::string path_;
+  cv::FileStorage fs_;
+};
+
+/// Shortest text that reads back to the same double.
+std::string num(double v) {
+  for (int p = 6; p <= 17; ++p) {
+    std::ostringstream t;
+    t << std::setprecision(p) << v;
+    if (std::stod(t.str()) == v) return t.str();
+  }
+  std::ostringstream os;
+  os << std::setprecision(17) << v;
+  return os.str();
+}
+
+void line(std::ostream& os, const std::string& key, const std::string& value, const std::string& comment) {
+  std::string kv = key + " = " + value;
+  if (kv.size() < 28) kv.resize(28, ' ');
+  os << kv << " ; " << comment << "\n";
+}
+
+}  // namespace
+
+VinsCalibration readVinsYaml(const std::string& path) {
+  YamlReader y(path);
+  VinsCalibration v;
+  v.path = path;
+  const cv::FileNode model = y.node("model_type");
+  if (!model.empty() && model.isString() && static_cast<std::string>(model) != "PINHOLE")
+    y.fail("model_type", "'" + static_cast<std::string>(model) + "' is not supported (only PINHOLE)");
+  PinholeCamera& c = v.camera;
+  c.width = static_cast<int>(y.positive("image_width"));
+  c.height = static_cast<int>(y.positive("image_height"));
+  const cv::FileNode proj = y.node("projection_parameters");
+  if (proj.empty() || !proj.isMap()) y.fail("projection_parameters", "missing (fx, fy, cx, cy)");
+  c.fx = y.number(proj["fx"], "projection_parameters.fx");
+  c.fy = y.number(proj["fy"], "projection_parameters.fy");
+  c.cx = y.number(proj["cx"], "projection_parameters.cx");
+  c.cy = y.number(proj["cy"], "projection_parameters.cy");
+  if (!(c.fx > 0.0) || !(c.fy > 0.0)) y.fail("projection_parameters", "fx and fy must be positive");
+  const cv::FileNode dist = y.node("distortion_parameters");
+  if (!dist.empty()) {
+    if (!dist.isMap()) y.fail("distortion_parameters", "expected k1, k2, p1, p2");
+    const char* names[] = {"k1", "k2", "p1", "p2"};
+    for (int i = 0; i < 4; ++i)
+      c.dist[static_cast<std::size_t>(i)] = y.number(dist[names[i]], std::string("distortion_parameters.") + names[i]);
+  }
+  const bool has_r = !y.node("extrinsicRotation").empty(), has_t = !y.node("extrinsicTranslation").empty();
+  if (has_r != has_t) y.fail(has_r ? "extrinsicTranslation" : "extrinsicRotation", "missing (the other is given)");
+  if (has_r) {
+    const cv::Mat R = y.matrix("extrinsicRotation", 3, 3);
+    const cv::Mat t = y.matrix("extrinsicTranslation", 3, 1);
+    Eigen::Matrix3d Re;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Re(i, j) = R.at<double>(i, j);
+    const double orth = (Re.transpose() * Re - Eigen::Matrix3d::Identity()).norm();
+    if (orth > 1e-3 || Re.determinant() < 0.0) {
+      std::ostringstream os;
+      os << "not a rotation matrix (|R^T R - I| = " << orth << ", det = " << Re.determinant() << ")";
+      y.fail("extrinsicRotation", os.str());
+    }
+    v.has_extrinsic = true;
+    v.R_body_cam_as_given = Re;
+    v.T_body_cam.linear() = Eigen::Quaterniond(Re).normalized().toRotationMatrix();
+    v.T_body_cam.translation() = Eigen::Vector3d(t.at<double>(0), t.at<double>(1), t.at<double>(2));
+  }
+  v.noise.acc_n = y.positive("acc_n");
+  v.noise.gyr_n = y.positive("gyr_n");
+  v.noise.acc_w = y.positive("acc_w");
+  v.noise.gyr_w = y.positive("gyr_w");
+  v.g_norm = y.positive("g_norm");
+  if (!y.node("td").empty()) v.td = y.number("td");
+  return v;
+}
+
+ImuOptions imuOptionsFromVins(const VinsImuNoise& n, double g_norm, double rate_hz) {
+  ImuOptions o;
+  const double dt = 1.0 / rate_hz;
+  o.rate_hz = rate_hz;
+  o.acc_noise_density = n.acc_n * std::sqrt(dt / 2.0);
+  o.gyr_noise_density = n.gyr_n * std::sqrt(dt / 2.0);
+  o.acc_random_walk = n.acc_w * std::sqrt(dt);
+  o.gyr_random_walk = n.gyr_w * std::sqrt(dt);
+  o.gravity_m_s2 = g_norm;
+  return o;
+}
+
+std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz, const std::string& rate_note) {
+  const ImuOptions imu = imuOptionsFromVins(v.noise, v.g_norm, imu_rate_hz);
+  const std::string name = std::filesystem::path(v.path).filename().string();
+  std::ostringstream os;
+  os << "; rgbdi configuration converted by rawlog-convert from the VINS calibration " << v.path << "\n"
+     << "; Sections not given here take the defaults of share/config.ini.\n\n";
+  const PinholeCamera& c = v.camera;
+  os << "[camera]\n";
+  line(os, "width", std::to_string(c.width), "[px] image_width");
+  line(os, "height", std::to_string(c.height), "[px] image_height");
+  line(os, "fx", num(c.fx), "[px] projection_parameters");
+  line(os, "fy", num(c.fy), "[px]");
+  line(os, "cx", num(c.cx), "[px]");
+  line(os, "cy", num(c.cy), "[px]");
+  line(os, "distortion",
+       num(c.dist[0]) + " " + num(c.dist[1]) + " " + num(c.dist[2]) + " " + num(c.dist[3]) + " " + num(c.dist[4]),
+       "k1 k2 p1 p2 k3 [unitless] distortion_parameters (VINS has no k3)");
+  line(os, "intrinsics_source", "config", "stream|config: use this calibration, not the one stored in the rawlog");
+  os << "\n[imu]\n";
+  os << "; Densities from the VINS per-sample values at " << num(imu_rate_hz) << " Hz (" << rate_note
+     << "): nd = n * sqrt(dt / 2), rw = w * sqrt(dt) (doc/imu.md).\n";
+  line(os, "rate_hz", num(imu_rate_hz), "[Hz]");
+  line(os, "acc_noise_density", num(imu.acc_noise_density), "[m/s^2/sqrt(Hz)]   (VINS acc_n " + num(v.noise.acc_n) + ")");
+  line(os, "gyr_noise_density", num(imu.gyr_noise_density), "[rad/s/sqrt(Hz)]   (VINS gyr_n " + num(v.noise.gyr_n) + ")");
+  line(os, "acc_random_walk", num(imu.acc_random_walk), "[m/s^3/sqrt(Hz)]   (VINS acc_w " + num(v.noise.acc_w) + ")");
+  line(os, "gyr_random_walk", num(imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)] (VINS gyr_w " + num(v.noise.gyr_w) + ")");
+  line(os, "gravity_m_s2", num(v.g_norm), "[m/s^2] g_norm");
+  os << "\n[extrinsic]\n";
+  if (v.has_extrinsic) {
+    std::string r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r += (r.empty() ? "" : " ") + num(v.R_body_cam_as_given(i, j));
+    line(os, "R_body_cam", r, "row-major [unitless] extrinsicRotation (camera in the IMU frame)");
+    const Eigen::Vector3d t = v.T_body_cam.translation();
+    line(os, "t_body_cam_m", num(t.x()) + " " + num(t.y()) + " " + num(t.z()), "[m] extrinsicTranslation");
+  } else {
+    os << "; " << name << " has no extrinsicRotation/extrinsicTranslation: the default extrinsic applies.\n";
+  }
+  line(os, "time_offset_s", num(v.td), "[s] td: t_imu = t_cam + time_offset_s");
+  const std::string text = os.str();
+
+  // Load it back: what is written must be a configuration rgbdi-slam accepts.
+  IniReader ini = IniReader::fromText(text, v.path + " (as rgbdi configuration)");
+  CameraOptions::load(ini);
+  ImuOptions::load(ini);
+  ExtrinsicOptions::load(ini);
+  ini.checkNoUnknownKeys();
+  return text;
+}
+
+}  // namespace rgbdi::convert
