@@ -1,0 +1,145 @@
+// VINS yaml -> rgbdi configuration: the noise mapping of doc/imu.md (known answers), reading a
+// VINS-RGBD calibration file, the generated INI loaded back, and errors naming file and key.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/common/sensor_options.h"
+#include "rgbdi/convert/vins_yaml.h"
+#include "testing/fixtures.h"
+
+namespace rgbdi::convert {
+namespace {
+
+// The calibration of the VINS-RGBD dataset (SPEC section 2) in VINS' own yaml format.
+const char* const kDatasetYaml = R"(%YAML:1.0
+imu_topic: "/camera/imu"
+image_topic: "/camera/color/image_raw"
+model_type: PINHOLE
+camera_name: camera
+image_width: 640
+image_height: 480
+distortion_parameters:
+   k1: 0.0
+   k2: 0.0
+   p1: 0.0
+   p2: 0.0
+projection_parameters:
+   fx: 616.5911
+   fy: 616.6796
+   cx: 324.2194
+   cy: 239.4270
+estimate_extrinsic: 0
+extrinsicRotation: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 0.0008748, -0.0047406, 0.9999884, -0.9999681, -0.0079460, 0.0008371, 0.0079419, -0.9999572, -0.0047474 ]
+extrinsicTranslation: !!opencv-matrix
+   rows: 3
+   cols: 1
+   dt: d
+   data: [ 1.30441e-05, 0.0149225, 0.000316835 ]
+acc_n: 0.1
+gyr_n: 0.01
+acc_w: 0.0002
+gyr_w: 2.0e-5
+g_norm: 9.805
+estimate_td: 1
+td: 0.0
+)";
+
+std::string write(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(VinsYaml, NoiseMappingKnownAnswers) {
+  // doc/imu.md's table at 200 Hz: nd = n sqrt(dt/2), rw = w sqrt(dt).
+  const ImuOptions o = imuOptionsFromVins({0.1, 0.01, 0.0002, 2e-5}, 9.805, 200.0);
+  EXPECT_NEAR(o.acc_noise_density, 0.005, 1e-15);
+  EXPECT_NEAR(o.gyr_noise_density, 0.0005, 1e-16);
+  EXPECT_NEAR(o.acc_random_walk, 1.41421356e-5, 1e-13);
+  EXPECT_NEAR(o.gyr_random_walk, 1.41421356e-6, 1e-14);
+  EXPECT_DOUBLE_EQ(o.gravity_m_s2, 9.805);
+  EXPECT_DOUBLE_EQ(o.rate_hz, 200.0);
+  const ImuOptions tracked = imuOptionsFromVins({0.5, 0.01, 0.001, 2e-5}, 9.805, 200.0);
+  EXPECT_NEAR(tracked.acc_noise_density, 0.025, 1e-15);
+  EXPECT_NEAR(tracked.acc_random_walk, 7.0710678e-5, 1e-12);
+  // At 400 Hz the same per-sample values mean smaller densities (dt halves).
+  EXPECT_NEAR(imuOptionsFromVins({0.1, 0.01, 0.0002, 2e-5}, 9.8, 400.0).acc_noise_density, 0.1 * std::sqrt(1.0 / 800.0),
+              1e-15);
+}
+
+TEST(VinsYaml, DatasetCalibrationBecomesTheDefaultConfig) {
+  const std::string dir = test::makeTempDir("vins_yaml");
+  const VinsCalibration v = readVinsYaml(write(dir, "rs.yaml", kDatasetYaml));
+  EXPECT_EQ(v.camera.width, 640);
+  EXPECT_DOUBLE_EQ(v.camera.fx, 616.5911);
+  EXPECT_DOUBLE_EQ(v.camera.cy, 239.4270);
+  EXPECT_FALSE(v.camera.hasDistortion());
+  ASSERT_TRUE(v.has_extrinsic);
+  EXPECT_DOUBLE_EQ(v.R_body_cam_as_given(1, 0), -0.9999681);
+  EXPECT_DOUBLE_EQ(v.T_body_cam.translation().y(), 0.0149225);
+  EXPECT_DOUBLE_EQ(v.noise.gyr_w, 2e-5);
+  EXPECT_DOUBLE_EQ(v.g_norm, 9.805);
+
+  // The dataset's calibration is share/config.ini's default: the generated INI must load to it.
+  const std::string text = rgbdiConfigFromVins(v, 200.0, "test");
+  IniReader ini = IniReader::fromText(text, "generated");
+  const CameraOptions cam = CameraOptions::load(ini);
+  const ImuOptions imu = ImuOptions::load(ini);
+  const ExtrinsicOptions ext = ExtrinsicOptions::load(ini);
+  ini.checkNoUnknownKeys();
+  const CameraOptions cam0;
+  const ImuOptions imu0;
+  const ExtrinsicOptions ext0;
+  EXPECT_DOUBLE_EQ(cam.camera.fx, cam0.camera.fx);
+  EXPECT_DOUBLE_EQ(cam.camera.cx, cam0.camera.cx);
+  EXPECT_EQ(cam.intrinsics_source, "config");
+  EXPECT_NEAR(imu.acc_noise_density, imu0.acc_noise_density, 1e-15);
+  EXPECT_NEAR(imu.gyr_noise_density, imu0.gyr_noise_density, 1e-16);
+  EXPECT_NEAR(imu.acc_random_walk, imu0.acc_random_walk, 1e-9);  // config.ini rounds to 1.4142e-5
+  EXPECT_NEAR(imu.gyr_random_walk, imu0.gyr_random_walk, 1e-10);
+  EXPECT_DOUBLE_EQ(imu.gravity_m_s2, imu0.gravity_m_s2);
+  EXPECT_TRUE(ext.T_body_cam.isApprox(ext0.T_body_cam, 1e-12));
+  EXPECT_DOUBLE_EQ(ext.time_offset_s, 0.0);
+  EXPECT_NE(text.find("(VINS acc_n 0.1)"), std::string::npos) << text;
+}
+
+TEST(VinsYaml, ErrorsNameFileAndKey) {
+  const std::string dir = test::makeTempDir("vins_yaml");
+  std::string text = kDatasetYaml;
+  const auto expectError = [&](const std::string& yaml, const std::string& fragment) {
+    const std::string path = write(dir, "bad.yaml", yaml);
+    try {
+      readVinsYaml(path);
+      ADD_FAILURE() << "expected ConfigError containing " << fragment;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + " " + fragment), std::string::npos) << e.what();
+    }
+  };
+  std::string no_acc = text;
+  no_acc.replace(no_acc.find("acc_n: 0.1"), 10, "");
+  expectError(no_acc, "acc_n: missing");
+  std::string fisheye = text;
+  fisheye.replace(fisheye.find("PINHOLE"), 7, "KANNALA_BRANDT");
+  expectError(fisheye, "model_type: 'KANNALA_BRANDT' is not supported");
+  std::string scaled = text;
+  scaled.replace(scaled.find("0.0008748, -0.0047406, 0.9999884"), 32, "2.0, 0.0, 0.0");
+  expectError(scaled, "extrinsicRotation: not a rotation matrix");
+  std::string negative = text;
+  negative.replace(negative.find("gyr_w: 2.0e-5"), 13, "gyr_w: -1");
+  expectError(negative, "gyr_w: must be positive");
+  EXPECT_THROW(readVinsYaml(dir + "/none.yaml"), ConfigError);
+  // A value rgbdi does not accept is reported when the INI is generated.
+  std::string low_g = text;
+  low_g.replace(low_g.find("g_norm: 9.805"), 13, "g_norm: 1.0");
+  const VinsCalibration v = readVinsYaml(write(dir, "g.yaml", low_g));
+  EXPECT_THROW(rgbdiConfigFromVins(v, 200.0, "test"), ConfigError);
+}
+
+}  // namespace
+}  // namespace rgbdi::convert
