@@ -226,9 +226,11 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
   for (const auto& b : bins) var += (b - mean_acc).squaredNorm();
   if (std::sqrt(var / static_cast<double>(bins.size())) > opt_.init_static_max_acc_std_m_s2)
     return initFail("accelerometer spread above init_static_max_acc_std_m_s2");
-  // Vision: the features of the oldest frame within the window must not have moved.
-  const Slot* oldest = nullptr;
-  for (const auto& s : window_)
+  // Vision: the features of the oldest recent frame within the window must not have moved.
+  // (Recent frames are kept apart from the initialisation window, which restarts whenever PnP
+  // fails, e.g. always without depth.)
+  const StillnessFrame* oldest = nullptr;
+  for (const auto& s : stillness_frames_)
     if (s.t >= t_start - 1e-9) {
       oldest = &s;
       break;
@@ -236,7 +238,7 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
   if (!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s)
     return initFail("not enough frames in the stillness window");
   std::unordered_map<std::uint64_t, Eigen::Vector2d> old_pos;
-  for (const auto& f : oldest->raw_features) old_pos[f.id] = f.xn;
+  for (const auto& f : oldest->features) old_pos[f.id] = f.xn;
   double motion = 0.0;
   int matched = 0;
   for (const auto& f : frame.features) {
@@ -401,6 +403,10 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   }
 
   if (status_ != EstimatorStatus::kTracking) {
+    stillness_frames_.push_back({t, frame.features});
+    while (!stillness_frames_.empty() &&
+           stillness_frames_.front().t < t - 2.0 * opt_.init_static_window_s)
+      stillness_frames_.pop_front();
     bool ok = tryStaticInit(frame, t);
     if (!ok) {
       addSlot(frame, t, false);
@@ -603,6 +609,7 @@ void SlidingWindowEstimator::reset(bool keep_anchor) {
   features_.clear();
   prior_.reset();
   use_init_prior_ = false;
+  stillness_frames_.clear();
   status_ = EstimatorStatus::kInitializing;
 }
 

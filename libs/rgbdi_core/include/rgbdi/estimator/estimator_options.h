@@ -28,7 +28,7 @@ struct EstimatorOptions {
   double init_min_parallax_px = 30.0;          ///< [px at focal 460]
   double init_static_max_gyro_rad_s = 0.02;    ///< [rad/s]
   double init_static_max_acc_std_m_s2 = 0.15;  ///< [m/s^2]
-  double init_static_window_s = 0.3;           ///< [s] stillness is judged over this much data
+  double init_static_window_s = 0.2;           ///< [s] stillness is judged over this much data
   double init_static_max_acc_dev_m_s2 = 0.3;   ///< [m/s^2] | |mean acc| - g | allowed when still
   double init_static_max_motion_px = 1.0;      ///< [px at focal 460] mean feature motion when still
   int init_min_frames = 5;                     ///< [count] frames for a moving (PnP) initialisation
@@ -44,7 +44,7 @@ struct EstimatorOptions {
   double time_offset_prior_sigma_s =
       0.02;  ///< [s] prior std of the time offset around the config value
   /// [Hz] rate of estimator updates; frames in between get IMU-propagated poses. 0 = every frame.
-  double update_rate_hz = 0.0;
+  double update_rate_hz = 15.0;
   double fail_max_acc_bias_m_s2 = 2.5;    ///< [m/s^2]
   double fail_max_gyr_bias_rad_s = 1.0;   ///< [rad/s]
   double fail_max_jump_m = 5.0;           ///< [m]

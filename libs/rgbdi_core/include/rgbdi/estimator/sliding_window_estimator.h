@@ -136,6 +136,12 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   std::vector<KeyframeState> finished_keyframes_;
+  /// Recent frames while initialising, for the stillness test.
+  struct StillnessFrame {
+    double t;
+    std::vector<frontend::FeatureObservation> features;
+  };
+  std::deque<StillnessFrame> stillness_frames_;
   EstimatorStats stats_;
 };
 
