@@ -31,7 +31,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+double seconds(Clock::time_point a) {
+  return std::chrono::duration<double>(Clock::now() - a).count();
+}
 
 struct NullSink : rgbdi::bag::ConversionSink {
   std::size_t n = 0;
@@ -52,11 +54,14 @@ std::vector<rgbdi::RgbdFrame> makeFrames() {
     f.depth = cv::Mat(480, 640, CV_16UC1);
     for (int r = 0; r < 480; ++r)
       for (int c = 0; c < 640; ++c) {
-        const double base = 128 + 60 * std::sin(0.03 * c + 0.5 * k) * std::cos(0.02 * r) + 30 * ((r / 40 + c / 40 + k) % 2);
+        const double base = 128 + 60 * std::sin(0.03 * c + 0.5 * k) * std::cos(0.02 * r) +
+                            30 * ((r / 40 + c / 40 + k) % 2);
         for (int ch = 0; ch < 3; ++ch)
           f.rgb.at<cv::Vec3b>(r, c)[ch] = cv::saturate_cast<uchar>(base + 20 * ch + noise(rng));
         f.depth.at<std::uint16_t>(r, c) =
-            (r * 7 + c * 3 + k) % 97 == 0 ? 0 : cv::saturate_cast<std::uint16_t>(1500 + 2 * r + std::abs(noise(rng)) * 4);
+            (r * 7 + c * 3 + k) % 97 == 0
+                ? 0
+                : cv::saturate_cast<std::uint16_t>(1500 + 2 * r + std::abs(noise(rng)) * 4);
       }
     frames.push_back(f);
   }
@@ -92,15 +97,18 @@ void writeBag(const std::string& path, rgbdi::bag::Compression comp, double mega
 int main(int argc, char** argv) {
   const double mb = argc > 1 ? std::atof(argv[1]) : 300.0;
   const double mb_bz2 = argc > 2 ? std::atof(argv[2]) : 60.0;
-  const std::string dir = (fs::temp_directory_path() / ("bench_convert_" + std::to_string(::getpid()))).string();
+  const std::string dir =
+      (fs::temp_directory_path() / ("bench_convert_" + std::to_string(::getpid()))).string();
   fs::create_directories(dir);
   const std::vector<rgbdi::RgbdFrame> frames = makeFrames();
 
   rgbdi::convert::ConversionSettings settings;  // built-in calibration: the 640x480 D435i
   std::printf("bench_convert: 640x480 colour + depth at 30 Hz, IMU + ground truth at 200 Hz\n");
-  std::printf("%-5s %8s %8s | %-12s %8s %9s | %-12s %8s %9s | %-12s %8s %9s\n", "bag", "MB", "frames", "read+decode",
-              "MB/s", "1.3GB [s]", "convert", "MB/s", "1.3GB [s]", "convert-ext", "MB/s", "1.3GB [s]");
-  for (const auto comp : {rgbdi::bag::Compression::None, rgbdi::bag::Compression::Lz4, rgbdi::bag::Compression::Bz2}) {
+  std::printf("%-5s %8s %8s | %-12s %8s %9s | %-12s %8s %9s | %-12s %8s %9s\n", "bag", "MB",
+              "frames", "read+decode", "MB/s", "1.3GB [s]", "convert", "MB/s", "1.3GB [s]",
+              "convert-ext", "MB/s", "1.3GB [s]");
+  for (const auto comp : {rgbdi::bag::Compression::None, rgbdi::bag::Compression::Lz4,
+                          rgbdi::bag::Compression::Bz2}) {
     const std::string name = rgbdi::bag::toString(comp);
     const std::string bag = dir + "/" + name + ".bag";
     writeBag(bag, comp, comp == rgbdi::bag::Compression::Bz2 ? mb_bz2 : mb, frames);
@@ -128,9 +136,10 @@ int main(int argc, char** argv) {
       fs::remove(dir + "/" + name + (ext ? "_ext" : "") + "_groundtruth.tum");
     }
     const auto rate = [&](double t) { return bag_mb / t; };
-    std::printf("%-5s %8.1f %8zu | %-12s %8.1f %9.1f | %-12s %8.1f %9.1f | %-12s %8.1f %9.1f\n", name.c_str(), bag_mb,
-                decoded.pairing.pairs, "", rate(t_read), 1300.0 / rate(t_read), "", rate(t_conv[0]),
-                1300.0 / rate(t_conv[0]), "", rate(t_conv[1]), 1300.0 / rate(t_conv[1]));
+    std::printf("%-5s %8.1f %8zu | %-12s %8.1f %9.1f | %-12s %8.1f %9.1f | %-12s %8.1f %9.1f\n",
+                name.c_str(), bag_mb, decoded.pairing.pairs, "", rate(t_read),
+                1300.0 / rate(t_read), "", rate(t_conv[0]), 1300.0 / rate(t_conv[0]), "",
+                rate(t_conv[1]), 1300.0 / rate(t_conv[1]));
     std::fflush(stdout);
     fs::remove(bag);
   }

@@ -24,46 +24,61 @@ namespace {
 constexpr int kOk = 0, kDataError = 1, kUsageError = 2, kInterrupted = 130;
 
 const char* const kUsage =
-    "Usage: rawlog-convert INPUT -o OUT.rawlog [options]   convert a ROS1 bag or a TUM RGB-D folder\n"
+    "Usage: rawlog-convert INPUT -o OUT.rawlog [options]   convert a ROS1 bag or a TUM RGB-D "
+    "folder\n"
     "       rawlog-convert --info FILE [--json] [--config FILE] [--verbose]\n"
     "       rawlog-convert --help\n"
     "\n"
     "Inputs (detected by content): ROS1 bags (uncompressed, bz2 or lz4 chunks) in the VINS-RGBD\n"
-    "dataset layout (/camera/color/image_raw, /camera/aligned_depth_to_color/image_raw, /camera/imu,\n"
+    "dataset layout (/camera/color/image_raw, /camera/aligned_depth_to_color/image_raw, "
+    "/camera/imu,\n"
     "/vrpn_client_node/<name>/pose), RealSense SDK recordings (/device_0/sensor_N/..., detected\n"
     "automatically) or any topics named below; TUM RGB-D folders (rgb.txt, depth.txt,\n"
     "accelerometer.txt, groundtruth.txt). Output: OUT.rawlog (CObservation3DRangeScan +\n"
-    "CObservationIMU), OUT_groundtruth.tum when the input has ground truth, OUT.ini with --camera-yaml.\n"
+    "CObservationIMU), OUT_groundtruth.tum when the input has ground truth, OUT.ini with "
+    "--camera-yaml.\n"
     "\n"
     "Conversion options:\n"
     "  -o, --out FILE        output rawlog (*.rawlog; *.rawlog.gz is gzip-compressed)\n"
     "  -i, --input INPUT     the input (same as the positional INPUT)\n"
-    "  --config FILE         rgbdi configuration: [camera] intrinsics and [extrinsic] used when the\n"
-    "                        input has none, [convert] settings (default: share/config.ini values)\n"
-    "  --camera-yaml FILE    VINS-RGBD calibration yaml (intrinsics, extrinsic, IMU noise, g, td);\n"
-    "                        overrides --config's calibration and also writes OUT.ini for rgbdi-slam\n"
-    "  --external-images     images as files in OUT_Images/ (colour PNG, depth range files) instead\n"
+    "  --config FILE         rgbdi configuration: [camera] intrinsics and [extrinsic] used when "
+    "the\n"
+    "                        input has none, [convert] settings (default: share/config.ini "
+    "values)\n"
+    "  --camera-yaml FILE    VINS-RGBD calibration yaml (intrinsics, extrinsic, IMU noise, g, "
+    "td);\n"
+    "                        overrides --config's calibration and also writes OUT.ini for "
+    "rgbdi-slam\n"
+    "  --external-images     images as files in OUT_Images/ (colour PNG, depth range files) "
+    "instead\n"
     "                        of inside the rawlog: keeps the rawlog small for large datasets\n"
     "  --require-colour      drop depth images without a colour partner (default: depth-only\n"
     "                        observations)\n"
-    "  --pair-tolerance S    colour/depth stamps at most S seconds apart form a frame (default 0.02)\n"
-    "  --depth-unit M        metres per unit of 16-bit depth when the bag does not say (default 0.001)\n"
+    "  --pair-tolerance S    colour/depth stamps at most S seconds apart form a frame (default "
+    "0.02)\n"
+    "  --depth-unit M        metres per unit of 16-bit depth when the bag does not say (default "
+    "0.001)\n"
     "  --depth-aligned yes|no  depth registered to the colour image (default: dataset yes,\n"
     "                        RealSense recordings no)\n"
     "  --color-topic T  --depth-topic T  --imu-topic T  --accel-topic T  --gyro-topic T\n"
     "  --groundtruth-topic T  --color-info-topic T  --depth-info-topic T\n"
     "                        topic names for bags in other layouts; 'none' disables a stream\n"
     "                        (--accel-topic with --gyro-topic: merged on the gyro stamps)\n"
-    "  --tum-camera NAME     TUM intrinsics: fr1, fr2, fr3, ros or config (default: from the folder\n"
+    "  --tum-camera NAME     TUM intrinsics: fr1, fr2, fr3, ros or config (default: from the "
+    "folder\n"
     "                        name)\n"
     "  --quiet               no progress line on stderr\n"
     "\n"
     "Inspection:\n"
     "  --info FILE           Inspect a dataset without converting. MRPT rawlogs (*.rawlog,\n"
-    "                        *.rawlog.gz; external images in <name>_Images/): record counts, rates,\n"
-    "                        gaps, ordering problems and data checks (IMU units, depth units, image\n"
-    "                        sizes, intrinsics, sensorPose vs [extrinsic]). ROS1 bags: topics, types,\n"
-    "                        counts, rates, the layout and calibration a conversion would use. TUM\n"
+    "                        *.rawlog.gz; external images in <name>_Images/): record counts, "
+    "rates,\n"
+    "                        gaps, ordering problems and data checks (IMU units, depth units, "
+    "image\n"
+    "                        sizes, intrinsics, sensorPose vs [extrinsic]). ROS1 bags: topics, "
+    "types,\n"
+    "                        counts, rates, the layout and calibration a conversion would use. "
+    "TUM\n"
     "                        folders: the lists and the camera.\n"
     "  --json            With --info: print the result as one JSON object.\n"
     "  --verbose         With --info on rawlogs: also log every warning on stderr as it is found.\n"
@@ -129,7 +144,8 @@ Args parse(int argc, char** argv) {
         throw std::invalid_argument("--depth-unit must be in (0, 1] metres per unit");
     } else if (arg == "--depth-aligned") {
       const std::string v = value("--depth-aligned");
-      if (v != "yes" && v != "no") throw std::invalid_argument("--depth-aligned takes yes or no, got '" + v + "'");
+      if (v != "yes" && v != "no")
+        throw std::invalid_argument("--depth-aligned takes yes or no, got '" + v + "'");
       a.depth_aligned = v == "yes";
     } else if (arg == "--color-topic" || arg == "--colour-topic") {
       a.topics.color = value("--color-topic");
@@ -157,7 +173,8 @@ Args parse(int argc, char** argv) {
       positional.push_back(arg);
     }
   }
-  if (positional.size() > 1) throw std::invalid_argument("more than one input given ('" + positional[1] + "')");
+  if (positional.size() > 1)
+    throw std::invalid_argument("more than one input given ('" + positional[1] + "')");
   if (!positional.empty()) a.input = positional.front();
   return a;
 }
@@ -198,8 +215,9 @@ int runInfo(const Args& a) {
     return kDataError;
   }
   if (format == rgbdi::io::InputFormat::Unknown) {
-    std::cerr << "rawlog-convert: " << path
-              << ": unrecognised format (expected an MRPT rawlog, a ROS1 bag or a TUM RGB-D folder)\n";
+    std::cerr
+        << "rawlog-convert: " << path
+        << ": unrecognised format (expected an MRPT rawlog, a ROS1 bag or a TUM RGB-D folder)\n";
     return kDataError;
   }
   if (format == rgbdi::io::InputFormat::Rawlog) return infoRawlog(a, path);
@@ -212,8 +230,9 @@ int runInfo(const Args& a) {
   }
   rgbdi::convert::InputDescription d;
   try {
-    d = format == rgbdi::io::InputFormat::Ros1Bag ? rgbdi::convert::describeBag(path, settings, a.topics)
-                                                  : rgbdi::convert::describeTumFolder(path);
+    d = format == rgbdi::io::InputFormat::Ros1Bag
+            ? rgbdi::convert::describeBag(path, settings, a.topics)
+            : rgbdi::convert::describeTumFolder(path);
   } catch (const std::exception& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";
     return kDataError;

@@ -7,11 +7,10 @@
 // * The real RealSense SDK recording; a truncated bag; usage and data errors.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/sensor_options.h"
@@ -44,7 +43,9 @@ std::vector<rgbdi::io::Measurement> readAll(const std::string& rawlog) {
 /// (ctest runs every test in its own process).
 class RawlogConvertBag : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { root_ = new std::string(rgbdi::test::makeTempDir("rgbdi_convert_bag")); }
+  static void SetUpTestSuite() {
+    root_ = new std::string(rgbdi::test::makeTempDir("rgbdi_convert_bag"));
+  }
   static void TearDownTestSuite() {
     std::error_code ec;
     fs::remove_all(*root_, ec);
@@ -57,7 +58,9 @@ class RawlogConvertBag : public ::testing::Test {
       const std::string args = name == "lz4" ? "--profile wheeled_circle --duration 10 --fps 15"
                                              : "--profile handheld --duration 8 --fps 5";
       std::string out;
-      const int rc = runCommand(app("rgbdi-sim") + " " + args + " --bag --bag-compression " + name + " --out " + dir, &out);
+      const int rc = runCommand(
+          app("rgbdi-sim") + " " + args + " --bag --bag-compression " + name + " --out " + dir,
+          &out);
       EXPECT_EQ(rc, 0) << out;
     }
     return dir;
@@ -72,8 +75,8 @@ TEST_F(RawlogConvertBag, SimulatorBagsConvertToTheSimulatorsRawlog) {
     const std::string dir = seq(name);
     const std::string out_rawlog = dir + "/converted.rawlog";
     std::string out;
-    ASSERT_EQ(runCommand(app("rawlog-convert") + " " + dir + "/sequence.bag -o " + out_rawlog + " --config " + dir +
-                             "/config.ini --external-images --quiet",
+    ASSERT_EQ(runCommand(app("rawlog-convert") + " " + dir + "/sequence.bag -o " + out_rawlog +
+                             " --config " + dir + "/config.ini --external-images --quiet",
                          &out),
               0)
         << out;
@@ -88,8 +91,9 @@ TEST_F(RawlogConvertBag, SimulatorBagsConvertToTheSimulatorsRawlog) {
       EXPECT_TRUE(slurp(mine.string()) == slurp(e.path().string())) << mine;
       ++images;
     }
-    EXPECT_EQ(images, static_cast<std::size_t>(std::distance(fs::directory_iterator(dir + "/converted_Images"),
-                                                             fs::directory_iterator{})));
+    EXPECT_EQ(images,
+              static_cast<std::size_t>(std::distance(
+                  fs::directory_iterator(dir + "/converted_Images"), fs::directory_iterator{})));
 
     // Observation by observation (what rgbdi-slam reads).
     const auto a = readAll(out_rawlog), b = readAll(dir + "/sequence.rawlog");
@@ -145,22 +149,28 @@ TEST_F(RawlogConvertBag, RgbdiSlamRunsWithTheConfigWrittenFromAVinsYaml) {
   const Eigen::Vector3d t = ext.T_body_cam.translation();
   std::ofstream yaml(dir + "/vins.yaml");
   yaml.precision(17);
-  yaml << "%YAML:1.0\nmodel_type: PINHOLE\nimage_width: " << cam.camera.width << "\nimage_height: " << cam.camera.height
-       << "\ndistortion_parameters:\n   k1: 0.0\n   k2: 0.0\n   p1: 0.0\n   p2: 0.0\nprojection_parameters:\n   fx: "
-       << cam.camera.fx << "\n   fy: " << cam.camera.fy << "\n   cx: " << cam.camera.cx << "\n   cy: " << cam.camera.cy
-       << "\nextrinsicRotation: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " << R(0, 0) << ", "
-       << R(0, 1) << ", " << R(0, 2) << ", " << R(1, 0) << ", " << R(1, 1) << ", " << R(1, 2) << ", " << R(2, 0)
-       << ", " << R(2, 1) << ", " << R(2, 2) << " ]\nextrinsicTranslation: !!opencv-matrix\n   rows: 3\n   cols: 1\n"
-       << "   dt: d\n   data: [ " << t.x() << ", " << t.y() << ", " << t.z() << " ]\nacc_n: "
-       << imu.acc_noise_density / std::sqrt(dt / 2) << "\ngyr_n: " << imu.gyr_noise_density / std::sqrt(dt / 2)
-       << "\nacc_w: " << imu.acc_random_walk / std::sqrt(dt) << "\ngyr_w: " << imu.gyr_random_walk / std::sqrt(dt)
-       << "\ng_norm: " << imu.gravity_m_s2 << "\ntd: 0.0\n";
+  yaml << "%YAML:1.0\nmodel_type: PINHOLE\nimage_width: " << cam.camera.width
+       << "\nimage_height: " << cam.camera.height
+       << "\ndistortion_parameters:\n   k1: 0.0\n   k2: 0.0\n   p1: 0.0\n   p2: "
+          "0.0\nprojection_parameters:\n   fx: "
+       << cam.camera.fx << "\n   fy: " << cam.camera.fy << "\n   cx: " << cam.camera.cx
+       << "\n   cy: " << cam.camera.cy
+       << "\nextrinsicRotation: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ "
+       << R(0, 0) << ", " << R(0, 1) << ", " << R(0, 2) << ", " << R(1, 0) << ", " << R(1, 1)
+       << ", " << R(1, 2) << ", " << R(2, 0) << ", " << R(2, 1) << ", " << R(2, 2)
+       << " ]\nextrinsicTranslation: !!opencv-matrix\n   rows: 3\n   cols: 1\n"
+       << "   dt: d\n   data: [ " << t.x() << ", " << t.y() << ", " << t.z()
+       << " ]\nacc_n: " << imu.acc_noise_density / std::sqrt(dt / 2)
+       << "\ngyr_n: " << imu.gyr_noise_density / std::sqrt(dt / 2)
+       << "\nacc_w: " << imu.acc_random_walk / std::sqrt(dt)
+       << "\ngyr_w: " << imu.gyr_random_walk / std::sqrt(dt) << "\ng_norm: " << imu.gravity_m_s2
+       << "\ntd: 0.0\n";
   yaml.close();
 
   std::string out;
   const std::string rawlog = dir + "/vins.rawlog";
-  ASSERT_EQ(runCommand(app("rawlog-convert") + " " + dir + "/sequence.bag --out " + rawlog + " --camera-yaml " + dir +
-                           "/vins.yaml --quiet",
+  ASSERT_EQ(runCommand(app("rawlog-convert") + " " + dir + "/sequence.bag --out " + rawlog +
+                           " --camera-yaml " + dir + "/vins.yaml --quiet",
                        &out),
             0)
       << out;
@@ -173,10 +183,11 @@ TEST_F(RawlogConvertBag, RgbdiSlamRunsWithTheConfigWrittenFromAVinsYaml) {
   EXPECT_DOUBLE_EQ(imu2.rate_hz, 200.0);
   EXPECT_TRUE(rgbdi::ExtrinsicOptions::load(ini).T_body_cam.isApprox(ext.T_body_cam, 1e-12));
 
-  ASSERT_EQ(runCommand(app("rgbdi-slam") + " --input " + rawlog + " --out " + dir + "/slam --config " + dir +
-                           "/vins.ini --gt " + dir + "/vins_groundtruth.tum --quiet",
-                       &out),
-            0)
+  ASSERT_EQ(
+      runCommand(app("rgbdi-slam") + " --input " + rawlog + " --out " + dir + "/slam --config " +
+                     dir + "/vins.ini --gt " + dir + "/vins_groundtruth.tum --quiet",
+                 &out),
+      0)
       << out;
   std::ifstream summary(dir + "/slam/summary.json");
   const auto j = nlohmann::json::parse(summary);
@@ -190,12 +201,13 @@ TEST_F(RawlogConvertBag, TruncatedBagLeavesAValidRawlogOfWhatCameBefore) {
   fs::copy_file(dir + "/sequence.bag", cut, fs::copy_options::overwrite_existing);
   fs::resize_file(cut, fs::file_size(cut) * 2 / 5);
   std::string out;
-  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + cut + " -o " + dir + "/cut.rawlog --config " + dir +
-                           "/config.ini --quiet",
+  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + cut + " -o " + dir + "/cut.rawlog --config " +
+                           dir + "/config.ini --quiet",
                        &out),
             1);
-  EXPECT_NE(out.find("rawlog-convert: " + cut + ": truncated: the file ends inside the chunk at byte "),
-            std::string::npos)
+  EXPECT_NE(
+      out.find("rawlog-convert: " + cut + ": truncated: the file ends inside the chunk at byte "),
+      std::string::npos)
       << out;
   EXPECT_NE(out.find("the file is truncated"), std::string::npos) << out;
   const auto all = readAll(dir + "/cut.rawlog");
@@ -212,16 +224,20 @@ TEST_F(RawlogConvertBag, TruncatedBagLeavesAValidRawlogOfWhatCameBefore) {
 }
 
 TEST_F(RawlogConvertBag, RealSenseRecording) {
-  const std::string bag = rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+  const std::string bag =
+      rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
   RGBDI_REQUIRE_FIXTURE(bag);
   const std::string rawlog = *root_ + "/rs.rawlog.gz";
   std::string out;
   ASSERT_EQ(runCommand(app("rawlog-convert") + " '" + bag + "' -o " + rawlog, &out), 0) << out;
-  EXPECT_NE(out.find("Written: 2 RGB-D observations (0 colour+depth, 2 depth-only), 0 IMU observations"),
-            std::string::npos)
+  EXPECT_NE(
+      out.find("Written: 2 RGB-D observations (0 colour+depth, 2 depth-only), 0 IMU observations"),
+      std::string::npos)
       << out;
-  EXPECT_NE(out.find("1 colour image(s) without a depth image within 0.020 s"), std::string::npos) << out;
-  EXPECT_NE(out.find("rawlog-convert: [####################] 100.0 %"), std::string::npos) << out;  // progress
+  EXPECT_NE(out.find("1 colour image(s) without a depth image within 0.020 s"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("rawlog-convert: [####################] 100.0 %"), std::string::npos)
+      << out;  // progress
   const auto all = readAll(rawlog);
   ASSERT_EQ(all.size(), 2u);
   for (const auto& m : all) {
@@ -238,7 +254,8 @@ TEST_F(RawlogConvertBag, RealSenseRecording) {
     ASSERT_EQ(runCommand("/usr/bin/rawlog-edit --info -i " + rawlog, &out), 0) << out;
     EXPECT_NE(out.find("RGBD /      2 /"), std::string::npos) << out;
   }
-  ASSERT_EQ(runCommand(app("rawlog-convert") + " --info '" + bag + "' --json 2>/dev/null", &out), 0) << out;
+  ASSERT_EQ(runCommand(app("rawlog-convert") + " --info '" + bag + "' --json 2>/dev/null", &out), 0)
+      << out;
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["topics"].size(), 70u);
   EXPECT_EQ(j["layout"]["kind"], "RealSense SDK recording layout");
@@ -255,17 +272,22 @@ TEST_F(RawlogConvertBag, UsageAndDataErrors) {
   EXPECT_EQ(runCommand(app("rawlog-convert") + " " + bag + o + " --depth-aligned maybe", &out), 2);
   EXPECT_EQ(runCommand(app("rawlog-convert") + " " + bag, &out), 2);
   EXPECT_NE(out.find("no output given"), std::string::npos) << out;
-  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + seq("none") + "/sequence.rawlog" + o, &out), 2);
+  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + seq("none") + "/sequence.rawlog" + o, &out),
+            2);
   EXPECT_NE(out.find("is already an MRPT rawlog"), std::string::npos) << out;
   // A missing topic lists the topics that exist; nothing is written.
-  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + bag + o + " --imu-topic /imu0 --quiet", &out), 1);
-  EXPECT_NE(out.find("IMU topic '/imu0' is not in the bag; its topics are:"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + bag + o + " --imu-topic /imu0 --quiet", &out),
+            1);
+  EXPECT_NE(out.find("IMU topic '/imu0' is not in the bag; its topics are:"), std::string::npos)
+      << out;
   EXPECT_NE(out.find("/camera/aligned_depth_to_color/image_raw"), std::string::npos) << out;
   EXPECT_NE(out.find("geometry_msgs/PoseStamped"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(*root_ + "/e.rawlog"));
   // A configuration error names the file and key.
   std::ofstream(*root_ + "/bad.ini") << "[convert]\npair_tolerance_s = 7\n";
-  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + bag + o + " --config " + *root_ + "/bad.ini", &out), 2);
+  EXPECT_EQ(
+      runCommand(app("rawlog-convert") + " " + bag + o + " --config " + *root_ + "/bad.ini", &out),
+      2);
   EXPECT_NE(out.find("[convert] pair_tolerance_s"), std::string::npos) << out;
 }
 

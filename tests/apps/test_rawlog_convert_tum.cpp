@@ -2,11 +2,10 @@
 // rawlog + ground truth, accepted by MRPT's rawlog-edit; --info on the folder; errors.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <opencv2/imgcodecs.hpp>
 
 #include "rgbdi/eval/tum_reader.h"
 #include "rgbdi/io/rawlog_source.h"
@@ -26,12 +25,13 @@ class RawlogConvertTum : public ::testing::Test {
     dir_ = root_ + "/rgbd_dataset_freiburg3_unit";
     fs::create_directories(dir_ + "/rgb");
     fs::create_directories(dir_ + "/depth");
-    std::ofstream rgb(dir_ + "/rgb.txt"), depth(dir_ + "/depth.txt"), acc(dir_ + "/accelerometer.txt"),
-        gt(dir_ + "/groundtruth.txt");
+    std::ofstream rgb(dir_ + "/rgb.txt"), depth(dir_ + "/depth.txt"),
+        acc(dir_ + "/accelerometer.txt"), gt(dir_ + "/groundtruth.txt");
     rgb << "# color images\n# timestamp filename\n" << std::fixed << std::setprecision(6);
     depth << "# depth maps\n# timestamp filename\n" << std::fixed << std::setprecision(6);
     acc << "# accelerometer data\n# timestamp ax ay az\n" << std::fixed << std::setprecision(4);
-    gt << "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n" << std::fixed << std::setprecision(4);
+    gt << "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n"
+       << std::fixed << std::setprecision(4);
     cv::Mat colour(480, 640, CV_8UC3);
     cv::randu(colour, 0, 256);
     for (int k = 0; k < 10; ++k) {
@@ -62,11 +62,14 @@ TEST_F(RawlogConvertTum, ConvertsFolderToRawlogAndGroundTruth) {
   std::string out;
   ASSERT_EQ(runCommand(app() + " " + dir_ + " -o " + rawlog + " --quiet", &out), 0) << out;
   EXPECT_NE(out.find("TUM RGB-D folder"), std::string::npos) << out;
-  EXPECT_NE(out.find("colour intrinsics: TUM fr3 calibration (detected from the folder name)"), std::string::npos)
-      << out;
-  EXPECT_NE(out.find("Written: 10 RGB-D observations (10 colour+depth, 0 depth-only), 40 IMU observations, 40 "
-                     "ground-truth poses"),
+  EXPECT_NE(out.find("colour intrinsics: TUM fr3 calibration (detected from the folder name)"),
             std::string::npos)
+      << out;
+  EXPECT_NE(
+      out.find(
+          "Written: 10 RGB-D observations (10 colour+depth, 0 depth-only), 40 IMU observations, 40 "
+          "ground-truth poses"),
+      std::string::npos)
       << out;
   EXPECT_NE(out.find("TUM RGB-D has no gyroscope"), std::string::npos) << out;
 
@@ -103,11 +106,13 @@ TEST_F(RawlogConvertTum, InfoAndErrors) {
   EXPECT_NE(out.find("Camera: fr3 (from the folder name)"), std::string::npos) << out;
   EXPECT_NE(out.find("TUM RGB-D has no gyroscope"), std::string::npos) << out;
 
-  EXPECT_EQ(runCommand(app() + " " + dir_ + " -o " + root_ + "/x.rawlog --tum-camera fr9", &out), 2);
+  EXPECT_EQ(runCommand(app() + " " + dir_ + " -o " + root_ + "/x.rawlog --tum-camera fr9", &out),
+            2);
   EXPECT_NE(out.find("unknown TUM camera 'fr9'"), std::string::npos) << out;
   std::ofstream(dir_ + "/rgb.txt", std::ios::app) << "1341847990.0\n";
   EXPECT_EQ(runCommand(app() + " " + dir_ + " -o " + root_ + "/x.rawlog", &out), 1);
-  EXPECT_NE(out.find(dir_ + "/rgb.txt line 13: expected 'timestamp filename'"), std::string::npos) << out;
+  EXPECT_NE(out.find(dir_ + "/rgb.txt line 13: expected 'timestamp filename'"), std::string::npos)
+      << out;
 }
 
 }  // namespace

@@ -89,21 +89,26 @@ TEST(BagConvertDamage, TruncatedCopiesKeepEverythingBeforeTheCut) {
       fs::resize_file(cut, static_cast<std::uintmax_t>(static_cast<double>(size) * keep));
       BagReader reader(cut);
       EXPECT_FALSE(reader.indexed());
-      EXPECT_NE(reader.recoveryReason().find("the file is truncated"), std::string::npos) << reader.recoveryReason();
-      EXPECT_NE(reader.damage().find(cut + ": truncated: the file ends inside the chunk at byte "), std::string::npos)
+      EXPECT_NE(reader.recoveryReason().find("the file is truncated"), std::string::npos)
+          << reader.recoveryReason();
+      EXPECT_NE(reader.damage().find(cut + ": truncated: the file ends inside the chunk at byte "),
+                std::string::npos)
           << reader.damage();
 
       BagConverter conv(cut, ConvertOptions(), BagInputOptions(), camera160());
       CountingSink sink;
       const ConversionReport r = conv.run(sink);
       EXPECT_FALSE(r.ok());
-      EXPECT_NE(r.error.find(cut + ": truncated: the file ends inside the chunk at byte "), std::string::npos)
+      EXPECT_NE(r.error.find(cut + ": truncated: the file ends inside the chunk at byte "),
+                std::string::npos)
           << r.error;
       // What was delivered is a prefix of the full stream, growing with what was kept.
       EXPECT_GT(sink.frame_t.size(), previous_frames);
       EXPECT_LT(sink.frame_t.size(), full_frames);
-      for (std::size_t i = 0; i < sink.frame_t.size(); ++i) EXPECT_NEAR(sink.frame_t[i], 300.0 + 0.05 * i, 1e-9);
-      for (std::size_t i = 0; i < sink.imu_t.size(); ++i) EXPECT_NEAR(sink.imu_t[i], 300.0 + 0.005 * i, 1e-9);
+      for (std::size_t i = 0; i < sink.frame_t.size(); ++i)
+        EXPECT_NEAR(sink.frame_t[i], 300.0 + 0.05 * i, 1e-9);
+      for (std::size_t i = 0; i < sink.imu_t.size(); ++i)
+        EXPECT_NEAR(sink.imu_t[i], 300.0 + 0.005 * i, 1e-9);
       // Roughly the kept share of the data (chunks are whole; an uncompressed cut chunk keeps its
       // complete records).
       EXPECT_NEAR(static_cast<double>(sink.frame_t.size()) / full_frames, keep, 0.25);
@@ -136,7 +141,8 @@ TEST(BagConvertDamage, CutAtTheIndexKeepsAllMessages) {
   const ConversionReport r = conv.run(sink);
   EXPECT_EQ(sink.frame_t.size(), 40u);
   EXPECT_EQ(sink.imu_t.size(), 400u);
-  EXPECT_NE(r.error.find("every chunk up to the end of the file was read"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("every chunk up to the end of the file was read"), std::string::npos)
+      << r.error;
 }
 
 TEST(BagConvertDamage, CorruptCompressedChunkInAnIndexedBag) {
@@ -158,7 +164,9 @@ TEST(BagConvertDamage, CorruptCompressedChunkInAnIndexedBag) {
     FAIL() << "expected BagReadError";
   } catch (const BagReadError& e) {
     const std::string w = e.what();
-    EXPECT_NE(w.find(path + ": cannot read message " + std::to_string(n) + " (topic /camera/"), std::string::npos) << w;
+    EXPECT_NE(w.find(path + ": cannot read message " + std::to_string(n) + " (topic /camera/"),
+              std::string::npos)
+        << w;
     EXPECT_NE(w.find("the bag is damaged from here on"), std::string::npos) << w;
   }
   EXPECT_GT(n, 100u);
@@ -182,7 +190,9 @@ TEST(BagConvertDamage, NotABag) {
     BagReader r(dir + "/y.bag");
     FAIL();
   } catch (const BagError& e) {
-    EXPECT_NE(std::string(e.what()).find(dir + "/y.bag: cannot open as a ROS1 bag"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(dir + "/y.bag: cannot open as a ROS1 bag"),
+              std::string::npos)
+        << e.what();
   }
   // The magic line is there but nothing readable follows: recovery finds the damage at once.
   BagReader r(dir + "/x.bag");

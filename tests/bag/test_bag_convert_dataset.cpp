@@ -11,9 +11,8 @@
 #include <sensor_msgs/Imu.h>
 #include <std_msgs/Float32.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <cstring>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
 
 #include "rgbdi/bag/bag_converter.h"
@@ -42,7 +41,8 @@ RgbdFrame randomFrame(std::mt19937_64& rng, double t, std::uint64_t index) {
   cv::randu(f.rgb, 0, 256);
   std::uniform_int_distribution<int> d(0, 8000);
   for (int r = 0; r < 24; ++r)
-    for (int c = 0; c < 32; ++c) f.depth.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(d(rng));
+    for (int c = 0; c < 32; ++c)
+      f.depth.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(d(rng));
   return f;
 }
 
@@ -125,13 +125,16 @@ TEST(BagConvertDataset, CalibrationThatDoesNotFitTheImagesStopsTheConversion) {
     w.writeRgbd(randomFrame(rng, 10.0, 0));
     w.close();
   }
-  BagConverter conv(dir + "/s.bag", ConvertOptions(), BagInputOptions(), FallbackCalibration::defaults());
+  BagConverter conv(dir + "/s.bag", ConvertOptions(), BagInputOptions(),
+                    FallbackCalibration::defaults());
   RecordingSink sink;
   const ConversionReport r = conv.run(sink);
   EXPECT_FALSE(r.ok());
-  EXPECT_NE(r.error.find("images are 32x24 but the intrinsics (built-in defaults (share/config.ini [camera])) "
-                         "are for 640x480"),
-            std::string::npos)
+  EXPECT_NE(
+      r.error.find(
+          "images are 32x24 but the intrinsics (built-in defaults (share/config.ini [camera])) "
+          "are for 640x480"),
+      std::string::npos)
       << r.error;
   EXPECT_TRUE(sink.frames.empty());
 }

@@ -3,11 +3,10 @@
 // errors that name the message and the encoding.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
 
 #include "rgbdi/bag/ros_calibration.h"
 #include "rgbdi/bag/ros_image.h"
@@ -15,8 +14,8 @@
 namespace rgbdi::bag {
 namespace {
 
-sensor_msgs::Image image(const std::string& encoding, std::uint32_t w, std::uint32_t h, std::uint32_t step,
-                         const std::vector<std::uint8_t>& data) {
+sensor_msgs::Image image(const std::string& encoding, std::uint32_t w, std::uint32_t h,
+                         std::uint32_t step, const std::vector<std::uint8_t>& data) {
   sensor_msgs::Image m;
   m.encoding = encoding;
   m.width = w;
@@ -38,8 +37,10 @@ TEST(RosImage, ColourEncodingsGiveRgb) {
   check(decodeColorImage(image("rgb8", 2, 1, 6, {10, 20, 30, 200, 100, 50}), "l"), "rgb8");
   check(decodeColorImage(image("bgr8", 2, 1, 6, {30, 20, 10, 50, 100, 200}), "l"), "bgr8");
   check(decodeColorImage(image("8UC3", 2, 1, 6, {30, 20, 10, 50, 100, 200}), "l"), "8UC3");
-  check(decodeColorImage(image("rgba8", 2, 1, 8, {10, 20, 30, 255, 200, 100, 50, 0}), "l"), "rgba8");
-  check(decodeColorImage(image("bgra8", 2, 1, 8, {30, 20, 10, 255, 50, 100, 200, 0}), "l"), "bgra8");
+  check(decodeColorImage(image("rgba8", 2, 1, 8, {10, 20, 30, 255, 200, 100, 50, 0}), "l"),
+        "rgba8");
+  check(decodeColorImage(image("bgra8", 2, 1, 8, {30, 20, 10, 255, 50, 100, 200, 0}), "l"),
+        "bgra8");
   // Padded rows (step 8 > 6) on two rows: the padding is skipped.
   const cv::Mat padded = decodeColorImage(
       image("rgb8", 2, 2, 8, {10, 20, 30, 200, 100, 50, 99, 99, 1, 2, 3, 4, 5, 6, 99, 99}), "l");
@@ -62,7 +63,8 @@ TEST(RosImage, ColourEncodingsGiveRgb) {
 }
 
 TEST(RosImage, DepthEncodingsKeepUnits) {
-  const DepthImage d16 = decodeDepthImage(image("16UC1", 2, 1, 4, {0x34, 0x12, 0x00, 0x00}), 1e-3, 1e-3, "l");
+  const DepthImage d16 =
+      decodeDepthImage(image("16UC1", 2, 1, 4, {0x34, 0x12, 0x00, 0x00}), 1e-3, 1e-3, "l");
   EXPECT_EQ(d16.depth.type(), CV_16UC1);
   EXPECT_EQ(d16.depth.at<std::uint16_t>(0, 0), 0x1234);
   EXPECT_EQ(d16.depth.at<std::uint16_t>(0, 1), 0);
@@ -76,12 +78,17 @@ TEST(RosImage, DepthEncodingsKeepUnits) {
   EXPECT_EQ(decodeDepthImage(be, 1e-3, 1e-3, "l").depth.at<std::uint16_t>(0, 0), 0x1234);
 
   // 32FC1 metres -> millimetres: rounding, invalid values and values beyond 65.535 m.
-  const float values[6] = {1.2345f, 0.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),
-                           std::numeric_limits<float>::infinity(), 70.0f};
+  const float values[6] = {1.2345f,
+                           0.0f,
+                           -1.0f,
+                           std::numeric_limits<float>::quiet_NaN(),
+                           std::numeric_limits<float>::infinity(),
+                           70.0f};
   std::vector<std::uint8_t> bytes(sizeof values);
   std::memcpy(bytes.data(), values, sizeof values);
   const DepthImage f = decodeDepthImage(image("32FC1", 6, 1, 24, bytes), 1e-3, 1e-3, "l");
-  EXPECT_EQ(f.depth.at<std::uint16_t>(0, 0), 1235);  // 1234.5 mm rounds up (float 1.2345 is 1.23450005)
+  EXPECT_EQ(f.depth.at<std::uint16_t>(0, 0),
+            1235);  // 1234.5 mm rounds up (float 1.2345 is 1.23450005)
   for (int c = 1; c < 6; ++c) EXPECT_EQ(f.depth.at<std::uint16_t>(0, c), 0) << c;
   EXPECT_EQ(f.clipped, 1u);
   EXPECT_DOUBLE_EQ(f.unit_m, 1e-3);
@@ -101,22 +108,27 @@ TEST(RosImage, ErrorsNameTheMessageAndTheEncoding) {
     decodeDepthImage(image("bayer_rggb8", 2, 1, 2, {1, 2}), 1e-3, 1e-3, "x.bag /d message 3");
     FAIL();
   } catch (const ImageDecodeError& e) {
-    EXPECT_NE(std::string(e.what()).find("x.bag /d message 3: unsupported depth encoding 'bayer_rggb8'"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("x.bag /d message 3: unsupported depth encoding 'bayer_rggb8'"),
+        std::string::npos)
         << e.what();
   }
   try {
     decodeColorImage(image("16UC1", 2, 1, 4, {1, 2, 3, 4}), "x.bag /c message 0");
     FAIL();
   } catch (const ImageDecodeError& e) {
-    EXPECT_NE(std::string(e.what()).find("unsupported colour encoding '16UC1'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unsupported colour encoding '16UC1'"), std::string::npos)
+        << e.what();
   }
-  EXPECT_THROW(decodeColorImage(image("rgb8", 2, 2, 6, {1, 2, 3}), "l"), ImageDecodeError);    // short data
-  EXPECT_THROW(decodeColorImage(image("rgb8", 2, 1, 5, {1, 2, 3, 4, 5}), "l"), ImageDecodeError);  // short step
+  EXPECT_THROW(decodeColorImage(image("rgb8", 2, 2, 6, {1, 2, 3}), "l"),
+               ImageDecodeError);  // short data
+  EXPECT_THROW(decodeColorImage(image("rgb8", 2, 1, 5, {1, 2, 3, 4, 5}), "l"),
+               ImageDecodeError);  // short step
   EXPECT_THROW(decodeColorImage(image("rgb8", 0, 0, 0, {}), "l"), ImageDecodeError);
 }
 
-sensor_msgs::CompressedImage compressed(const std::string& format, const std::vector<std::uint8_t>& data) {
+sensor_msgs::CompressedImage compressed(const std::string& format,
+                                        const std::vector<std::uint8_t>& data) {
   sensor_msgs::CompressedImage m;
   m.format = format;
   m.data = data;
@@ -126,13 +138,16 @@ sensor_msgs::CompressedImage compressed(const std::string& format, const std::ve
 TEST(RosImage, CompressedColourAndDepth) {
   cv::Mat bgr(3, 4, CV_8UC3);
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) bgr.at<cv::Vec3b>(r, c) = cv::Vec3b(static_cast<uchar>(10 * c), 50, static_cast<uchar>(60 * r));
+    for (int c = 0; c < 4; ++c)
+      bgr.at<cv::Vec3b>(r, c) =
+          cv::Vec3b(static_cast<uchar>(10 * c), 50, static_cast<uchar>(60 * r));
   std::vector<std::uint8_t> png;
   cv::imencode(".png", bgr, png);
   const cv::Mat rgb = decodeColorImage(compressed("bgr8; png compressed bgr8", png), "l");
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c)
-      EXPECT_EQ(rgb.at<cv::Vec3b>(r, c), cv::Vec3b(static_cast<uchar>(60 * r), 50, static_cast<uchar>(10 * c)));
+      EXPECT_EQ(rgb.at<cv::Vec3b>(r, c),
+                cv::Vec3b(static_cast<uchar>(60 * r), 50, static_cast<uchar>(10 * c)));
   std::vector<std::uint8_t> jpg;
   cv::imencode(".jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(40, 80, 160)), jpg);
   const cv::Mat from_jpeg = decodeColorImage(compressed("rgb8; jpeg compressed bgr8", jpg), "l");
@@ -140,38 +155,46 @@ TEST(RosImage, CompressedColourAndDepth) {
   EXPECT_NEAR(from_jpeg.at<cv::Vec3b>(4, 4)[2], 40, 2);
 
   cv::Mat depth(2, 3, CV_16UC1);
-  for (int i = 0; i < 6; ++i) depth.at<std::uint16_t>(i / 3, i % 3) = static_cast<std::uint16_t>(1000 * i + 7);
+  for (int i = 0; i < 6; ++i)
+    depth.at<std::uint16_t>(i / 3, i % 3) = static_cast<std::uint16_t>(1000 * i + 7);
   std::vector<std::uint8_t> dpng;
   cv::imencode(".png", depth, dpng);
   // image_transport's compressedDepth: a 12-byte header before the PNG (and older writers without).
   std::vector<std::uint8_t> with_header(12, 0);
   with_header.insert(with_header.end(), dpng.begin(), dpng.end());
   for (const auto& data : {with_header, dpng}) {
-    const DepthImage d = decodeDepthImage(compressed("16UC1; compressedDepth png", data), 1e-3, 1e-3, "l");
+    const DepthImage d =
+        decodeDepthImage(compressed("16UC1; compressedDepth png", data), 1e-3, 1e-3, "l");
     ASSERT_EQ(d.depth.type(), CV_16UC1);
     EXPECT_EQ(cv::countNonZero(d.depth != depth), 0);
   }
-  EXPECT_EQ(cv::countNonZero(decodeDepthImage(compressed("png", dpng), 1e-3, 1e-3, "l").depth != depth), 0);
+  EXPECT_EQ(
+      cv::countNonZero(decodeDepthImage(compressed("png", dpng), 1e-3, 1e-3, "l").depth != depth),
+      0);
 
-  // 32FC1 compressedDepth: inverse depth q = A / z + B, here A = 100, B = 1 - A / 10 = -9; q = 0 invalid.
+  // 32FC1 compressedDepth: inverse depth q = A / z + B, here A = 100, B = 1 - A / 10 = -9; q = 0
+  // invalid.
   const float A = 100.0f, B = -9.0f;
   cv::Mat q(1, 3, CV_16UC1);
-  q.at<std::uint16_t>(0, 0) = static_cast<std::uint16_t>(A / 2.0f + B + 0.5f);   // 2 m -> 41
+  q.at<std::uint16_t>(0, 0) = static_cast<std::uint16_t>(A / 2.0f + B + 0.5f);  // 2 m -> 41
   q.at<std::uint16_t>(0, 1) = 0;
-  q.at<std::uint16_t>(0, 2) = static_cast<std::uint16_t>(A / 0.5f + B + 0.5f);   // 0.5 m -> 191
+  q.at<std::uint16_t>(0, 2) = static_cast<std::uint16_t>(A / 0.5f + B + 0.5f);  // 0.5 m -> 191
   std::vector<std::uint8_t> qpng, fdata(12, 0);
   cv::imencode(".png", q, qpng);
   std::memcpy(fdata.data() + 4, &A, 4);
   std::memcpy(fdata.data() + 8, &B, 4);
   fdata.insert(fdata.end(), qpng.begin(), qpng.end());
-  const DepthImage fz = decodeDepthImage(compressed("32FC1; compressedDepth png", fdata), 1e-3, 1e-3, "l");
+  const DepthImage fz =
+      decodeDepthImage(compressed("32FC1; compressedDepth png", fdata), 1e-3, 1e-3, "l");
   EXPECT_EQ(fz.depth.at<std::uint16_t>(0, 0), 2000);  // 100 / (41 + 9)
   EXPECT_EQ(fz.depth.at<std::uint16_t>(0, 1), 0);
-  EXPECT_EQ(fz.depth.at<std::uint16_t>(0, 2), 500);   // 100 / (191 + 9)
+  EXPECT_EQ(fz.depth.at<std::uint16_t>(0, 2), 500);  // 100 / (191 + 9)
 
-  EXPECT_THROW(decodeDepthImage(compressed("16UC1; compressedDepth rvl", dpng), 1e-3, 1e-3, "l"), ImageDecodeError);
+  EXPECT_THROW(decodeDepthImage(compressed("16UC1; compressedDepth rvl", dpng), 1e-3, 1e-3, "l"),
+               ImageDecodeError);
   EXPECT_THROW(decodeColorImage(compressed("jpeg", {1, 2, 3}), "l"), ImageDecodeError);
-  EXPECT_THROW(decodeDepthImage(compressed("jpeg", jpg), 1e-3, 1e-3, "l"), ImageDecodeError);  // 8-bit
+  EXPECT_THROW(decodeDepthImage(compressed("jpeg", jpg), 1e-3, 1e-3, "l"),
+               ImageDecodeError);  // 8-bit
 }
 
 TEST(RosCalibration, CameraInfoAndTransform) {
@@ -193,13 +216,14 @@ TEST(RosCalibration, CameraInfoAndTransform) {
   info.distortion_model = "rational_polynomial";
   info.D = {0.1, 0, 0, 0, 0, 0.5, 0, 0};
   EXPECT_THROW(cameraFromInfo(info, "l"), CalibrationError);  // k4 cannot be represented
-  info.K = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // uncalibrated camera_info
+  info.K = {0, 0, 0, 0, 0, 0, 0, 0, 0};                       // uncalibrated camera_info
   try {
     cameraFromInfo(info, "x.bag /info");
     FAIL();
   } catch (const CalibrationError& e) {
-    EXPECT_NE(std::string(e.what()).find("x.bag /info: camera_info is not a calibrated pinhole camera"),
-              std::string::npos);
+    EXPECT_NE(
+        std::string(e.what()).find("x.bag /info: camera_info is not a calibrated pinhole camera"),
+        std::string::npos);
   }
 
   geometry_msgs::Transform tf;

@@ -34,7 +34,8 @@ TEST(BagLayout, RealSenseRosWrapperTopicsAndCompressedImages) {
   const std::vector<BagTopic> t = {
       {"/camera/accel/sample", "sensor_msgs/Imu", 250},
       {"/camera/aligned_depth_to_color/camera_info", "sensor_msgs/CameraInfo", 30},
-      {"/camera/aligned_depth_to_color/image_raw/compressedDepth", "sensor_msgs/CompressedImage", 30},
+      {"/camera/aligned_depth_to_color/image_raw/compressedDepth", "sensor_msgs/CompressedImage",
+       30},
       {"/camera/color/camera_info", "sensor_msgs/CameraInfo", 30},
       {"/camera/color/image_raw/compressed", "sensor_msgs/CompressedImage", 30},
       {"/camera/gyro/sample", "sensor_msgs/Imu", 400},
@@ -100,7 +101,8 @@ TEST(BagLayout, OverridesAndNone) {
 }
 
 TEST(BagLayout, ErrorsListTheTopicsThatExist) {
-  const std::vector<BagTopic> t = {{"/scan", "sensor_msgs/LaserScan", 100}, {"/odom", "nav_msgs/Odometry", 50}};
+  const std::vector<BagTopic> t = {{"/scan", "sensor_msgs/LaserScan", 100},
+                                   {"/odom", "nav_msgs/Odometry", 50}};
   try {
     resolveBagLayout(t, {}, std::nullopt, "x.bag");
     FAIL() << "expected BagLayoutError";
@@ -120,7 +122,8 @@ TEST(BagLayout, ErrorsListTheTopicsThatExist) {
     resolveBagLayout(d, o, std::nullopt, "x.bag");
     FAIL();
   } catch (const BagLayoutError& e) {
-    EXPECT_NE(std::string(e.what()).find("IMU topic '/scan' has type sensor_msgs/LaserScan, expected sensor_msgs/Imu"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "IMU topic '/scan' has type sensor_msgs/LaserScan, expected sensor_msgs/Imu"),
               std::string::npos)
         << e.what();
   }

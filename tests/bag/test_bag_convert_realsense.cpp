@@ -15,7 +15,9 @@ struct RecordingSink : ConversionSink {
   std::vector<RgbdFrame> frames;
   std::vector<StampedPose> poses;
   void imu(const ImuSample& s) override { imus.push_back(s); }
-  void accelerometer(double, const Eigen::Vector3d&) override { ADD_FAILURE() << "no accelerometer-only data in bags"; }
+  void accelerometer(double, const Eigen::Vector3d&) override {
+    ADD_FAILURE() << "no accelerometer-only data in bags";
+  }
   void frame(const RgbdFrame& f) override { frames.push_back(f); }
   void groundTruth(const StampedPose& p) override { poses.push_back(p); }
 };
@@ -26,7 +28,8 @@ std::string fixture() {
 
 TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
   RGBDI_REQUIRE_FIXTURE(fixture());
-  BagConverter conv(fixture(), ConvertOptions(), BagInputOptions(), FallbackCalibration::defaults());
+  BagConverter conv(fixture(), ConvertOptions(), BagInputOptions(),
+                    FallbackCalibration::defaults());
   const BagLayout& l = conv.layout();
   EXPECT_EQ(l.kind, BagLayoutKind::RealSense);
   EXPECT_EQ(l.color, "/device_0/sensor_1/Color_0/image/data");
@@ -46,7 +49,8 @@ TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
   EXPECT_NEAR(conv.colorCamera().fx, 613.20, 0.005);
   EXPECT_NEAR(conv.colorCamera().cx, 319.94, 0.005);
   EXPECT_DOUBLE_EQ(conv.depthUnit(), 0.001);
-  // The tf is the colour camera in the depth camera: T_depth_color translation (0.0143, 0.0006, 0.0006).
+  // The tf is the colour camera in the depth camera: T_depth_color translation (0.0143, 0.0006,
+  // 0.0006).
   const Eigen::Isometry3d T_depth_color = conv.T_color_depth().inverse();
   EXPECT_NEAR(T_depth_color.translation().x(), 0.0143, 5e-5);
   EXPECT_NEAR(T_depth_color.translation().y(), 0.0006, 5e-5);
@@ -57,7 +61,8 @@ TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
 
 TEST(BagConvertRealSense, TwoDepthOnlyFramesAndOneUnpairedColourFrame) {
   RGBDI_REQUIRE_FIXTURE(fixture());
-  BagConverter conv(fixture(), ConvertOptions(), BagInputOptions(), FallbackCalibration::defaults());
+  BagConverter conv(fixture(), ConvertOptions(), BagInputOptions(),
+                    FallbackCalibration::defaults());
   RecordingSink sink;
   std::vector<double> progress;
   const ConversionReport r = conv.run(sink, [&](double f) { progress.push_back(f); });
@@ -84,7 +89,8 @@ TEST(BagConvertRealSense, TwoDepthOnlyFramesAndOneUnpairedColourFrame) {
       for (int c = 0; c < f.depth.cols; c += 4)
         if (const std::uint16_t v = f.depth.at<std::uint16_t>(r2, c)) valid.push_back(v);
     ASSERT_GT(valid.size(), 640u * 480u / 16u / 4u);
-    std::nth_element(valid.begin(), valid.begin() + static_cast<long>(valid.size() / 2), valid.end());
+    std::nth_element(valid.begin(), valid.begin() + static_cast<long>(valid.size() / 2),
+                     valid.end());
     const double median_m = valid[valid.size() / 2] * f.depth_unit_m;
     EXPECT_GT(median_m, 0.3);
     EXPECT_LT(median_m, 10.0);
@@ -95,8 +101,10 @@ TEST(BagConvertRealSense, TwoDepthOnlyFramesAndOneUnpairedColourFrame) {
   EXPECT_EQ(r.pairing.color_alone, 1u);
   EXPECT_EQ(r.pairing.depth_alone, 2u);
   const std::string text = r.text();
-  EXPECT_NE(text.find("1 colour image(s) without a depth image within 0.020 s"), std::string::npos) << text;
-  EXPECT_NE(text.find("no IMU topic (the recording has no Accel/Gyro streams)"), std::string::npos) << text;
+  EXPECT_NE(text.find("1 colour image(s) without a depth image within 0.020 s"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("no IMU topic (the recording has no Accel/Gyro streams)"), std::string::npos)
+      << text;
   ASSERT_FALSE(progress.empty());
   EXPECT_DOUBLE_EQ(progress.back(), 1.0);
   for (std::size_t i = 1; i < progress.size(); ++i) EXPECT_GE(progress[i], progress[i - 1]);
@@ -133,7 +141,9 @@ TEST(BagConvertRealSense, MissingTopicListsTheTopicsThatExist) {
     FAIL() << "expected BagLayoutError";
   } catch (const BagLayoutError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("colour topic '/camera/color/image_raw' is not in the bag"), std::string::npos) << what;
+    EXPECT_NE(what.find("colour topic '/camera/color/image_raw' is not in the bag"),
+              std::string::npos)
+        << what;
     EXPECT_NE(what.find("/device_0/sensor_0/Depth_0/image/data"), std::string::npos) << what;
     EXPECT_NE(what.find("sensor_msgs/Image"), std::string::npos) << what;
   }
@@ -142,9 +152,10 @@ TEST(BagConvertRealSense, MissingTopicListsTheTopicsThatExist) {
     BagConverter conv(fixture(), ConvertOptions(), in, FallbackCalibration::defaults());
     FAIL() << "expected BagLayoutError";
   } catch (const BagLayoutError& e) {
-    EXPECT_NE(std::string(e.what()).find("has type sensor_msgs/CameraInfo, expected sensor_msgs/Image or "
-                                         "sensor_msgs/CompressedImage"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("has type sensor_msgs/CameraInfo, expected sensor_msgs/Image or "
+                                   "sensor_msgs/CompressedImage"),
+        std::string::npos)
         << e.what();
   }
 }

@@ -162,15 +162,15 @@ TEST(AccelGyroMerger, InterpolatesLinearAccelerationOnGyroStamps) {
 
 TEST(AccelGyroMerger, DropsOutsideTheAccelerometerSpanAndInGaps) {
   AccelGyroMerger m(0.05, 0.5);
-  m.pushGyro(0.99, Eigen::Vector3d::Zero());   // before the first accelerometer sample
+  m.pushGyro(0.99, Eigen::Vector3d::Zero());  // before the first accelerometer sample
   m.pushAccel(1.00, Eigen::Vector3d(0, 0, 1));
   m.pushAccel(1.02, Eigen::Vector3d(0, 0, 3));
-  m.pushGyro(1.01, Eigen::Vector3d::Zero());   // interpolated: z = 2
-  m.pushAccel(1.20, Eigen::Vector3d(0, 0, 5)); // 0.18 s gap
-  m.pushGyro(1.10, Eigen::Vector3d::Zero());   // inside the gap
-  m.pushGyro(1.20, Eigen::Vector3d::Zero());   // exactly on a sample: z = 5
-  m.pushGyro(1.25, Eigen::Vector3d::Zero());   // after the last accelerometer sample
-  m.pushGyro(1.15, Eigen::Vector3d::Zero());   // older than an emitted gyro sample
+  m.pushGyro(1.01, Eigen::Vector3d::Zero());    // interpolated: z = 2
+  m.pushAccel(1.20, Eigen::Vector3d(0, 0, 5));  // 0.18 s gap
+  m.pushGyro(1.10, Eigen::Vector3d::Zero());    // inside the gap
+  m.pushGyro(1.20, Eigen::Vector3d::Zero());    // exactly on a sample: z = 5
+  m.pushGyro(1.25, Eigen::Vector3d::Zero());    // after the last accelerometer sample
+  m.pushGyro(1.15, Eigen::Vector3d::Zero());    // older than an emitted gyro sample
   m.finish();
   std::vector<ImuSample> out;
   ImuSample s;

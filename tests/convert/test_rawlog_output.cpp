@@ -2,7 +2,6 @@
 // ground truth sorted with repeated stamps dropped, all read back (RawlogSource, MRPT, TUM); the
 // progress line; output naming.
 #include <gtest/gtest.h>
-
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/serialization/CArchive.h>
@@ -114,7 +113,8 @@ TEST(RawlogOutput, ReordersWithinTheWindowAndDropsBeyond) {
 TEST(ProgressMeter, LineShowsFractionMegabytesRateAndEta) {
   EXPECT_EQ(ProgressMeter::line("rawlog-convert", 0.25, 200000000, 10.0),
             "rawlog-convert: [#####---------------]  25.0 %  50.0/200.0 MB  5.0 MB/s  ETA 30 s");
-  EXPECT_EQ(ProgressMeter::line("x", 1.0, 1000000, 2.0), "x: [####################] 100.0 %  1.0/1.0 MB  0.5 MB/s  2.0 s");
+  EXPECT_EQ(ProgressMeter::line("x", 1.0, 1000000, 2.0),
+            "x: [####################] 100.0 %  1.0/1.0 MB  0.5 MB/s  2.0 s");
   std::ostringstream os;
   ProgressMeter meter(&os, false, 3600.0, 1000000);
   meter.update(0.5);  // within the interval: nothing printed

@@ -3,10 +3,9 @@
 // ground truth, a missing image reported).
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/convert/tum_rgbd.h"
@@ -44,7 +43,9 @@ std::string makeFolder(const std::string& parent) {
     const double t = 1305031102.0 + k / 30.0;
     std::snprintf(name, sizeof name, "rgb/%.6f.png", t);
     rgb << std::fixed << std::setprecision(6) << t << " " << name << "\n";
-    if (k != 5) cv::imwrite(dir + "/" + name, cv::Mat(480, 640, CV_8UC3, cv::Scalar(10 * k, 100, 200)));  // BGR
+    if (k != 5)
+      cv::imwrite(dir + "/" + name,
+                  cv::Mat(480, 640, CV_8UC3, cv::Scalar(10 * k, 100, 200)));  // BGR
     if (k == 2) continue;  // no depth for this one
     const double td = t + 0.008;
     std::snprintf(name, sizeof name, "depth/%.6f.png", td);
@@ -81,7 +82,8 @@ TEST(TumRgbd, ListErrorsNameFileAndLine) {
     readTumImageList(dir + "/rgb.txt");
     FAIL();
   } catch (const IoError& e) {
-    EXPECT_NE(std::string(e.what()).find(dir + "/rgb.txt line 3: expected 'timestamp filename', got 1 fields"),
+    EXPECT_NE(std::string(e.what()).find(
+                  dir + "/rgb.txt line 3: expected 'timestamp filename', got 1 fields"),
               std::string::npos)
         << e.what();
   }
@@ -147,8 +149,9 @@ TEST(TumRgbd, UnknownCameraNeedsAnOption) {
   const std::string dir = makeFolder(parent);
   const std::string renamed = parent + "/my_kinect_run";
   fs::rename(dir, renamed);
-  EXPECT_THROW(TumRgbdConverter(renamed, bag::ConvertOptions(), "", bag::FallbackCalibration::defaults()),
-               std::invalid_argument);
+  EXPECT_THROW(
+      TumRgbdConverter(renamed, bag::ConvertOptions(), "", bag::FallbackCalibration::defaults()),
+      std::invalid_argument);
   bag::FallbackCalibration user = bag::FallbackCalibration::defaults();
   user.intrinsics_from_user = true;
   user.color.fx = 500.0;

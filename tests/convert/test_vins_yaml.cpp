@@ -69,8 +69,8 @@ TEST(VinsYaml, NoiseMappingKnownAnswers) {
   EXPECT_NEAR(tracked.acc_noise_density, 0.025, 1e-15);
   EXPECT_NEAR(tracked.acc_random_walk, 7.0710678e-5, 1e-12);
   // At 400 Hz the same per-sample values mean smaller densities (dt halves).
-  EXPECT_NEAR(imuOptionsFromVins({0.1, 0.01, 0.0002, 2e-5}, 9.8, 400.0).acc_noise_density, 0.1 * std::sqrt(1.0 / 800.0),
-              1e-15);
+  EXPECT_NEAR(imuOptionsFromVins({0.1, 0.01, 0.0002, 2e-5}, 9.8, 400.0).acc_noise_density,
+              0.1 * std::sqrt(1.0 / 800.0), 1e-15);
 }
 
 TEST(VinsYaml, DatasetCalibrationBecomesTheDefaultConfig) {

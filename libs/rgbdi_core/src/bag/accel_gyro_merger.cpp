@@ -9,9 +9,11 @@ AccelGyroMerger::AccelGyroMerger(double max_accel_gap_s, double max_wait_s)
 
 namespace {
 
-void insertSorted(std::deque<std::pair<double, Eigen::Vector3d>>& q, double t, const Eigen::Vector3d& v) {
-  const auto pos = std::upper_bound(q.begin(), q.end(), t,
-                                    [](double a, const std::pair<double, Eigen::Vector3d>& s) { return a < s.first; });
+void insertSorted(std::deque<std::pair<double, Eigen::Vector3d>>& q, double t,
+                  const Eigen::Vector3d& v) {
+  const auto pos = std::upper_bound(
+      q.begin(), q.end(), t,
+      [](double a, const std::pair<double, Eigen::Vector3d>& s) { return a < s.first; });
   q.insert(pos, {t, v});
 }
 

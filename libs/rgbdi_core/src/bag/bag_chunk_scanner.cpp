@@ -73,7 +73,8 @@ BagChunkScanner::Fields BagChunkScanner::parseFields(const std::uint8_t* p, std:
 void BagChunkScanner::registerConnection(const Fields& header, const std::uint8_t* data,
                                          std::uint32_t size, const std::string& where) {
   ScannedConnection c;
-  if (!field(header, "conn", c.id)) throw BagReadError(path_ + ": connection record without id " + where);
+  if (!field(header, "conn", c.id))
+    throw BagReadError(path_ + ": connection record without id " + where);
   const Fields def = parseFields(data, size, where);
   const auto get = [&](const char* k) {
     const auto it = def.find(k);
@@ -146,7 +147,8 @@ bool BagChunkScanner::readTopLevelRecord() {
   std::uint8_t len_bytes[4];
   in_.read(reinterpret_cast<char*>(len_bytes), 4);
   const std::uint32_t header_len = u32(len_bytes);
-  if (header_len > kMaxHeaderBytes) fail("corrupt record " + where + " (header length " + std::to_string(header_len) + ")");
+  if (header_len > kMaxHeaderBytes)
+    fail("corrupt record " + where + " (header length " + std::to_string(header_len) + ")");
   if (left < 8ull + header_len) fail("truncated: the file ends inside the record header " + where);
   std::vector<std::uint8_t> header_bytes(header_len + 4);
   in_.read(reinterpret_cast<char*>(header_bytes.data()), header_len + 4);
@@ -173,7 +175,8 @@ bool BagChunkScanner::readTopLevelRecord() {
       const std::string cut = "truncated: the file ends inside the chunk " + where + " (" +
                               std::to_string(present) + " of " + std::to_string(data_len) +
                               " bytes present)";
-      if (compression != "none") fail(cut + "; its " + compression + "-compressed messages are lost");
+      if (compression != "none")
+        fail(cut + "; its " + compression + "-compressed messages are lost");
       // An uncompressed chunk still holds its complete records: deliver those first.
       pending_error_ = cut;
       chunk_.swap(raw_);
@@ -186,8 +189,9 @@ bool BagChunkScanner::readTopLevelRecord() {
       chunk_.resize(size);
       try {
         rosbag::ChunkedFile decompressor;
-        decompressor.decompress(compression == "bz2" ? rosbag::compression::BZ2 : rosbag::compression::LZ4,
-                                chunk_.data(), size, raw_.data(), data_len);
+        decompressor.decompress(
+            compression == "bz2" ? rosbag::compression::BZ2 : rosbag::compression::LZ4,
+            chunk_.data(), size, raw_.data(), data_len);
       } catch (const std::exception& e) {
         fail("corrupt " + compression + " chunk " + where + ": " + e.what());
       }

@@ -45,19 +45,20 @@ std::string fixed(double v, int digits) {
 
 std::string describeCamera(const PinholeCamera& c) {
   std::ostringstream os;
-  os << c.width << "x" << c.height << ", fx " << fixed(c.fx, 3) << " fy " << fixed(c.fy, 3) << " cx "
-     << fixed(c.cx, 3) << " cy " << fixed(c.cy, 3);
+  os << c.width << "x" << c.height << ", fx " << fixed(c.fx, 3) << " fy " << fixed(c.fy, 3)
+     << " cx " << fixed(c.cx, 3) << " cy " << fixed(c.cy, 3);
   if (c.hasDistortion())
-    os << ", distortion " << c.dist[0] << " " << c.dist[1] << " " << c.dist[2] << " " << c.dist[3] << " "
-       << c.dist[4];
+    os << ", distortion " << c.dist[0] << " " << c.dist[1] << " " << c.dist[2] << " " << c.dist[3]
+       << " " << c.dist[4];
   return os.str();
 }
 
 std::string describePose(const Eigen::Isometry3d& T) {
   const Eigen::AngleAxisd aa(T.rotation());
   std::ostringstream os;
-  os << "translation (" << fixed(T.translation().x(), 4) << ", " << fixed(T.translation().y(), 4) << ", "
-     << fixed(T.translation().z(), 4) << ") m, rotation " << fixed(aa.angle() * 180.0 / M_PI, 3) << " deg";
+  os << "translation (" << fixed(T.translation().x(), 4) << ", " << fixed(T.translation().y(), 4)
+     << ", " << fixed(T.translation().z(), 4) << ") m, rotation "
+     << fixed(aa.angle() * 180.0 / M_PI, 3) << " deg";
   return os.str();
 }
 
@@ -112,7 +113,8 @@ struct BagConverter::Impl {
       cam_color = fallback.color;
       color_source = fallback.color_source;
     }
-    calibration_lines.push_back("colour intrinsics: " + describeCamera(cam_color) + " (" + color_source + ")");
+    calibration_lines.push_back("colour intrinsics: " + describeCamera(cam_color) + " (" +
+                                color_source + ")");
 
     if (layout.depth_aligned) {
       cam_depth = cam_color;
@@ -121,22 +123,24 @@ struct BagConverter::Impl {
     } else if (firstMessage(layout.depth_info, info)) {
       cam_depth = cameraFromInfo(info, path + " " + layout.depth_info);
       depth_source = "camera_info " + layout.depth_info;
-      calibration_lines.push_back("depth intrinsics: " + describeCamera(cam_depth) + " (" + depth_source + ")");
+      calibration_lines.push_back("depth intrinsics: " + describeCamera(cam_depth) + " (" +
+                                  depth_source + ")");
     } else {
       cam_depth = cam_color;
       depth_source = color_source;
-      calibration_lines.push_back("depth intrinsics: none in the bag; the colour intrinsics are used");
+      calibration_lines.push_back(
+          "depth intrinsics: none in the bag; the colour intrinsics are used");
     }
 
     std_msgs::Float32 units;
     if (firstMessage(layout.depth_units, units)) {
       if (!(units.data > 0.0f) || !(units.data < 1.0f))
-        throw CalibrationError(path + " " + layout.depth_units + ": depth unit " + std::to_string(units.data) +
-                               " m is not plausible");
+        throw CalibrationError(path + " " + layout.depth_units + ": depth unit " +
+                               std::to_string(units.data) + " m is not plausible");
       // The option is a float: 0.001f read back as the decimal it was meant to be.
       depth_unit = std::stod(fixed(static_cast<double>(units.data), 9));
-      calibration_lines.push_back("depth unit: " + fixed(depth_unit * 1e3, 6) + " mm for 16-bit depth (" +
-                                  layout.depth_units + ")");
+      calibration_lines.push_back("depth unit: " + fixed(depth_unit * 1e3, 6) +
+                                  " mm for 16-bit depth (" + layout.depth_units + ")");
     } else {
       depth_unit = options.integer_depth_unit_m;
       calibration_lines.push_back("depth unit: " + fixed(depth_unit * 1e3, 6) +
@@ -144,15 +148,17 @@ struct BagConverter::Impl {
     }
 
     geometry_msgs::Transform tf;
-    Eigen::Isometry3d T_ref_color = Eigen::Isometry3d::Identity(), T_ref_depth = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_ref_color = Eigen::Isometry3d::Identity(),
+                      T_ref_depth = Eigen::Isometry3d::Identity();
     const bool have_color_tf = firstMessage(layout.color_tf, tf);
     if (have_color_tf) T_ref_color = isometryFromTransform(tf, path + " " + layout.color_tf);
-    if (firstMessage(layout.depth_tf, tf)) T_ref_depth = isometryFromTransform(tf, path + " " + layout.depth_tf);
+    if (firstMessage(layout.depth_tf, tf))
+      T_ref_depth = isometryFromTransform(tf, path + " " + layout.depth_tf);
     if (!layout.depth_aligned) {
       if (have_color_tf) {
         T_color_depth = T_ref_color.inverse() * T_ref_depth;
-        calibration_lines.push_back("depth camera in the colour camera: " + describePose(T_color_depth) + " (" +
-                                    layout.color_tf + ")");
+        calibration_lines.push_back("depth camera in the colour camera: " +
+                                    describePose(T_color_depth) + " (" + layout.color_tf + ")");
       } else {
         calibration_lines.push_back(
             "depth camera in the colour camera: unknown (no extrinsics in the bag); identity used");
@@ -163,17 +169,20 @@ struct BagConverter::Impl {
     if (has_imu && have_color_tf && firstMessage(layout.imu_tf, tf)) {
       const Eigen::Isometry3d T_ref_imu = isometryFromTransform(tf, path + " " + layout.imu_tf);
       T_body_cam = T_ref_imu.inverse() * T_ref_color;
-      calibration_lines.push_back("colour camera in the IMU (body) frame: " + describePose(T_body_cam) + " (" +
-                                  layout.imu_tf + ", " + layout.color_tf + ")");
+      calibration_lines.push_back(
+          "colour camera in the IMU (body) frame: " + describePose(T_body_cam) + " (" +
+          layout.imu_tf + ", " + layout.color_tf + ")");
     } else {
       T_body_cam = fallback.T_body_cam;
-      calibration_lines.push_back("colour camera in the body frame (sensorPose): " + describePose(T_body_cam) +
-                                  " (" + fallback.extrinsic_source + ")");
+      calibration_lines.push_back(
+          "colour camera in the body frame (sensorPose): " + describePose(T_body_cam) + " (" +
+          fallback.extrinsic_source + ")");
     }
   }
 
   std::string label(const BagMessage& m, double stamp) const {
-    return path + " " + *m.topic + " message " + std::to_string(m.ordinal) + " (stamp " + fixed(stamp, 6) + " s)";
+    return path + " " + *m.topic + " message " + std::to_string(m.ordinal) + " (stamp " +
+           fixed(stamp, 6) + " s)";
   }
 
   void checkSize(const cv::Mat& img, const PinholeCamera& cam, const std::string& what,
@@ -181,9 +190,10 @@ struct BagConverter::Impl {
     if (checked) return;
     checked = true;
     if (img.cols != cam.width || img.rows != cam.height) {
-      throw CalibrationMismatch(where + ": " + what + " images are " + std::to_string(img.cols) + "x" +
-                                std::to_string(img.rows) + " but the intrinsics (" + source + ") are for " +
-                                std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+      throw CalibrationMismatch(where + ": " + what + " images are " + std::to_string(img.cols) +
+                                "x" + std::to_string(img.rows) + " but the intrinsics (" + source +
+                                ") are for " + std::to_string(cam.width) + "x" +
+                                std::to_string(cam.height) +
                                 "; give this camera's calibration with --config or --camera-yaml");
     }
   }
@@ -217,7 +227,8 @@ struct BagConverter::Impl {
   }
 
   /// Handles one message; unreadable messages are reported and skipped.
-  void handle(const BagMessage& m, Role role, RgbdPairer& pairer, AccelGyroMerger& merger, ConversionSink& sink) {
+  void handle(const BagMessage& m, Role role, RgbdPairer& pairer, AccelGyroMerger& merger,
+              ConversionSink& sink) {
     const auto stampOf = [&](const std_msgs::Header& h) {
       if (h.stamp.isZero()) {
         ++report.stamps_from_bag_time;
@@ -231,7 +242,8 @@ struct BagConverter::Impl {
         case Role::Color:
         case Role::Depth: {
           StampedImage img;
-          const bool compressed = role == Role::Color ? layout.color_compressed : layout.depth_compressed;
+          const bool compressed =
+              role == Role::Color ? layout.color_compressed : layout.depth_compressed;
           if (compressed) {
             sensor_msgs::CompressedImage msg;
             deserialize(m.data, m.size, msg);
@@ -276,8 +288,10 @@ struct BagConverter::Impl {
           deserialize(m.data, m.size, msg);
           ImuSample s;
           s.t = stampOf(msg.header);
-          s.acc = Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z);
-          s.gyr = Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z);
+          s.acc = Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y,
+                                  msg.linear_acceleration.z);
+          s.gyr = Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y,
+                                  msg.angular_velocity.z);
           ++report.imu_messages;
           sink.imu(s);
           break;
@@ -288,10 +302,12 @@ struct BagConverter::Impl {
           deserialize(m.data, m.size, msg);
           const double t = stampOf(msg.header);
           if (role == Role::Accel)
-            merger.pushAccel(t, Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y,
-                                                msg.linear_acceleration.z));
+            merger.pushAccel(t,
+                             Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y,
+                                             msg.linear_acceleration.z));
           else
-            merger.pushGyro(t, Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z));
+            merger.pushGyro(t, Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y,
+                                               msg.angular_velocity.z));
           deliverImu(merger, sink);
           break;
         }
@@ -301,11 +317,12 @@ struct BagConverter::Impl {
           StampedPose p;
           p.t = stampOf(msg.header);
           p.p = Eigen::Vector3d(msg.pose.position.x, msg.pose.position.y, msg.pose.position.z);
-          p.q = Eigen::Quaterniond(msg.pose.orientation.w, msg.pose.orientation.x, msg.pose.orientation.y,
-                                   msg.pose.orientation.z);
+          p.q = Eigen::Quaterniond(msg.pose.orientation.w, msg.pose.orientation.x,
+                                   msg.pose.orientation.y, msg.pose.orientation.z);
           if (!(p.q.norm() > 1e-6) || !p.p.allFinite() || !p.q.coeffs().allFinite()) {
             ++report.unreadable;
-            report.addIssue("unreadable", where + ": invalid pose (zero or non-finite quaternion/position)",
+            report.addIssue("unreadable",
+                            where + ": invalid pose (zero or non-finite quaternion/position)",
                             options.max_listed_issues);
             break;
           }
@@ -321,13 +338,14 @@ struct BagConverter::Impl {
     } catch (const ros::Exception& e) {
       // Message bytes that do not deserialise (e.g. a damaged record in an uncompressed chunk).
       ++report.unreadable;
-      report.addIssue("unreadable", where + ": cannot deserialise: " + e.what(), options.max_listed_issues);
+      report.addIssue("unreadable", where + ": cannot deserialise: " + e.what(),
+                      options.max_listed_issues);
     }
   }
 };
 
-BagConverter::BagConverter(const std::string& path, const ConvertOptions& options, const BagInputOptions& input,
-                           const FallbackCalibration& fallback)
+BagConverter::BagConverter(const std::string& path, const ConvertOptions& options,
+                           const BagInputOptions& input, const FallbackCalibration& fallback)
     : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   d.path = path;
@@ -354,7 +372,9 @@ const PinholeCamera& BagConverter::colorCamera() const { return impl_->cam_color
 const PinholeCamera& BagConverter::depthCamera() const { return impl_->cam_depth; }
 double BagConverter::depthUnit() const { return impl_->depth_unit; }
 const Eigen::Isometry3d& BagConverter::T_color_depth() const { return impl_->T_color_depth; }
-const std::vector<std::string>& BagConverter::calibration() const { return impl_->calibration_lines; }
+const std::vector<std::string>& BagConverter::calibration() const {
+  return impl_->calibration_lines;
+}
 const BagReader& BagConverter::reader() const { return *impl_->reader; }
 
 ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback& progress,
@@ -372,9 +392,10 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
   for (const BagTopic& t : d.reader->topics()) {
     const auto it = d.roles.find(t.topic);
     if (it == d.roles.end()) continue;
-    static const char* names[] = {"colour", "depth", "IMU", "accelerometer", "gyroscope", "ground truth"};
-    r.streams.push_back(std::string(names[static_cast<int>(it->second)]) + ": " + t.topic + " (" + t.datatype +
-                        ", " + std::to_string(t.messages) + " messages)");
+    static const char* names[] = {"colour",        "depth",     "IMU",
+                                  "accelerometer", "gyroscope", "ground truth"};
+    r.streams.push_back(std::string(names[static_cast<int>(it->second)]) + ": " + t.topic + " (" +
+                        t.datatype + ", " + std::to_string(t.messages) + " messages)");
   }
   r.notes = d.layout.notes;
   if (!d.reader->indexed()) r.notes.push_back(d.reader->recoveryReason());
@@ -390,7 +411,8 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
       d.handle(m, d.roles.at(*m.topic), pairer, merger, sink);
       if (progress) progress(d.reader->fraction());
     }
-    if (stop && stop->load()) r.notes.push_back("interrupted: the conversion stopped before the end of the bag");
+    if (stop && stop->load())
+      r.notes.push_back("interrupted: the conversion stopped before the end of the bag");
   } catch (const BagReadError& e) {
     r.error = e.what();
   } catch (const CalibrationMismatch& e) {
@@ -399,7 +421,8 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
     calibration_failed = true;
   }
   if (r.error.empty() && !d.reader->indexed())
-    r.error = d.path + ": " + d.reader->recoveryReason() + "; every chunk up to the end of the file was read";
+    r.error = d.path + ": " + d.reader->recoveryReason() +
+              "; every chunk up to the end of the file was read";
   pairer.finish();
   merger.finish();
   if (!calibration_failed) {

@@ -43,7 +43,8 @@ std::string parentOf(const std::string& topic) {
 
 /// RealSense SDK recording: the first stream of each kind, by sorted topic name.
 void detectRealSense(const Topics& topics, BagLayout& l) {
-  static const std::regex stream_re(R"(^(/device_\d+/sensor_\d+/)(Color|Depth|Accel|Gyro)_(\d+)/(image|imu)/data$)");
+  static const std::regex stream_re(
+      R"(^(/device_\d+/sensor_\d+/)(Color|Depth|Accel|Gyro)_(\d+)/(image|imu)/data$)");
   std::map<std::string, std::string> stream_prefix;  // kind -> "/device_0/sensor_1/Color_0/"
   std::map<std::string, std::string> sensor_prefix;  // kind -> "/device_0/sensor_1/"
   for (const auto& [name, t] : topics.all()) {
@@ -89,19 +90,22 @@ void detectRealSense(const Topics& topics, BagLayout& l) {
 }
 
 void detectDataset(const Topics& topics, BagLayout& l) {
-  const auto first = [&](std::initializer_list<const char*> names, std::initializer_list<const char*> types) {
+  const auto first = [&](std::initializer_list<const char*> names,
+                         std::initializer_list<const char*> types) {
     for (const char* n : names)
       for (const char* t : types)
         if (topics.has(n, t)) return std::string(n);
     return std::string();
   };
-  l.color = first({"/camera/color/image_raw", "/camera/color/image_raw/compressed"}, {kImage, kCompressed});
+  l.color = first({"/camera/color/image_raw", "/camera/color/image_raw/compressed"},
+                  {kImage, kCompressed});
   l.depth = first({"/camera/aligned_depth_to_color/image_raw",
                    "/camera/aligned_depth_to_color/image_raw/compressedDepth",
                    "/camera/aligned_depth_to_color/image_raw/compressed"},
                   {kImage, kCompressed});
   l.imu = first({"/camera/imu"}, {kImu});
-  if (l.imu.empty() && topics.has("/camera/accel/sample", kImu) && topics.has("/camera/gyro/sample", kImu)) {
+  if (l.imu.empty() && topics.has("/camera/accel/sample", kImu) &&
+      topics.has("/camera/gyro/sample", kImu)) {
     l.accel = "/camera/accel/sample";
     l.gyro = "/camera/gyro/sample";
   }
@@ -116,18 +120,19 @@ void detectDataset(const Topics& topics, BagLayout& l) {
   if (!candidates.empty()) {
     l.groundtruth = candidates.front();
     if (poses.size() > 1)
-      l.notes.push_back("several geometry_msgs/PoseStamped topics; ground truth from " + l.groundtruth +
-                        " (choose another with --groundtruth-topic)");
+      l.notes.push_back("several geometry_msgs/PoseStamped topics; ground truth from " +
+                        l.groundtruth + " (choose another with --groundtruth-topic)");
   }
   l.depth_aligned = true;
 }
 
-void checkType(const Topics& topics, const std::string& topic, std::initializer_list<const char*> types,
-               const std::string& what, const std::vector<BagTopic>& list, const std::string& path) {
+void checkType(const Topics& topics, const std::string& topic,
+               std::initializer_list<const char*> types, const std::string& what,
+               const std::vector<BagTopic>& list, const std::string& path) {
   const BagTopic* t = topics.find(topic);
   if (!t)
-    throw BagLayoutError(path + ": " + what + " topic '" + topic + "' is not in the bag; its topics are:\n" +
-                         describeTopics(list));
+    throw BagLayoutError(path + ": " + what + " topic '" + topic +
+                         "' is not in the bag; its topics are:\n" + describeTopics(list));
   for (const char* ty : types)
     if (t->datatype == ty) return;
   std::string expected;
@@ -147,9 +152,12 @@ bool apply(const std::string& override_topic, std::string& slot) {
 
 std::string toString(BagLayoutKind k) {
   switch (k) {
-    case BagLayoutKind::Dataset: return "VINS-RGBD dataset layout";
-    case BagLayoutKind::RealSense: return "RealSense SDK recording layout";
-    case BagLayoutKind::Custom: return "topics given on the command line";
+    case BagLayoutKind::Dataset:
+      return "VINS-RGBD dataset layout";
+    case BagLayoutKind::RealSense:
+      return "RealSense SDK recording layout";
+    case BagLayoutKind::Custom:
+      return "topics given on the command line";
   }
   return "?";
 }
@@ -212,7 +220,8 @@ BagLayout resolveBagLayout(const std::vector<BagTopic>& list, const TopicOverrid
   // Automatic camera_info next to the image topics (e.g. realsense-ros: /camera/color/camera_info).
   if (o.color_info.empty() && l.color_info.empty() && !l.color.empty()) {
     std::string dir = parentOf(l.color);
-    if (l.color.size() > 11 && l.color.compare(l.color.size() - 11, 11, "/compressed") == 0) dir = parentOf(dir);
+    if (l.color.size() > 11 && l.color.compare(l.color.size() - 11, 11, "/compressed") == 0)
+      dir = parentOf(dir);
     if (topics.has(dir + "/camera_info", kCameraInfo)) l.color_info = dir + "/camera_info";
   }
   if (o.depth_info.empty() && l.depth_info.empty() && !l.depth.empty()) {
@@ -222,12 +231,13 @@ BagLayout resolveBagLayout(const std::vector<BagTopic>& list, const TopicOverrid
   }
 
   if (l.color.empty() && l.depth.empty()) {
-    throw BagLayoutError(path + ": no colour or depth image topic found (looked for " +
-                         (realsense ? std::string("/device_N/sensor_N/{Color,Depth}_N/image/data")
-                                    : std::string("/camera/color/image_raw and "
-                                                  "/camera/aligned_depth_to_color/image_raw")) +
-                         "; name them with --color-topic / --depth-topic). The bag's topics are:\n" +
-                         describeTopics(list));
+    throw BagLayoutError(
+        path + ": no colour or depth image topic found (looked for " +
+        (realsense ? std::string("/device_N/sensor_N/{Color,Depth}_N/image/data")
+                   : std::string("/camera/color/image_raw and "
+                                 "/camera/aligned_depth_to_color/image_raw")) +
+        "; name them with --color-topic / --depth-topic). The bag's topics are:\n" +
+        describeTopics(list));
   }
   if (!l.color.empty()) checkType(topics, l.color, {kImage, kCompressed}, "colour", list, path);
   if (!l.depth.empty()) checkType(topics, l.depth, {kImage, kCompressed}, "depth", list, path);
@@ -235,20 +245,24 @@ BagLayout resolveBagLayout(const std::vector<BagTopic>& list, const TopicOverrid
   if (!l.accel.empty()) checkType(topics, l.accel, {kImu}, "accelerometer", list, path);
   if (!l.gyro.empty()) checkType(topics, l.gyro, {kImu}, "gyroscope", list, path);
   if (!l.groundtruth.empty()) checkType(topics, l.groundtruth, {kPose}, "ground-truth", list, path);
-  if (!l.color_info.empty()) checkType(topics, l.color_info, {kCameraInfo}, "colour camera_info", list, path);
-  if (!l.depth_info.empty()) checkType(topics, l.depth_info, {kCameraInfo}, "depth camera_info", list, path);
+  if (!l.color_info.empty())
+    checkType(topics, l.color_info, {kCameraInfo}, "colour camera_info", list, path);
+  if (!l.depth_info.empty())
+    checkType(topics, l.depth_info, {kCameraInfo}, "depth camera_info", list, path);
   l.color_compressed = !l.color.empty() && topics.find(l.color)->datatype == kCompressed;
   l.depth_compressed = !l.depth.empty() && topics.find(l.depth)->datatype == kCompressed;
   if (depth_aligned) l.depth_aligned = *depth_aligned;
 
   if (l.color.empty()) l.notes.push_back("no colour image topic: depth-only observations");
-  if (l.depth.empty()) l.notes.push_back("no depth image topic: colour frames have no partner and are dropped");
+  if (l.depth.empty())
+    l.notes.push_back("no depth image topic: colour frames have no partner and are dropped");
   if (l.imu.empty() && l.accel.empty())
     l.notes.push_back(std::string("no IMU topic") +
                       (realsense ? " (the recording has no Accel/Gyro streams)"
                                  : " (looked for /camera/imu; name one with --imu-topic)") +
                       ": no CObservationIMU written");
-  if (l.groundtruth.empty()) l.notes.push_back("no geometry_msgs/PoseStamped topic: no ground truth written");
+  if (l.groundtruth.empty())
+    l.notes.push_back("no geometry_msgs/PoseStamped topic: no ground truth written");
   return l;
 }
 

@@ -122,7 +122,8 @@ class BagReader::Indexed {
 
   double fraction() const {
     if (done_ || selected_ == 0) return done_ ? 1.0 : 0.0;
-    if (sel_end_ <= sel_begin_) return static_cast<double>(ordinal_) / static_cast<double>(selected_);
+    if (sel_end_ <= sel_begin_)
+      return static_cast<double>(ordinal_) / static_cast<double>(selected_);
     return std::clamp((last_time_ - sel_begin_) / (sel_end_ - sel_begin_), 0.0, 1.0);
   }
 
@@ -210,8 +211,8 @@ class BagReader::Recovering {
   }
 
   double fraction() const {
-    return std::clamp(static_cast<double>(scanner_->position()) / static_cast<double>(readable_bytes_),
-                      0.0, 1.0);
+    return std::clamp(
+        static_cast<double>(scanner_->position()) / static_cast<double>(readable_bytes_), 0.0, 1.0);
   }
 
   std::string path_;
@@ -226,7 +227,8 @@ class BagReader::Recovering {
 
 // ---------------------------------------------------------------------------------------------
 
-BagReader::BagReader(const std::string& path, const std::vector<std::string>& topics) : path_(path) {
+BagReader::BagReader(const std::string& path, const std::vector<std::string>& topics)
+    : path_(path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw BagError(path + ": no such file or directory");
   if (std::filesystem::is_directory(path, ec)) throw BagError(path + ": is a directory, not a bag");
@@ -249,7 +251,8 @@ BagReader::BagReader(const std::string& path, const std::vector<std::string>& to
     }
     if (probe.indexPosition() > probe.fileSize()) {
       reason += ": the file is truncated (" + std::to_string(probe.fileSize()) +
-                " bytes; its index was to start at byte " + std::to_string(probe.indexPosition()) + ")";
+                " bytes; its index was to start at byte " + std::to_string(probe.indexPosition()) +
+                ")";
     } else if (probe.indexPosition() == 0) {
       reason += ": the bag was never indexed (interrupted recording?)";
     }
@@ -258,7 +261,8 @@ BagReader::BagReader(const std::string& path, const std::vector<std::string>& to
   } catch (const BagError& e) {
     throw BagError(path + ": cannot open as a ROS1 bag: " + index_error + "; " + e.what());
   }
-  recovering_ = std::make_unique<Recovering>(path, topics, reason + "; reading its chunks in file order");
+  recovering_ =
+      std::make_unique<Recovering>(path, topics, reason + "; reading its chunks in file order");
 }
 
 BagReader::~BagReader() = default;
@@ -295,9 +299,13 @@ void BagReader::select(const std::vector<std::string>& topics) {
     recovering_->select(topics);
 }
 
-bool BagReader::next(BagMessage& out) { return indexed_ ? indexed_->next(out) : recovering_->next(out); }
+bool BagReader::next(BagMessage& out) {
+  return indexed_ ? indexed_->next(out) : recovering_->next(out);
+}
 
-double BagReader::fraction() const { return indexed_ ? indexed_->fraction() : recovering_->fraction(); }
+double BagReader::fraction() const {
+  return indexed_ ? indexed_->fraction() : recovering_->fraction();
+}
 
 std::uint64_t BagReader::selectedMessages() const {
   return indexed_ ? indexed_->selected_ : recovering_->selected_;

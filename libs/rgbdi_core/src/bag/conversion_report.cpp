@@ -6,10 +6,12 @@
 
 namespace rgbdi::bag {
 
-void ConversionReport::addIssue(const std::string& kind, const std::string& message, int max_listed) {
+void ConversionReport::addIssue(const std::string& kind, const std::string& message,
+                                int max_listed) {
   IssueList& l = issues_[kind];
   ++l.count;
-  if (l.listed.size() < static_cast<std::size_t>(std::max(0, max_listed))) l.listed.push_back(message);
+  if (l.listed.size() < static_cast<std::size_t>(std::max(0, max_listed)))
+    l.listed.push_back(message);
 }
 
 std::size_t ConversionReport::issueCount(const std::string& kind) const {
@@ -27,7 +29,8 @@ void ConversionReport::absorbWriter(const ConversionReport& w, int max_listed) {
     IssueList& mine = issues_[kind];
     mine.count += l.count;
     for (const std::string& m : l.listed)
-      if (mine.listed.size() < static_cast<std::size_t>(std::max(0, max_listed))) mine.listed.push_back(m);
+      if (mine.listed.size() < static_cast<std::size_t>(std::max(0, max_listed)))
+        mine.listed.push_back(m);
   }
 }
 
@@ -45,15 +48,16 @@ std::string ConversionReport::text() const {
   list("Calibration:", calibration);
 
   const std::size_t depth_only = pairing.depth_alone - depth_alone_dropped;
-  os << "Written: " << frames_written << " RGB-D observations (" << pairing.pairs << " colour+depth, "
-     << depth_only << " depth-only), " << imu_written << " IMU observations, " << groundtruth_written
-     << " ground-truth poses\n";
+  os << "Written: " << frames_written << " RGB-D observations (" << pairing.pairs
+     << " colour+depth, " << depth_only << " depth-only), " << imu_written << " IMU observations, "
+     << groundtruth_written << " ground-truth poses\n";
 
   std::vector<std::string> dropped;
   std::ostringstream d;
   d << std::fixed << std::setprecision(3);
   if (pairing.color_alone) {
-    d << pairing.color_alone << " colour image(s) without a depth image within " << pair_tolerance_s << " s";
+    d << pairing.color_alone << " colour image(s) without a depth image within " << pair_tolerance_s
+      << " s";
     dropped.push_back(d.str());
     d.str("");
   }
@@ -63,27 +67,41 @@ std::string ConversionReport::text() const {
     dropped.push_back(d.str());
     d.str("");
   }
-  if (merge.gyro_before_accel) dropped.push_back(std::to_string(merge.gyro_before_accel) + " gyro sample(s) before the first accelerometer sample");
-  if (merge.gyro_after_accel) dropped.push_back(std::to_string(merge.gyro_after_accel) + " gyro sample(s) after the last accelerometer sample");
-  if (merge.gyro_in_accel_gap) dropped.push_back(std::to_string(merge.gyro_in_accel_gap) + " gyro sample(s) inside an accelerometer gap");
-  if (merge.out_of_order) dropped.push_back(std::to_string(merge.out_of_order) + " IMU sample(s) out of order");
-  if (unreadable) dropped.push_back(std::to_string(unreadable) + " unreadable message(s)/file(s) (listed below)");
+  if (merge.gyro_before_accel)
+    dropped.push_back(std::to_string(merge.gyro_before_accel) +
+                      " gyro sample(s) before the first accelerometer sample");
+  if (merge.gyro_after_accel)
+    dropped.push_back(std::to_string(merge.gyro_after_accel) +
+                      " gyro sample(s) after the last accelerometer sample");
+  if (merge.gyro_in_accel_gap)
+    dropped.push_back(std::to_string(merge.gyro_in_accel_gap) +
+                      " gyro sample(s) inside an accelerometer gap");
+  if (merge.out_of_order)
+    dropped.push_back(std::to_string(merge.out_of_order) + " IMU sample(s) out of order");
+  if (unreadable)
+    dropped.push_back(std::to_string(unreadable) + " unreadable message(s)/file(s) (listed below)");
   if (dropped_by_ordering)
-    dropped.push_back(std::to_string(dropped_by_ordering) + " measurement(s) with a duplicate or too late stamp (listed below)");
+    dropped.push_back(std::to_string(dropped_by_ordering) +
+                      " measurement(s) with a duplicate or too late stamp (listed below)");
   list("Dropped:", dropped);
   if (depth_clipped_pixels)
-    os << "Depth: " << depth_clipped_pixels << " float depth pixel(s) beyond the 16-bit range set to 0\n";
+    os << "Depth: " << depth_clipped_pixels
+       << " float depth pixel(s) beyond the 16-bit range set to 0\n";
   if (stamps_from_bag_time)
-    os << "Stamps: " << stamps_from_bag_time << " message(s) had a zero header stamp; their bag time was used\n";
+    os << "Stamps: " << stamps_from_bag_time
+       << " message(s) had a zero header stamp; their bag time was used\n";
   for (const auto& [kind, l] : issues_) {
     os << "Issues (" << kind << "): " << l.count << "\n";
     for (const std::string& m : l.listed) os << "  " << m << "\n";
-    if (l.count > l.listed.size()) os << "  ... " << (l.count - l.listed.size()) << " more not listed\n";
+    if (l.count > l.listed.size())
+      os << "  ... " << (l.count - l.listed.size()) << " more not listed\n";
   }
   list("Notes:", notes);
   list("Output:", outputs);
   os << std::setprecision(2) << "Time: " << wall_time_s << " s";
-  if (wall_time_s > 0) os << std::setprecision(1) << ", " << static_cast<double>(input_bytes) / 1e6 / wall_time_s << " MB/s";
+  if (wall_time_s > 0)
+    os << std::setprecision(1) << ", " << static_cast<double>(input_bytes) / 1e6 / wall_time_s
+       << " MB/s";
   os << "\n";
   if (!error.empty()) os << "ERROR: " << error << "\n";
   return os.str();

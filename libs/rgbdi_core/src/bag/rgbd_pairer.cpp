@@ -29,7 +29,8 @@ void RgbdPairer::finish() {
 }
 
 bool RgbdPairer::decided(int stream, double t) const {
-  return finished_ || (seen_[stream] && latest_[stream] > t + tolerance_) || newest_ > t + max_wait_;
+  return finished_ || (seen_[stream] && latest_[stream] > t + tolerance_) ||
+         newest_ > t + max_wait_;
 }
 
 long RgbdPairer::nearest(int stream, double t) const {
@@ -57,7 +58,9 @@ void RgbdPairer::emitAlone(int stream, StampedImage image) {
 void RgbdPairer::process() {
   while (!queue_[0].empty() || !queue_[1].empty()) {
     // The oldest buffered image decides first.
-    const int x = queue_[0].empty() ? 1 : queue_[1].empty() ? 0 : (queue_[0].front().t <= queue_[1].front().t ? 0 : 1);
+    const int x = queue_[0].empty()   ? 1
+                  : queue_[1].empty() ? 0
+                                      : (queue_[0].front().t <= queue_[1].front().t ? 0 : 1);
     const int y = 1 - x;
     const double tx = queue_[x].front().t;
     if (!decided(y, tx)) return;

@@ -1,13 +1,12 @@
 #include "rgbdi/bag/ros_image.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace rgbdi::bag {
 namespace {
@@ -23,11 +22,13 @@ cv::Mat view(const sensor_msgs::Image& m, int type, const std::string& label) {
     throw ImageDecodeError(label + ": empty image (" + std::to_string(m.width) + "x" +
                            std::to_string(m.height) + ")");
   if (m.step < m.width * bpp)
-    throw ImageDecodeError(label + ": row step " + std::to_string(m.step) + " bytes is shorter than " +
-                           std::to_string(m.width) + " pixels of encoding " + m.encoding);
+    throw ImageDecodeError(label + ": row step " + std::to_string(m.step) +
+                           " bytes is shorter than " + std::to_string(m.width) +
+                           " pixels of encoding " + m.encoding);
   if (m.data.size() < static_cast<std::size_t>(m.step) * m.height)
     throw ImageDecodeError(label + ": " + std::to_string(m.data.size()) + " bytes of data for " +
-                           std::to_string(m.height) + " rows of " + std::to_string(m.step) + " bytes");
+                           std::to_string(m.height) + " rows of " + std::to_string(m.step) +
+                           " bytes");
   return cv::Mat(static_cast<int>(m.height), static_cast<int>(m.width), type,
                  const_cast<std::uint8_t*>(m.data.data()), m.step);
 }
@@ -38,7 +39,8 @@ cv::Mat host16(const sensor_msgs::Image& m, const std::string& label) {
   if (m.is_bigendian) {
     for (int r = 0; r < out.rows; ++r) {
       auto* p = out.ptr<std::uint16_t>(r);
-      for (int c = 0; c < out.cols; ++c) p[c] = static_cast<std::uint16_t>((p[c] >> 8) | (p[c] << 8));
+      for (int c = 0; c < out.cols; ++c)
+        p[c] = static_cast<std::uint16_t>((p[c] >> 8) | (p[c] << 8));
     }
   }
   return out;
@@ -61,9 +63,15 @@ cv::Mat host32f(const sensor_msgs::Image& m, const std::string& label) {
 cv::Mat toRgb(const cv::Mat& decoded_bgr_like, const std::string& label) {
   cv::Mat rgb;
   switch (decoded_bgr_like.channels()) {
-    case 1: cv::cvtColor(decoded_bgr_like, rgb, cv::COLOR_GRAY2RGB); break;
-    case 3: cv::cvtColor(decoded_bgr_like, rgb, cv::COLOR_BGR2RGB); break;
-    case 4: cv::cvtColor(decoded_bgr_like, rgb, cv::COLOR_BGRA2RGB); break;
+    case 1:
+      cv::cvtColor(decoded_bgr_like, rgb, cv::COLOR_GRAY2RGB);
+      break;
+    case 3:
+      cv::cvtColor(decoded_bgr_like, rgb, cv::COLOR_BGR2RGB);
+      break;
+    case 4:
+      cv::cvtColor(decoded_bgr_like, rgb, cv::COLOR_BGRA2RGB);
+      break;
     default:
       throw ImageDecodeError(label + ": decoded image has " +
                              std::to_string(decoded_bgr_like.channels()) + " channels");
@@ -82,13 +90,15 @@ bool startsWithPng(const std::uint8_t* p, std::size_t n) {
 
 cv::Mat imdecodeOrThrow(const std::uint8_t* p, std::size_t n, int flags, const std::string& label,
                         const std::string& format) {
-  if (n == 0) throw ImageDecodeError(label + ": compressed image (format '" + format + "') has no data");
+  if (n == 0)
+    throw ImageDecodeError(label + ": compressed image (format '" + format + "') has no data");
   const cv::Mat buf(1, static_cast<int>(n), CV_8UC1, const_cast<std::uint8_t*>(p));
   cv::Mat img;
   try {
     img = cv::imdecode(buf, flags);
   } catch (const cv::Exception& e) {
-    throw ImageDecodeError(label + ": cannot decode compressed image (format '" + format + "'): " + e.what());
+    throw ImageDecodeError(label + ": cannot decode compressed image (format '" + format +
+                           "'): " + e.what());
   }
   if (img.empty())
     throw ImageDecodeError(label + ": cannot decode compressed image (format '" + format + "')");
@@ -148,7 +158,8 @@ cv::Mat decodeColorImage(const sensor_msgs::CompressedImage& m, const std::strin
   if (f.find("compresseddepth") != std::string::npos)
     throw ImageDecodeError(label + ": compressed depth image (format '" + m.format +
                            "') on the colour topic");
-  const cv::Mat img = imdecodeOrThrow(m.data.data(), m.data.size(), cv::IMREAD_UNCHANGED, label, m.format);
+  const cv::Mat img =
+      imdecodeOrThrow(m.data.data(), m.data.size(), cv::IMREAD_UNCHANGED, label, m.format);
   if (img.depth() != CV_8U)
     throw ImageDecodeError(label + ": compressed colour image (format '" + m.format +
                            "') decodes to " + std::to_string(img.elemSize1() * 8) +
@@ -188,7 +199,8 @@ DepthImage decodeDepthImage(const sensor_msgs::CompressedImage& m, double intege
                              "' (expected 16UC1 or 32FC1 compressedDepth)");
     float quant_a = 0.0f, quant_b = 0.0f;
     if (!startsWithPng(p, n)) {
-      if (n < kCompressedDepthHeaderBytes || !startsWithPng(p + kCompressedDepthHeaderBytes, n - kCompressedDepthHeaderBytes))
+      if (n < kCompressedDepthHeaderBytes ||
+          !startsWithPng(p + kCompressedDepthHeaderBytes, n - kCompressedDepthHeaderBytes))
         throw ImageDecodeError(label + ": compressed depth (format '" + m.format +
                                "') holds no PNG image");
       std::memcpy(&quant_a, p + 4, 4);
@@ -207,7 +219,8 @@ DepthImage decodeDepthImage(const sensor_msgs::CompressedImage& m, double intege
     }
     if (!(quant_a != 0.0f) || !std::isfinite(quant_a))
       throw ImageDecodeError(label + ": 32FC1 compressedDepth without its quantisation header");
-    // Inverse-depth quantisation: stored q = A / depth + B, so depth = A / (q - B); q = 0 is invalid.
+    // Inverse-depth quantisation: stored q = A / depth + B, so depth = A / (q - B); q = 0 is
+    // invalid.
     cv::Mat metres(raw.size(), CV_32FC1);
     for (int r = 0; r < raw.rows; ++r) {
       const auto* q = raw.ptr<std::uint16_t>(r);

@@ -19,11 +19,13 @@ namespace {
 namespace fs = std::filesystem;
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 /// Any [camera] key present: the user's intrinsics.
-bool hasAny(const IniReader& ini, const std::string& section, std::initializer_list<const char*> keys) {
+bool hasAny(const IniReader& ini, const std::string& section,
+            std::initializer_list<const char*> keys) {
   for (const char* k : keys)
     if (ini.hasKey(section, k)) return true;
   return false;
@@ -34,7 +36,8 @@ double roundedRate(double hz) { return std::round(hz * 10.0) / 10.0; }
 
 }  // namespace
 
-ConversionSettings loadConversionSettings(const std::string& config_path, const std::string& camera_yaml) {
+ConversionSettings loadConversionSettings(const std::string& config_path,
+                                          const std::string& camera_yaml) {
   ConversionSettings s;
   if (!config_path.empty()) {
     IniReader ini = IniReader::fromFile(config_path);
@@ -42,7 +45,8 @@ ConversionSettings loadConversionSettings(const std::string& config_path, const 
     const CameraOptions camera = CameraOptions::load(ini);
     const ExtrinsicOptions extrinsic = ExtrinsicOptions::load(ini);
     // A full rgbdi configuration is welcome; only the sections above matter here.
-    for (const char* sec : {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "sim"})
+    for (const char* sec :
+         {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "sim"})
       ini.acceptSection(sec);
     ini.checkNoUnknownKeys();
     if (hasAny(ini, "camera", {"width", "height", "fx", "fy", "cx", "cy", "distortion"})) {
@@ -80,7 +84,8 @@ bag::ConversionReport convertDataset(const ConversionRequest& q) {
   if (format == io::InputFormat::Rawlog)
     throw UsageError(q.input + ": is already an MRPT rawlog (use --info to inspect it)");
   if (format == io::InputFormat::Unknown)
-    throw IoError(q.input + ": unrecognised format (expected a ROS1 bag or a TUM RGB-D folder with rgb.txt "
+    throw IoError(q.input +
+                  ": unrecognised format (expected a ROS1 bag or a TUM RGB-D folder with rgb.txt "
                   "and depth.txt)");
   const bag::ConvertOptions& o = q.settings.options;
 
@@ -97,7 +102,8 @@ bag::ConversionReport convertDataset(const ConversionRequest& q) {
     input_bytes = bag_conv->reader().fileSize();
   } else {
     try {
-      tum_conv = std::make_unique<TumRgbdConverter>(q.input, o, q.tum_camera, q.settings.calibration);
+      tum_conv =
+          std::make_unique<TumRgbdConverter>(q.input, o, q.tum_camera, q.settings.calibration);
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
@@ -138,8 +144,8 @@ bag::ConversionReport convertDataset(const ConversionRequest& q) {
     const std::string ini_path = outputStem(q.output) + ".ini";
     const std::string text = rgbdiConfigFromVins(*q.settings.vins, rate, note.str());
     writeFileAtomically(ini_path, [&](std::ostream& os) { os << text; });
-    report.outputs.push_back(ini_path + " (rgbdi configuration from " + q.settings.vins->path + ", IMU rate " +
-                             note.str() + ")");
+    report.outputs.push_back(ini_path + " (rgbdi configuration from " + q.settings.vins->path +
+                             ", IMU rate " + note.str() + ")");
   }
   return report;
 }

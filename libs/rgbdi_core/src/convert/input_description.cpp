@@ -1,10 +1,9 @@
 #include "rgbdi/convert/input_description.h"
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "rgbdi/bag/bag_reader.h"
@@ -47,8 +46,8 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
   std::unique_ptr<bag::BagConverter> conv;
   std::string layout_error;
   try {
-    conv = std::make_unique<bag::BagConverter>(path, settings.options, bag::BagInputOptions{topics, std::nullopt},
-                                               settings.calibration);
+    conv = std::make_unique<bag::BagConverter>(
+        path, settings.options, bag::BagInputOptions{topics, std::nullopt}, settings.calibration);
   } catch (const bag::BagLayoutError& e) {
     layout_error = e.what();
   } catch (const bag::CalibrationError& e) {
@@ -62,11 +61,11 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
   const double duration = reader.endTime() - reader.beginTime();
   std::uint64_t total = 0;
   for (const bag::BagTopic& t : reader.topics()) total += t.messages;
-  os << "ROS1 bag: " << path << " (" << fixed(static_cast<double>(reader.fileSize()) / 1e6, 1) << " MB, "
-     << (reader.indexed() ? "indexed" : "index unreadable") << ")\n";
+  os << "ROS1 bag: " << path << " (" << fixed(static_cast<double>(reader.fileSize()) / 1e6, 1)
+     << " MB, " << (reader.indexed() ? "indexed" : "index unreadable") << ")\n";
   if (!reader.indexed()) os << "  " << reader.recoveryReason() << "\n";
-  os << "Bag time: " << fixed(reader.beginTime(), 6) << " .. " << fixed(reader.endTime(), 6) << " s ("
-     << fixed(duration, 3) << " s), " << total << " messages\n";
+  os << "Bag time: " << fixed(reader.beginTime(), 6) << " .. " << fixed(reader.endTime(), 6)
+     << " s (" << fixed(duration, 3) << " s), " << total << " messages\n";
   os << "Topics (" << reader.topics().size() << "):\n";
   j["format"] = "ROS1 bag";
   j["path"] = path;
@@ -80,8 +79,8 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
   for (const bag::BagTopic& t : reader.topics()) width = std::max(width, t.topic.size());
   for (const bag::BagTopic& t : reader.topics()) {
     const double rate = duration > 0.0 && t.messages > 1 ? (t.messages - 1) / duration : 0.0;
-    os << "  " << std::left << std::setw(static_cast<int>(width)) << t.topic << "  " << std::setw(28) << t.datatype
-       << std::right << std::setw(8) << t.messages;
+    os << "  " << std::left << std::setw(static_cast<int>(width)) << t.topic << "  "
+       << std::setw(28) << t.datatype << std::right << std::setw(8) << t.messages;
     if (rate > 0.0) os << "  ~" << fixed(rate, 1) << " Hz";
     os << "\n";
     jt.push_back({{"topic", t.topic}, {"type", t.datatype}, {"messages", t.messages}});
@@ -91,7 +90,8 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
     const bag::BagLayout& l = conv->layout();
     os << "Layout: " << bag::toString(l.kind) << "\n";
     const auto show = [&](const char* name, const std::string& topic) {
-      os << "  " << std::left << std::setw(14) << name << std::right << (topic.empty() ? "(none)" : topic) << "\n";
+      os << "  " << std::left << std::setw(14) << name << std::right
+         << (topic.empty() ? "(none)" : topic) << "\n";
     };
     show("colour", l.color);
     show("depth", l.depth);
@@ -107,8 +107,13 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
     for (const std::string& c : conv->calibration()) os << "  " << c << "\n";
     if (!l.notes.empty()) os << "Notes:\n";
     for (const std::string& n : l.notes) os << "  " << n << "\n";
-    j["layout"] = {{"kind", bag::toString(l.kind)}, {"color", l.color}, {"depth", l.depth}, {"imu", l.imu},
-                   {"accel", l.accel}, {"gyro", l.gyro}, {"groundtruth", l.groundtruth},
+    j["layout"] = {{"kind", bag::toString(l.kind)},
+                   {"color", l.color},
+                   {"depth", l.depth},
+                   {"imu", l.imu},
+                   {"accel", l.accel},
+                   {"gyro", l.gyro},
+                   {"groundtruth", l.groundtruth},
                    {"depth_aligned", l.depth_aligned}};
     j["calibration"] = conv->calibration();
     j["notes"] = l.notes;
@@ -117,7 +122,8 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
     j["layout_error"] = layout_error;
   }
   if (!reader.indexed()) {
-    d.error = path + ": " + reader.recoveryReason() + (reader.damage().empty() ? "" : "; " + reader.damage());
+    d.error = path + ": " + reader.recoveryReason() +
+              (reader.damage().empty() ? "" : "; " + reader.damage());
     j["error"] = d.error;
   }
   d.text = os.str();
@@ -141,24 +147,28 @@ InputDescription describeTumFolder(const std::string& path) {
     }
     const std::vector<double> t = listStamps(file);
     const double span = t.size() > 1 ? t.back() - t.front() : 0.0;
-    os << "  " << std::left << std::setw(18) << name << std::right << std::setw(6) << t.size() << " entries";
+    os << "  " << std::left << std::setw(18) << name << std::right << std::setw(6) << t.size()
+       << " entries";
     if (span > 0.0)
-      os << ", " << fixed(t.front(), 6) << " .. " << fixed(t.back(), 6) << " s (" << fixed(span, 3) << " s, ~"
-         << fixed((t.size() - 1) / span, 1) << " Hz)";
+      os << ", " << fixed(t.front(), 6) << " .. " << fixed(t.back(), 6) << " s (" << fixed(span, 3)
+         << " s, ~" << fixed((t.size() - 1) / span, 1) << " Hz)";
     os << "\n";
-    j["files"][name] = {{"entries", t.size()}, {"first", t.empty() ? 0.0 : t.front()},
+    j["files"][name] = {{"entries", t.size()},
+                        {"first", t.empty() ? 0.0 : t.front()},
                         {"last", t.empty() ? 0.0 : t.back()}};
   }
   const std::string cam = detectTumCamera(path);
   if (cam.empty()) {
-    os << "Camera: not recognised from the folder name (convert with --tum-camera fr1|fr2|fr3|ros)\n";
+    os << "Camera: not recognised from the folder name (convert with --tum-camera "
+          "fr1|fr2|fr3|ros)\n";
   } else {
     const PinholeCamera c = tumCamera(cam);
-    os << "Camera: " << cam << " (from the folder name): fx " << c.fx << " fy " << c.fy << " cx " << c.cx << " cy "
-       << c.cy << "\n";
+    os << "Camera: " << cam << " (from the folder name): fx " << c.fx << " fy " << c.fy << " cx "
+       << c.cx << " cy " << c.cy << "\n";
   }
   j["camera"] = cam;
-  os << "Note: TUM RGB-D has no gyroscope; accelerometer.txt holds the Kinect's accelerometer only.\n";
+  os << "Note: TUM RGB-D has no gyroscope; accelerometer.txt holds the Kinect's accelerometer "
+        "only.\n";
   d.text = os.str();
   d.json = j.dump(2);
   return d;

@@ -7,8 +7,8 @@
 
 namespace rgbdi::convert {
 
-ProgressMeter::ProgressMeter(std::ostream* os, bool interactive, double interval_s, std::uint64_t total_bytes,
-                             std::string prefix)
+ProgressMeter::ProgressMeter(std::ostream* os, bool interactive, double interval_s,
+                             std::uint64_t total_bytes, std::string prefix)
     : os_(os),
       interactive_(interactive),
       interval_s_(interval_s),
@@ -17,8 +17,8 @@ ProgressMeter::ProgressMeter(std::ostream* os, bool interactive, double interval
       start_(std::chrono::steady_clock::now()),
       last_(start_) {}
 
-std::string ProgressMeter::line(const std::string& prefix, double fraction, std::uint64_t total_bytes,
-                                double elapsed_s) {
+std::string ProgressMeter::line(const std::string& prefix, double fraction,
+                                std::uint64_t total_bytes, double elapsed_s) {
   constexpr int kBar = 20;
   fraction = std::clamp(fraction, 0.0, 1.0);
   const int filled = static_cast<int>(std::floor(fraction * kBar + 1e-9));
@@ -26,8 +26,9 @@ std::string ProgressMeter::line(const std::string& prefix, double fraction, std:
   const double done_mb = fraction * total_mb;
   std::ostringstream os;
   os << prefix << ": [" << std::string(static_cast<std::size_t>(filled), '#')
-     << std::string(static_cast<std::size_t>(kBar - filled), '-') << "] " << std::fixed << std::setprecision(1)
-     << std::setw(5) << 100.0 * fraction << " %  " << done_mb << "/" << total_mb << " MB";
+     << std::string(static_cast<std::size_t>(kBar - filled), '-') << "] " << std::fixed
+     << std::setprecision(1) << std::setw(5) << 100.0 * fraction << " %  " << done_mb << "/"
+     << total_mb << " MB";
   if (elapsed_s > 0.0) {
     const double rate = done_mb / elapsed_s;
     os << "  " << rate << " MB/s";
@@ -40,7 +41,8 @@ std::string ProgressMeter::line(const std::string& prefix, double fraction, std:
 }
 
 void ProgressMeter::print(bool final) {
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const std::string l = line(prefix_, fraction_, total_, elapsed);
   if (interactive_)
     *os_ << "\r" << l << "\x1b[K" << (final ? "\n" : "") << std::flush;

@@ -15,7 +15,8 @@ namespace rgbdi::convert {
 namespace {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string stampText(double t) {
@@ -51,8 +52,9 @@ void RawlogOutput::push(double t, int kind, Item item, const std::string& what) 
   if (any_written_ && t < written_t_) {
     ++report_.dropped_by_ordering;
     report_.addIssue("ordering",
-                     what + " at t = " + stampText(t) + " s arrived after data up to t = " + stampText(written_t_) +
-                         " s was written (more than the " + std::to_string(options_.reorder_window_s) +
+                     what + " at t = " + stampText(t) + " s arrived after data up to t = " +
+                         stampText(written_t_) + " s was written (more than the " +
+                         std::to_string(options_.reorder_window_s) +
                          " s re-ordering window late); dropped",
                      options_.max_listed_issues);
     return;
@@ -108,9 +110,10 @@ void RawlogOutput::groundTruth(const StampedPose& pose) { groundtruth_.push_back
 void RawlogOutput::finish() {
   release(true);
   writer_->close();
-  report_.outputs.push_back(options_.path + " (" + std::to_string(writer_->records()) + " observations" +
-                            (options_.external_images ? ", images in " + writer_->imagesDirectory() : std::string()) +
-                            ")");
+  report_.outputs.push_back(
+      options_.path + " (" + std::to_string(writer_->records()) + " observations" +
+      (options_.external_images ? ", images in " + writer_->imagesDirectory() : std::string()) +
+      ")");
   if (groundtruth_.empty()) return;
   // TUM files need strictly increasing stamps: sort, and keep the first of equal stamps.
   std::stable_sort(groundtruth_.begin(), groundtruth_.end(),
@@ -119,7 +122,8 @@ void RawlogOutput::finish() {
   unique.reserve(groundtruth_.size());
   for (const StampedPose& p : groundtruth_) {
     if (!unique.empty() && p.t <= unique.back().t) {
-      report_.addIssue("ground truth", "pose at t = " + stampText(p.t) + " s repeats a stamp; dropped",
+      report_.addIssue("ground truth",
+                       "pose at t = " + stampText(p.t) + " s repeats a stamp; dropped",
                        options_.max_listed_issues);
       continue;
     }
@@ -131,7 +135,8 @@ void RawlogOutput::finish() {
     throw IoError(e.what());
   }
   report_.groundtruth_written = unique.size();
-  report_.outputs.push_back(gt_path_ + " (" + std::to_string(unique.size()) + " poses, TUM format)");
+  report_.outputs.push_back(gt_path_ + " (" + std::to_string(unique.size()) +
+                            " poses, TUM format)");
 }
 
 double RawlogOutput::imuRateHz() const {

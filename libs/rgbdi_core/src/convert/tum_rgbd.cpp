@@ -1,8 +1,5 @@
 #include "rgbdi/convert/tum_rgbd.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,6 +7,8 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "rgbdi/bag/rgbd_pairer.h"
@@ -52,7 +51,8 @@ class LineReader {
   double number(const std::string& text, const char* what) const {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v)) fail(std::string(what) + " '" + text + "' is not a number");
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      fail(std::string(what) + " '" + text + "' is not a number");
     return v;
   }
   double stamp(const std::string& text) const {
@@ -71,7 +71,8 @@ class LineReader {
 /// The next accelerometer sample or ground-truth pose of a streamed list (NaN stamp at the end).
 struct StreamedLists {
   LineReader accel, gt;
-  double accel_t = std::numeric_limits<double>::quiet_NaN(), gt_t = std::numeric_limits<double>::quiet_NaN();
+  double accel_t = std::numeric_limits<double>::quiet_NaN(),
+         gt_t = std::numeric_limits<double>::quiet_NaN();
   Eigen::Vector3d acc;
   StampedPose pose;
 
@@ -85,15 +86,19 @@ struct StreamedLists {
     std::vector<std::string> f;
     accel_t = std::numeric_limits<double>::quiet_NaN();
     if (!accel.next(f)) return;
-    if (f.size() != 4) accel.fail("expected 'timestamp ax ay az', got " + std::to_string(f.size()) + " fields");
+    if (f.size() != 4)
+      accel.fail("expected 'timestamp ax ay az', got " + std::to_string(f.size()) + " fields");
     accel_t = accel.stamp(f[0]);
-    acc = Eigen::Vector3d(accel.number(f[1], "ax"), accel.number(f[2], "ay"), accel.number(f[3], "az"));
+    acc = Eigen::Vector3d(accel.number(f[1], "ax"), accel.number(f[2], "ay"),
+                          accel.number(f[3], "az"));
   }
   void advanceGt() {
     std::vector<std::string> f;
     gt_t = std::numeric_limits<double>::quiet_NaN();
     if (!gt.next(f)) return;
-    if (f.size() != 8) gt.fail("expected 'timestamp tx ty tz qx qy qz qw', got " + std::to_string(f.size()) + " fields");
+    if (f.size() != 8)
+      gt.fail("expected 'timestamp tx ty tz qx qy qz qw', got " + std::to_string(f.size()) +
+              " fields");
     pose.t = gt_t = gt.stamp(f[0]);
     pose.p = Eigen::Vector3d(gt.number(f[1], "tx"), gt.number(f[2], "ty"), gt.number(f[3], "tz"));
     pose.q = Eigen::Quaterniond(gt.number(f[7], "qw"), gt.number(f[4], "qx"), gt.number(f[5], "qy"),
@@ -128,7 +133,8 @@ PinholeCamera tumCamera(const std::string& name) {
   } else if (name == "ros") {
     c.fx = 525.0, c.fy = 525.0, c.cx = 319.5, c.cy = 239.5;
   } else {
-    throw std::invalid_argument("unknown TUM camera '" + name + "' (valid: fr1, fr2, fr3, ros, config)");
+    throw std::invalid_argument("unknown TUM camera '" + name +
+                                "' (valid: fr1, fr2, fr3, ros, config)");
   }
   return c;
 }
@@ -149,21 +155,25 @@ std::vector<TumImageEntry> readTumImageList(const std::string& path) {
   std::vector<TumImageEntry> list;
   std::vector<std::string> f;
   while (r.next(f)) {
-    if (f.size() != 2) r.fail("expected 'timestamp filename', got " + std::to_string(f.size()) + " fields");
+    if (f.size() != 2)
+      r.fail("expected 'timestamp filename', got " + std::to_string(f.size()) + " fields");
     list.push_back({r.stamp(f[0]), f[1]});
   }
-  std::stable_sort(list.begin(), list.end(), [](const TumImageEntry& a, const TumImageEntry& b) { return a.t < b.t; });
+  std::stable_sort(list.begin(), list.end(),
+                   [](const TumImageEntry& a, const TumImageEntry& b) { return a.t < b.t; });
   return list;
 }
 
 TumRgbdConverter::TumRgbdConverter(const std::string& folder, const bag::ConvertOptions& options,
-                                   const std::string& camera, const bag::FallbackCalibration& fallback)
+                                   const std::string& camera,
+                                   const bag::FallbackCalibration& fallback)
     : folder_(folder), options_(options) {
   if (!fs::is_directory(folder)) throw IoError(folder + ": not a directory");
   rgb_ = readTumImageList((fs::path(folder) / "rgb.txt").string());
   depth_ = readTumImageList((fs::path(folder) / "depth.txt").string());
   for (const auto* list : {&rgb_, &depth_})
-    for (const TumImageEntry& e : *list) total_bytes_ += sizeOf((fs::path(folder) / e.file).string());
+    for (const TumImageEntry& e : *list)
+      total_bytes_ += sizeOf((fs::path(folder) / e.file).string());
 
   std::string name = camera;
   std::string how = "given with --tum-camera";
@@ -172,8 +182,10 @@ TumRgbdConverter::TumRgbdConverter(const std::string& folder, const bag::Convert
     how = "detected from the folder name";
     if (name.empty()) {
       if (!fallback.intrinsics_from_user)
-        throw std::invalid_argument(folder + ": cannot tell the TUM camera from the folder name; give "
-                                    "--tum-camera fr1|fr2|fr3|ros or the intrinsics with --config / --camera-yaml");
+        throw std::invalid_argument(
+            folder +
+            ": cannot tell the TUM camera from the folder name; give "
+            "--tum-camera fr1|fr2|fr3|ros or the intrinsics with --config / --camera-yaml");
       name = "config";
     }
   }
@@ -188,13 +200,16 @@ TumRgbdConverter::TumRgbdConverter(const std::string& folder, const bag::Convert
                          std::to_string(options.tum_depth_factor) + " units per metre");
   if (fallback.extrinsic_from_user) {
     T_body_cam_ = fallback.T_body_cam;
-    calibration_.push_back("colour camera in the body frame (sensorPose): " + fallback.extrinsic_source);
+    calibration_.push_back("colour camera in the body frame (sensorPose): " +
+                           fallback.extrinsic_source);
   } else {
-    calibration_.push_back("colour camera in the body frame (sensorPose): identity (TUM has no IMU frame)");
+    calibration_.push_back(
+        "colour camera in the body frame (sensorPose): identity (TUM has no IMU frame)");
   }
 }
 
-bag::ConversionReport TumRgbdConverter::run(bag::ConversionSink& sink, const bag::ProgressCallback& progress,
+bag::ConversionReport TumRgbdConverter::run(bag::ConversionSink& sink,
+                                            const bag::ProgressCallback& progress,
                                             const std::atomic<bool>* stop) {
   const auto start = std::chrono::steady_clock::now();
   bag::ConversionReport r;
@@ -208,9 +223,11 @@ bag::ConversionReport TumRgbdConverter::run(bag::ConversionSink& sink, const bag
 
   StreamedLists lists(folder_);
   if (lists.accel.exists()) r.streams.push_back("accelerometer: accelerometer.txt");
-  if (lists.gt.exists()) r.streams.push_back("ground truth: groundtruth.txt (pose of the colour camera)");
+  if (lists.gt.exists())
+    r.streams.push_back("ground truth: groundtruth.txt (pose of the colour camera)");
   r.notes.push_back(
-      "TUM RGB-D has no gyroscope: accelerometer.txt is written as acceleration-only CObservationIMU "
+      "TUM RGB-D has no gyroscope: accelerometer.txt is written as acceleration-only "
+      "CObservationIMU "
       "(rgbdi-slam needs a gyroscope and cannot use them)");
   if (!lists.gt.exists()) r.notes.push_back("no groundtruth.txt: no ground truth written");
 
@@ -246,14 +263,17 @@ bag::ConversionReport TumRgbdConverter::run(bag::ConversionSink& sink, const bag
     cv::Mat img = cv::imread(path, color ? cv::IMREAD_COLOR : cv::IMREAD_ANYDEPTH);
     if (img.empty() || (!color && img.type() != CV_16UC1)) {
       ++r.unreadable;
-      r.addIssue("unreadable", label + (img.empty() ? ": missing or unreadable image" : ": not a 16-bit depth PNG"),
-                 options_.max_listed_issues);
+      r.addIssue(
+          "unreadable",
+          label + (img.empty() ? ": missing or unreadable image" : ": not a 16-bit depth PNG"),
+          options_.max_listed_issues);
       return true;
     }
     if (!size_checked && (img.cols != camera_.width || img.rows != camera_.height)) {
-      r.error = label + ": images are " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
-                " but the intrinsics are for " + std::to_string(camera_.width) + "x" +
-                std::to_string(camera_.height) + "; give this camera's calibration with --config or --camera-yaml";
+      r.error = label + ": images are " + std::to_string(img.cols) + "x" +
+                std::to_string(img.rows) + " but the intrinsics are for " +
+                std::to_string(camera_.width) + "x" + std::to_string(camera_.height) +
+                "; give this camera's calibration with --config or --camera-yaml";
       calibration_failed = true;
       return false;
     }
@@ -298,12 +318,14 @@ bag::ConversionReport TumRgbdConverter::run(bag::ConversionSink& sink, const bag
       } else {
         if (!loadImage(depth_[id++], false)) break;
       }
-      if (progress && total_bytes_ > 0) progress(std::min(1.0, static_cast<double>(bytes_done) / total_bytes_));
+      if (progress && total_bytes_ > 0)
+        progress(std::min(1.0, static_cast<double>(bytes_done) / total_bytes_));
     }
   } catch (const IoError& e) {
     r.error = e.what();
   }
-  if (stop && stop->load()) r.notes.push_back("interrupted: the conversion stopped before the end of the folder");
+  if (stop && stop->load())
+    r.notes.push_back("interrupted: the conversion stopped before the end of the folder");
   pairer.finish();
   if (!calibration_failed) deliver();  // frames with wrong intrinsics would mislead
   r.pairing = pairer.stats();

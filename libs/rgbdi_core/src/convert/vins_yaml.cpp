@@ -1,10 +1,9 @@
 #include "rgbdi/convert/vins_yaml.h"
 
-#include <opencv2/core.hpp>
-
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <opencv2/core.hpp>
 #include <sstream>
 
 #include "rgbdi/common/ini_reader.h"
@@ -52,8 +51,8 @@ class YamlReader {
     }
     if (m.empty()) fail(key, "missing or not an opencv-matrix");
     if (m.total() != static_cast<std::size_t>(rows * cols))
-      fail(key, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix, got " +
-                    std::to_string(m.rows) + "x" + std::to_string(m.cols));
+      fail(key, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) +
+                    " matrix, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
     m.convertTo(m, CV_64F);
     return m.reshape(1, rows);
   }
@@ -75,7 +74,8 @@ std::string num(double v) {
   return os.str();
 }
 
-void line(std::ostream& os, const std::string& key, const std::string& value, const std::string& comment) {
+void line(std::ostream& os, const std::string& key, const std::string& value,
+          const std::string& comment) {
   std::string kv = key + " = " + value;
   if (kv.size() < 28) kv.resize(28, ' ');
   os << kv << " ; " << comment << "\n";
@@ -89,7 +89,8 @@ VinsCalibration readVinsYaml(const std::string& path) {
   v.path = path;
   const cv::FileNode model = y.node("model_type");
   if (!model.empty() && model.isString() && static_cast<std::string>(model) != "PINHOLE")
-    y.fail("model_type", "'" + static_cast<std::string>(model) + "' is not supported (only PINHOLE)");
+    y.fail("model_type",
+           "'" + static_cast<std::string>(model) + "' is not supported (only PINHOLE)");
   PinholeCamera& c = v.camera;
   c.width = static_cast<int>(y.positive("image_width"));
   c.height = static_cast<int>(y.positive("image_height"));
@@ -105,10 +106,13 @@ VinsCalibration readVinsYaml(const std::string& path) {
     if (!dist.isMap()) y.fail("distortion_parameters", "expected k1, k2, p1, p2");
     const char* names[] = {"k1", "k2", "p1", "p2"};
     for (int i = 0; i < 4; ++i)
-      c.dist[static_cast<std::size_t>(i)] = y.number(dist[names[i]], std::string("distortion_parameters.") + names[i]);
+      c.dist[static_cast<std::size_t>(i)] =
+          y.number(dist[names[i]], std::string("distortion_parameters.") + names[i]);
   }
-  const bool has_r = !y.node("extrinsicRotation").empty(), has_t = !y.node("extrinsicTranslation").empty();
-  if (has_r != has_t) y.fail(has_r ? "extrinsicTranslation" : "extrinsicRotation", "missing (the other is given)");
+  const bool has_r = !y.node("extrinsicRotation").empty(),
+             has_t = !y.node("extrinsicTranslation").empty();
+  if (has_r != has_t)
+    y.fail(has_r ? "extrinsicTranslation" : "extrinsicRotation", "missing (the other is given)");
   if (has_r) {
     const cv::Mat R = y.matrix("extrinsicRotation", 3, 3);
     const cv::Mat t = y.matrix("extrinsicTranslation", 3, 1);
@@ -118,7 +122,8 @@ VinsCalibration readVinsYaml(const std::string& path) {
     const double orth = (Re.transpose() * Re - Eigen::Matrix3d::Identity()).norm();
     if (orth > 1e-3 || Re.determinant() < 0.0) {
       std::ostringstream os;
-      os << "not a rotation matrix (|R^T R - I| = " << orth << ", det = " << Re.determinant() << ")";
+      os << "not a rotation matrix (|R^T R - I| = " << orth << ", det = " << Re.determinant()
+         << ")";
       y.fail("extrinsicRotation", os.str());
     }
     v.has_extrinsic = true;
@@ -147,11 +152,13 @@ ImuOptions imuOptionsFromVins(const VinsImuNoise& n, double g_norm, double rate_
   return o;
 }
 
-std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz, const std::string& rate_note) {
+std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz,
+                                const std::string& rate_note) {
   const ImuOptions imu = imuOptionsFromVins(v.noise, v.g_norm, imu_rate_hz);
   const std::string name = std::filesystem::path(v.path).filename().string();
   std::ostringstream os;
-  os << "; rgbdi configuration converted by rawlog-convert from the VINS calibration " << v.path << "\n"
+  os << "; rgbdi configuration converted by rawlog-convert from the VINS calibration " << v.path
+     << "\n"
      << "; Sections not given here take the defaults of share/config.ini.\n\n";
   const PinholeCamera& c = v.camera;
   os << "[camera]\n";
@@ -162,17 +169,23 @@ std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz, co
   line(os, "cx", num(c.cx), "[px]");
   line(os, "cy", num(c.cy), "[px]");
   line(os, "distortion",
-       num(c.dist[0]) + " " + num(c.dist[1]) + " " + num(c.dist[2]) + " " + num(c.dist[3]) + " " + num(c.dist[4]),
+       num(c.dist[0]) + " " + num(c.dist[1]) + " " + num(c.dist[2]) + " " + num(c.dist[3]) + " " +
+           num(c.dist[4]),
        "k1 k2 p1 p2 k3 [unitless] distortion_parameters (VINS has no k3)");
-  line(os, "intrinsics_source", "config", "stream|config: use this calibration, not the one stored in the rawlog");
+  line(os, "intrinsics_source", "config",
+       "stream|config: use this calibration, not the one stored in the rawlog");
   os << "\n[imu]\n";
-  os << "; Densities from the VINS per-sample values at " << num(imu_rate_hz) << " Hz (" << rate_note
-     << "): nd = n * sqrt(dt / 2), rw = w * sqrt(dt) (doc/imu.md).\n";
+  os << "; Densities from the VINS per-sample values at " << num(imu_rate_hz) << " Hz ("
+     << rate_note << "): nd = n * sqrt(dt / 2), rw = w * sqrt(dt) (doc/imu.md).\n";
   line(os, "rate_hz", num(imu_rate_hz), "[Hz]");
-  line(os, "acc_noise_density", num(imu.acc_noise_density), "[m/s^2/sqrt(Hz)]   (VINS acc_n " + num(v.noise.acc_n) + ")");
-  line(os, "gyr_noise_density", num(imu.gyr_noise_density), "[rad/s/sqrt(Hz)]   (VINS gyr_n " + num(v.noise.gyr_n) + ")");
-  line(os, "acc_random_walk", num(imu.acc_random_walk), "[m/s^3/sqrt(Hz)]   (VINS acc_w " + num(v.noise.acc_w) + ")");
-  line(os, "gyr_random_walk", num(imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)] (VINS gyr_w " + num(v.noise.gyr_w) + ")");
+  line(os, "acc_noise_density", num(imu.acc_noise_density),
+       "[m/s^2/sqrt(Hz)]   (VINS acc_n " + num(v.noise.acc_n) + ")");
+  line(os, "gyr_noise_density", num(imu.gyr_noise_density),
+       "[rad/s/sqrt(Hz)]   (VINS gyr_n " + num(v.noise.gyr_n) + ")");
+  line(os, "acc_random_walk", num(imu.acc_random_walk),
+       "[m/s^3/sqrt(Hz)]   (VINS acc_w " + num(v.noise.acc_w) + ")");
+  line(os, "gyr_random_walk", num(imu.gyr_random_walk),
+       "[rad/s^2/sqrt(Hz)] (VINS gyr_w " + num(v.noise.gyr_w) + ")");
   line(os, "gravity_m_s2", num(v.g_norm), "[m/s^2] g_norm");
   os << "\n[extrinsic]\n";
   if (v.has_extrinsic) {
@@ -181,9 +194,11 @@ std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz, co
       for (int j = 0; j < 3; ++j) r += (r.empty() ? "" : " ") + num(v.R_body_cam_as_given(i, j));
     line(os, "R_body_cam", r, "row-major [unitless] extrinsicRotation (camera in the IMU frame)");
     const Eigen::Vector3d t = v.T_body_cam.translation();
-    line(os, "t_body_cam_m", num(t.x()) + " " + num(t.y()) + " " + num(t.z()), "[m] extrinsicTranslation");
+    line(os, "t_body_cam_m", num(t.x()) + " " + num(t.y()) + " " + num(t.z()),
+         "[m] extrinsicTranslation");
   } else {
-    os << "; " << name << " has no extrinsicRotation/extrinsicTranslation: the default extrinsic applies.\n";
+    os << "; " << name
+       << " has no extrinsicRotation/extrinsicTranslation: the default extrinsic applies.\n";
   }
   line(os, "time_offset_s", num(v.td), "[s] td: t_imu = t_cam + time_offset_s");
   const std::string text = os.str();

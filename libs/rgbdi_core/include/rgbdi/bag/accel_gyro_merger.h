@@ -7,7 +7,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstddef>
 #include <deque>
 #include <utility>
@@ -18,10 +17,10 @@ namespace rgbdi::bag {
 
 struct AccelGyroMergeStats {
   std::size_t accel_in = 0, gyro_in = 0, merged = 0;
-  std::size_t gyro_before_accel = 0;   ///< gyro samples older than the first accelerometer sample
-  std::size_t gyro_after_accel = 0;    ///< newer than the last one (or waited too long)
-  std::size_t gyro_in_accel_gap = 0;   ///< bracketing accelerometer samples too far apart
-  std::size_t out_of_order = 0;        ///< samples older than one already used (dropped)
+  std::size_t gyro_before_accel = 0;  ///< gyro samples older than the first accelerometer sample
+  std::size_t gyro_after_accel = 0;   ///< newer than the last one (or waited too long)
+  std::size_t gyro_in_accel_gap = 0;  ///< bracketing accelerometer samples too far apart
+  std::size_t out_of_order = 0;       ///< samples older than one already used (dropped)
   std::size_t dropped() const {
     return gyro_before_accel + gyro_after_accel + gyro_in_accel_gap + out_of_order;
   }

@@ -15,7 +15,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <atomic>
 #include <memory>
 #include <optional>
@@ -31,8 +30,8 @@ namespace rgbdi::bag {
 
 /// Calibration used for what the input does not carry.
 struct FallbackCalibration {
-  PinholeCamera color;           ///< colour intrinsics (also depth's when depth is aligned)
-  std::string color_source;      ///< where they come from, for the report
+  PinholeCamera color;       ///< colour intrinsics (also depth's when depth is aligned)
+  std::string color_source;  ///< where they come from, for the report
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();  ///< colour optical frame in body
   std::string extrinsic_source;
   /// True when the user gave them (--config / --camera-yaml), false for built-in defaults.

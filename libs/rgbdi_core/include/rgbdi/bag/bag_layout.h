@@ -26,17 +26,17 @@ struct TopicOverrides {
 
 struct BagLayout {
   BagLayoutKind kind = BagLayoutKind::Dataset;
-  std::string color, depth;          ///< sensor_msgs/Image or CompressedImage ("" = absent)
+  std::string color, depth;  ///< sensor_msgs/Image or CompressedImage ("" = absent)
   bool color_compressed = false, depth_compressed = false;
-  std::string imu;                   ///< sensor_msgs/Imu with accelerometer and gyro
-  std::string accel, gyro;           ///< separate sensor_msgs/Imu streams, merged on gyro stamps
-  std::string groundtruth;           ///< geometry_msgs/PoseStamped
+  std::string imu;                     ///< sensor_msgs/Imu with accelerometer and gyro
+  std::string accel, gyro;             ///< separate sensor_msgs/Imu streams, merged on gyro stamps
+  std::string groundtruth;             ///< geometry_msgs/PoseStamped
   std::string color_info, depth_info;  ///< sensor_msgs/CameraInfo
-  std::string depth_units;           ///< std_msgs/Float32, metres per depth unit (RealSense option)
+  std::string depth_units;  ///< std_msgs/Float32, metres per depth unit (RealSense option)
   /// geometry_msgs/Transform of each stream to the recording's reference stream (RealSense).
   std::string color_tf, depth_tf, imu_tf;
-  bool depth_aligned = true;         ///< depth registered pixel-for-pixel to colour
-  std::vector<std::string> notes;    ///< choices made automatically, for the report
+  bool depth_aligned = true;       ///< depth registered pixel-for-pixel to colour
+  std::vector<std::string> notes;  ///< choices made automatically, for the report
 
   /// The topics streamed during conversion (images, IMU, ground truth).
   std::vector<std::string> streamedTopics() const;

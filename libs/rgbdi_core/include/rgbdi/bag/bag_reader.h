@@ -1,8 +1,8 @@
 // Streaming reader of ROS1 bags (format 2.0) that survives damage.
 //
 // A healthy bag is read with Debian's rosbag storage library (rosbag::View, bag-time order, only
-// the requested topics). A bag whose index cannot be read — a truncated copy loses it, because the
-// index sits at the end of the file; an interrupted recording never wrote it — is read instead by
+// the requested topics). A bag whose index cannot be read (a truncated copy loses it, because the
+// index sits at the end of the file; an interrupted recording never wrote it) is read instead by
 // scanning its chunks in file order ("recovery mode"): every message up to the damage is still
 // delivered. Damage met while reading (corrupt chunk, the file ending inside a chunk) ends the
 // stream with a BagReadError naming the file and the position; everything before it has been
@@ -27,7 +27,7 @@ class BagReadError : public BagError {
 /// One topic of the bag (connections with the same topic merged).
 struct BagTopic {
   std::string topic;
-  std::string datatype;     ///< e.g. "sensor_msgs/Image"
+  std::string datatype;  ///< e.g. "sensor_msgs/Image"
   std::uint64_t messages = 0;
 };
 
@@ -35,11 +35,12 @@ struct BagTopic {
 struct BagMessage {
   const std::string* topic = nullptr;
   const std::string* datatype = nullptr;
-  double bag_time = 0.0;        ///< time recorded by the bag writer [s]
+  double bag_time = 0.0;  ///< time recorded by the bag writer [s]
   const std::uint8_t* data = nullptr;
   std::uint32_t size = 0;
-  std::uint64_t ordinal = 0;    ///< 0-based number of the message in this stream
-  std::uint64_t position = 0;   ///< byte offset of the record holding it (recovery mode; 0 otherwise)
+  std::uint64_t ordinal = 0;  ///< 0-based number of the message in this stream
+  std::uint64_t position =
+      0;  ///< byte offset of the record holding it (recovery mode; 0 otherwise)
 };
 
 class BagReader {

@@ -8,10 +8,9 @@
 // once any image `max_wait_s` newer has arrived (a stalled stream), or at finish().
 #pragma once
 
-#include <opencv2/core.hpp>
-
 #include <cstddef>
 #include <deque>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 
@@ -20,8 +19,8 @@ namespace rgbdi::bag {
 struct StampedImage {
   double t = 0.0;
   cv::Mat image;
-  double unit_m = 0.0;   ///< depth: metres per unit
-  std::string label;     ///< where it came from, for messages
+  double unit_m = 0.0;  ///< depth: metres per unit
+  std::string label;    ///< where it came from, for messages
 };
 
 /// A pair, or a single image that found no partner.

@@ -26,6 +26,7 @@ PinholeCamera cameraFromInfo(const sensor_msgs::CameraInfo& info, const std::str
 
 /// The transform as T (rotation normalised); throws CalibrationError for a zero quaternion or
 /// non-finite values.
-Eigen::Isometry3d isometryFromTransform(const geometry_msgs::Transform& tf, const std::string& label);
+Eigen::Isometry3d isometryFromTransform(const geometry_msgs::Transform& tf,
+                                        const std::string& label);
 
 }  // namespace rgbdi::bag

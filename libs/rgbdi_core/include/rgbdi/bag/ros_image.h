@@ -14,9 +14,8 @@
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 
-#include <opencv2/core.hpp>
-
 #include <cstddef>
+#include <opencv2/core.hpp>
 #include <string>
 
 #include "rgbdi/bag/bag_writer.h"
@@ -29,8 +28,8 @@ class ImageDecodeError : public BagError {
 };
 
 struct DepthImage {
-  cv::Mat depth;          ///< CV_16UC1, 0 = invalid
-  double unit_m = 1e-3;   ///< metres per unit
+  cv::Mat depth;            ///< CV_16UC1, 0 = invalid
+  double unit_m = 1e-3;     ///< metres per unit
   std::size_t clipped = 0;  ///< float depths that did not fit into 16 bits (set to 0)
 };
 
@@ -38,8 +37,8 @@ struct DepthImage {
 cv::Mat decodeColorImage(const sensor_msgs::Image& msg, const std::string& label);
 cv::Mat decodeColorImage(const sensor_msgs::CompressedImage& msg, const std::string& label);
 
-DepthImage decodeDepthImage(const sensor_msgs::Image& msg, double integer_unit_m, double float_unit_m,
-                            const std::string& label);
+DepthImage decodeDepthImage(const sensor_msgs::Image& msg, double integer_unit_m,
+                            double float_unit_m, const std::string& label);
 DepthImage decodeDepthImage(const sensor_msgs::CompressedImage& msg, double integer_unit_m,
                             double float_unit_m, const std::string& label);
 

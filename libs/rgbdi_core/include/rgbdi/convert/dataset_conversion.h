@@ -25,11 +25,12 @@ struct ConversionSettings {
 
 /// Loads --config (an rgbdi INI; its other sections are allowed) and --camera-yaml (a VINS yaml);
 /// either may be "". Throws ConfigError naming the file, section/key and the problem.
-ConversionSettings loadConversionSettings(const std::string& config_path, const std::string& camera_yaml);
+ConversionSettings loadConversionSettings(const std::string& config_path,
+                                          const std::string& camera_yaml);
 
 struct ConversionRequest {
-  std::string input;                  ///< bag file or TUM folder
-  std::string output;                 ///< *.rawlog or *.rawlog.gz
+  std::string input;   ///< bag file or TUM folder
+  std::string output;  ///< *.rawlog or *.rawlog.gz
   ConversionSettings settings;
   bag::TopicOverrides topics;         ///< bags: topic names ("" = automatic, "none" = unused)
   std::optional<bool> depth_aligned;  ///< bags: override the layout's default

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <memory>
 #include <queue>
@@ -58,8 +57,8 @@ class RawlogOutput : public bag::ConversionSink {
   using Item = std::variant<ImuSample, Accel, RgbdFrame>;
   struct Entry {
     double t;
-    int kind;            ///< IMU data before frames at equal stamps
-    std::uint64_t seq;   ///< arrival order
+    int kind;           ///< IMU data before frames at equal stamps
+    std::uint64_t seq;  ///< arrival order
     std::shared_ptr<Item> item;
     bool operator>(const Entry& o) const {
       if (t != o.t) return t > o.t;

@@ -13,7 +13,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <atomic>
 #include <string>
 #include <vector>
@@ -46,8 +45,8 @@ class TumRgbdConverter {
   /// `camera`: "" (from the folder name, else the user's calibration), "fr1", "fr2", "fr3",
   /// "ros", or "config" (the user's --config / --camera-yaml calibration). Reads the lists;
   /// throws IoError (unreadable folder or list) or std::invalid_argument (no intrinsics known).
-  TumRgbdConverter(const std::string& folder, const bag::ConvertOptions& options, const std::string& camera,
-                   const bag::FallbackCalibration& fallback);
+  TumRgbdConverter(const std::string& folder, const bag::ConvertOptions& options,
+                   const std::string& camera, const bag::FallbackCalibration& fallback);
 
   const PinholeCamera& camera() const { return camera_; }
   /// Colour camera in the body frame: identity (TUM has no IMU frame) unless the user gave one.

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <string>
 
 #include "rgbdi/common/camera.h"
@@ -23,10 +22,11 @@ struct VinsCalibration {
   PinholeCamera camera;        ///< image_width/height, projection_parameters, distortion_parameters
   bool has_extrinsic = false;  ///< extrinsicRotation and extrinsicTranslation present
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();  ///< camera in the IMU frame
-  Eigen::Matrix3d R_body_cam_as_given = Eigen::Matrix3d::Identity();  ///< before re-orthonormalising
+  Eigen::Matrix3d R_body_cam_as_given =
+      Eigen::Matrix3d::Identity();  ///< before re-orthonormalising
   VinsImuNoise noise;
-  double g_norm = 9.81;        ///< [m/s^2]
-  double td = 0.0;             ///< [s] t_imu = t_cam + td
+  double g_norm = 9.81;  ///< [m/s^2]
+  double td = 0.0;       ///< [s] t_imu = t_cam + td
 };
 
 /// Reads a VINS yaml. Throws ConfigError naming the file and the key that is missing or invalid
@@ -42,6 +42,7 @@ ImuOptions imuOptionsFromVins(const VinsImuNoise& noise, double g_norm, double r
 /// `imu_rate_hz`; `rate_note` says where that rate comes from. The text is loaded back through
 /// the option loaders before it is returned; throws ConfigError naming the yaml when a value is
 /// outside what rgbdi accepts.
-std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz, const std::string& rate_note);
+std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz,
+                                const std::string& rate_note);
 
 }  // namespace rgbdi::convert
