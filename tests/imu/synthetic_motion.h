@@ -12,8 +12,22 @@
 
 #include "rgbdi/common/so3.h"
 #include "rgbdi/common/types.h"
+#include "rgbdi/imu/imu_noise.h"
 
 namespace rgbdi::test {
+
+/// Gravity of the synthetic tests (world z up).
+inline const Eigen::Vector3d kTestGravity(0.0, 0.0, -9.81);
+
+/// The [sim] default noise of the project (true noise of a D435i-class IMU).
+inline imu::ImuNoise simImuNoise() {
+  imu::ImuNoise n;
+  n.acc_nd = 0.02;
+  n.gyr_nd = 0.002;
+  n.acc_rw = 4e-4;
+  n.gyr_rw = 2e-5;
+  return n;
+}
 
 struct TrueState {
   Eigen::Vector3d p;

@@ -20,17 +20,8 @@ using namespace rgbdi::imu;
 
 namespace {
 
-const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
-
-// [sim] defaults of the project (true noise of a D435i-class IMU).
-ImuNoise simNoise() {
-  ImuNoise n;
-  n.acc_nd = 0.02;
-  n.gyr_nd = 0.002;
-  n.acc_rw = 4e-4;
-  n.gyr_rw = 2e-5;
-  return n;
-}
+const Eigen::Vector3d& kGravity = test::kTestGravity;
+ImuNoise simNoise() { return test::simImuNoise(); }
 
 struct MonteCarloResult {
   Matrix15d sample_cov;

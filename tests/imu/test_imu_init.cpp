@@ -15,16 +15,8 @@ using namespace rgbdi::imu;
 
 namespace {
 
-const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
-
-ImuNoise testNoise() {
-  ImuNoise n;
-  n.acc_nd = 0.02;
-  n.gyr_nd = 0.002;
-  n.acc_rw = 4e-4;
-  n.gyr_rw = 2e-5;
-  return n;
-}
+const Eigen::Vector3d& kGravity = test::kTestGravity;
+ImuNoise testNoise() { return test::simImuNoise(); }
 
 double yawOf(const Eigen::Quaterniond& q) {
   const Eigen::Matrix3d R = q.toRotationMatrix();

@@ -2,6 +2,8 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
+
+#include <algorithm>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
@@ -222,5 +224,11 @@ const StreamDiagnostics& RawlogSource::diagnostics() const { return impl_->check
 const std::string& RawlogSource::path() const { return impl_->path; }
 
 const std::string& RawlogSource::imagesDirectory() const { return impl_->images_dir; }
+
+double RawlogSource::progress() const {
+  if (!impl_->file.fileOpenCorrectly()) return 1.0;
+  const double total = static_cast<double>(impl_->file.getTotalBytesCount());
+  return total > 0 ? std::min(1.0, static_cast<double>(impl_->file.getPosition()) / total) : 1.0;
+}
 
 }  // namespace rgbdi::io

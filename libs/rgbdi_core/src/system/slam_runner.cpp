@@ -45,17 +45,21 @@ class Progress {
  public:
   Progress(std::ostream& os, bool quiet, double interval_s)
       : os_(os), quiet_(quiet), interval_s_(interval_s), start_(Clock::now()), last_(start_) {}
-  void update(std::size_t frames, double stream_t, double stream_t0, const char* state,
-              bool force = false) {
+  void update(std::size_t frames, double stream_t, double stream_t0, double fraction,
+              const char* state, bool force = false) {
     if (quiet_) return;
     const auto now = Clock::now();
     if (!force && std::chrono::duration<double>(now - last_).count() < interval_s_) return;
     last_ = now;
     const double wall = std::chrono::duration<double>(now - start_).count();
     std::ostringstream line;
-    line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] " << frames << " frames, "
-         << (wall > 0 ? frames / wall : 0.0) << " frames/s, stream " << (stream_t - stream_t0)
-         << " s (" << (wall > 0 ? (stream_t - stream_t0) / wall : 0.0) << "x real time), " << state
+    line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] " << 100.0 * fraction << " %, "
+         << frames << " frames, " << (wall > 0 ? frames / wall : 0.0) << " frames/s, ETA ";
+    if (fraction > 0.01)
+      line << std::setprecision(0) << wall * (1.0 - fraction) / fraction << " s";
+    else
+      line << "?";
+    line << std::setprecision(1) << ", stream " << (stream_t - stream_t0) << " s, " << state
          << "   ";
     os_ << line.str() << std::flush;
     printed_ = true;
@@ -183,7 +187,7 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
       } else {
         vio.feedRgbd(std::get<RgbdFrame>(m));
         ++frames;
-        progress.update(frames, t, t0, estimator::toString(vio.status()));
+        progress.update(frames, t, t0, source->progress(), estimator::toString(vio.status()));
       }
     }
   } catch (const io::RawlogError& e) {
@@ -191,7 +195,7 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   }
   vio.endOfStream();
   progress.update(frames, std::isnan(t_last) ? 0 : t_last, std::isnan(t0) ? 0 : t0,
-                  estimator::toString(vio.status()), true);
+                  source->progress(), estimator::toString(vio.status()), true);
   progress.finish();
   const double wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
 

@@ -21,6 +21,7 @@ SystemConfig SystemConfig::load(IniReader& ini) {
   // Sections read by other tools or by modules that are not part of this program yet.
   ini.acceptSection("sim");
   ini.acceptSection("loop");
+  ini.acceptSection("convert");  // rawlog-convert
   ini.checkNoUnknownKeys();
   return c;
 }

@@ -54,6 +54,9 @@ class RawlogSource : public MeasurementSource, public mrpt::system::COutputLogge
   const std::string& path() const;
   /// Directory used for externally stored images of this rawlog.
   const std::string& imagesDirectory() const;
+  /// Fraction of the rawlog file read so far, in [0, 1] (compressed bytes for gz files); for
+  /// progress reporting only.
+  double progress() const;
 
  private:
   struct Impl;

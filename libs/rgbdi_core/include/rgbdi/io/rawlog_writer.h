@@ -2,8 +2,9 @@
 // (rawlog-edit, RawLogViewer) and RawlogSource read. The file is written under a temporary name
 // and renamed on close(), so an interrupted run never leaves a truncated rawlog behind.
 //
-// Colour images stored inside the rawlog are JPEG-compressed by MRPT (lossy, quality 95: MRPT's
-// process-wide default); with external_images they are lossless PNG files and depth is stored
+// Colour images stored inside the rawlog are stored raw (MRPT 2.5's default
+// CImage::DISABLE_JPEG_COMPRESSION is true); with external_images they are lossless PNG files and
+// depth is stored
 // as MRPT's external range files, both in "<dir>/<stem>_Images/".
 #pragma once
 
