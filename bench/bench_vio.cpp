@@ -104,6 +104,17 @@ int main(int argc, char** argv) {
   std::cout << "resets " << st.resets << ", first pose at "
             << (st.first_pose_t_image - seq.frameStamp(0)) << " s, time offset "
             << vio.estimator().timeOffset() << " s\n";
+  double used = 0, verified = 0;
+  int updates = 0;
+  for (const auto& e : vio.estimates())
+    if (e.n_features_used > 0) {
+      used += e.n_features_used;
+      verified += e.n_depth_verified;
+      ++updates;
+    }
+  if (updates > 0)
+    std::cout << "features per update: " << used / updates << " used, " << verified / updates
+              << " depth-verified\n";
   const Trajectory gt = seq.bodyTrajectory();
   for (auto mode : {eval::AlignMode::PosYaw, eval::AlignMode::Sim3}) {
     eval::EvalOptions eo;
