@@ -17,11 +17,11 @@ struct EstimatorOptions {
   double cauchy_loss_sigma = 1.0;      ///< [unitless] Cauchy scale in units of reprojection sigma
   double depth_verify_tolerance_px = 10.0;  ///< [px at focal 460]
   double depth_verify_min_m = 0.1;          ///< [m]
-  double depth_verify_max_m = 3.0;          ///< [m]
+  double depth_verify_max_m = 3.5;          ///< [m]
   /// How depth-verified features enter the optimisation: "constant" (paper: inverse depth held
   /// fixed) or "prior" (free inverse depth with a Gaussian prior from the verified mean, sigma
   /// from depth_noise_coeff and the number of agreeing observations).
-  std::string verified_depth = "constant";
+  std::string verified_depth = "prior";
   double depth_noise_coeff = 0.004;            ///< [1/m] sensor depth sigma = coeff * z^2
   double init_depth_max_m = 10.0;              ///< [m]
   int init_min_correspondences = 20;           ///< [count]
