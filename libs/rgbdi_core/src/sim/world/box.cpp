@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "rgbdi/sim/primitives.h"
+#include "sim/world/ray_interval.h"
 
 namespace rgbdi::sim {
 
@@ -26,9 +27,7 @@ bool Box::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, d
   const Eigen::Vector3d o = axis_aligned_ ? Eigen::Vector3d(origin - T_world_box_.translation())
                                           : Eigen::Vector3d(R_box_world_ * (origin - T_world_box_.translation()));
   const Eigen::Vector3d d = axis_aligned_ ? dir : Eigen::Vector3d(R_box_world_ * dir);
-  double t_in = -std::numeric_limits<double>::infinity();
-  double t_out = std::numeric_limits<double>::infinity();
-  int face_in = -1, face_out = -1;
+  RayInterval in;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) {
       // Parallel to this slab: inside it for all t, or never.
@@ -43,27 +42,10 @@ bool Box::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, d
       std::swap(t0, t1);
       std::swap(f0, f1);
     }
-    if (t0 > t_in) {
-      t_in = t0;
-      face_in = f0;
-    }
-    if (t1 < t_out) {
-      t_out = t1;
-      face_out = f1;
-    }
+    in.clipEntry(t0, f0);
+    in.clipExit(t1, f1);
   }
-  if (t_in > t_out) return false;
-  if (t_in > kMinHitDistance) {
-    if (t_in > t_max) return false;
-    hit = {t_in, face_in};
-    return true;
-  }
-  // Origin inside (or behind the entry): the exit face is the visible one.
-  if (t_out > kMinHitDistance && t_out <= t_max) {
-    hit = {t_out, face_out};
-    return true;
-  }
-  return false;
+  return in.visibleHit(t_max, hit);
 }
 
 SurfaceInfo Box::surface(const Eigen::Vector3d& p_world, int face) const {

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "rgbdi/sim/primitives.h"
+#include "sim/world/ray_interval.h"
 
 namespace rgbdi::sim {
 
@@ -20,9 +21,7 @@ bool Cylinder::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& d
                          PrimitiveHit& hit) const {
   // The solid is the intersection of an infinite vertical cylinder and the slab z0..z1:
   // intersect both parameter intervals and remember which surface bounds each end.
-  double t_in = -std::numeric_limits<double>::infinity();
-  double t_out = std::numeric_limits<double>::infinity();
-  int face_in = -1, face_out = -1;
+  RayInterval in;
 
   const double ox = origin.x() - c_.x(), oy = origin.y() - c_.y();
   const double a = dir.x() * dir.x() + dir.y() * dir.y();
@@ -38,9 +37,8 @@ bool Cylinder::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& d
     const double q = (b >= 0.0) ? -(b + sq) : (-b + sq);
     double t0 = q / a, t1 = (q != 0.0) ? c / q : t0;
     if (t0 > t1) std::swap(t0, t1);
-    t_in = t0;
-    t_out = t1;
-    face_in = face_out = 0;
+    in.clipEntry(t0, 0);
+    in.clipExit(t1, 0);
   }
 
   if (dir.z() == 0.0) {
@@ -53,26 +51,10 @@ bool Cylinder::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& d
       std::swap(tb, tt);
       std::swap(fb, ft);
     }
-    if (tb > t_in) {
-      t_in = tb;
-      face_in = fb;
-    }
-    if (tt < t_out) {
-      t_out = tt;
-      face_out = ft;
-    }
+    in.clipEntry(tb, fb);
+    in.clipExit(tt, ft);
   }
-  if (t_in > t_out) return false;
-  if (t_in > kMinHitDistance) {
-    if (t_in > t_max) return false;
-    hit = {t_in, face_in};
-    return true;
-  }
-  if (t_out > kMinHitDistance && t_out <= t_max) {
-    hit = {t_out, face_out};
-    return true;
-  }
-  return false;
+  return in.visibleHit(t_max, hit);
 }
 
 SurfaceInfo Cylinder::surface(const Eigen::Vector3d& p_world, int face) const {

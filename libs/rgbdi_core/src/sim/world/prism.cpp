@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "rgbdi/sim/primitives.h"
+#include "sim/world/ray_interval.h"
 
 namespace rgbdi::sim {
 
@@ -61,9 +62,7 @@ bool Prism::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
                       PrimitiveHit& hit) const {
   // Convex solid = intersection of half-spaces n.x <= d: clip the ray parameter interval
   // against each plane (entering where n.dir < 0, leaving where n.dir > 0).
-  double t_in = -std::numeric_limits<double>::infinity();
-  double t_out = std::numeric_limits<double>::infinity();
-  int face_in = -1, face_out = -1;
+  RayInterval in;
   for (int f = 0; f < kFaces; ++f) {
     const std::size_t i = static_cast<std::size_t>(f);
     const double denom = normal_[i].dot(dir);
@@ -74,26 +73,13 @@ bool Prism::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
     }
     const double t = dist / denom;
     if (denom < 0.0) {
-      if (t > t_in) {
-        t_in = t;
-        face_in = f;
-      }
-    } else if (t < t_out) {
-      t_out = t;
-      face_out = f;
+      in.clipEntry(t, f);
+    } else {
+      in.clipExit(t, f);
     }
-    if (t_in > t_out) return false;
+    if (in.empty()) return false;
   }
-  if (t_in > kMinHitDistance) {
-    if (t_in > t_max) return false;
-    hit = {t_in, face_in};
-    return true;
-  }
-  if (t_out > kMinHitDistance && t_out <= t_max) {
-    hit = {t_out, face_out};
-    return true;
-  }
-  return false;
+  return in.visibleHit(t_max, hit);
 }
 
 SurfaceInfo Prism::surface(const Eigen::Vector3d& p_world, int face) const {
