@@ -25,7 +25,7 @@ TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.max_listed_issues, d.max_listed_issues);
   // Every key of [stream] is one that StreamOptions reads.
   for (const char* s : {"camera", "imu", "extrinsic", "frontend", "estimator", "loop", "mapping",
-                        "output", "sim"})
+                        "output", "sim", "convert"})
     ini.acceptSection(s);
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());
 }

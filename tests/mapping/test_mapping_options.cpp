@@ -67,6 +67,7 @@ TEST(MappingOptions, DefaultsEqualTheShippedConfig) {
   ini.acceptSection("loop");
   ini.acceptSection("output");
   ini.acceptSection("sim");
+  ini.acceptSection("convert");
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());
 }
 

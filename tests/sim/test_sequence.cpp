@@ -231,7 +231,8 @@ TEST(SimOptions, DefaultsEqualTheSharedConfigAndAreAtLeastAsHardAsAD435i) {
   EXPECT_DOUBLE_EQ(p.handheld_camera_height_m, d.profile.handheld_camera_height_m);
   // Every [sim] key of the shared config is read by the simulator (with the renderer's keys).
   ini.acceptSection("camera");
-  for (const char* s : {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output"})
+  for (const char* s :
+       {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "convert"})
     ini.acceptSection(s);
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());
 
