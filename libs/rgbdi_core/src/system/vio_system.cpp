@@ -1,6 +1,8 @@
 #include "rgbdi/system/vio_system.h"
 
+#include <algorithm>
 #include <chrono>
+#include <unordered_set>
 
 namespace rgbdi::system {
 
@@ -82,12 +84,16 @@ void VioSystem::processReady(bool flush) {
     recent_frames_.push_back(std::move(p));
     pending_.pop_front();
     emitKeyframes(estimator_->takeFinishedKeyframes());
-    // Frames older than the oldest window slot can no longer become keyframes.
-    const auto window = estimator_->windowKeyframes();
-    const std::uint64_t oldest =
-        window.empty() ? recent_frames_.back().frame.index : window.front().frame_index;
-    while (!recent_frames_.empty() && recent_frames_.front().frame.index < oldest)
-      recent_frames_.pop_front();
+    // Only frames that are window slots can still become keyframes: keep their images and
+    // nothing else (the window may span many seconds when the robot moves slowly, so keeping
+    // every frame since the oldest slot would grow memory with time).
+    std::unordered_set<std::uint64_t> slots;
+    for (const auto& w : estimator_->windowKeyframes()) slots.insert(w.frame_index);
+    recent_frames_.erase(std::remove_if(recent_frames_.begin(), recent_frames_.end(),
+                                        [&](const Pending& f) {
+                                          return !slots.count(f.frame.index);
+                                        }),
+                         recent_frames_.end());
   }
 }
 
