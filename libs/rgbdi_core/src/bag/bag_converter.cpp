@@ -244,32 +244,25 @@ struct BagConverter::Impl {
           StampedImage img;
           const bool compressed =
               role == Role::Color ? layout.color_compressed : layout.depth_compressed;
+          // Same steps for sensor_msgs/Image and sensor_msgs/CompressedImage (the decoders are
+          // overloaded on the message type).
+          auto decode = [&](auto&& msg) {
+            deserialize(m.data, m.size, msg);
+            img.t = stampOf(msg.header);
+            img.label = where = label(m, img.t);
+            if (role == Role::Color) {
+              img.image = decodeColorImage(msg, where);
+            } else {
+              DepthImage d = decodeDepthImage(msg, depth_unit, options.float_depth_unit_m, where);
+              img.image = d.depth;
+              img.unit_m = d.unit_m;
+              report.depth_clipped_pixels += d.clipped;
+            }
+          };
           if (compressed) {
-            sensor_msgs::CompressedImage msg;
-            deserialize(m.data, m.size, msg);
-            img.t = stampOf(msg.header);
-            img.label = where = label(m, img.t);
-            if (role == Role::Color) {
-              img.image = decodeColorImage(msg, where);
-            } else {
-              DepthImage d = decodeDepthImage(msg, depth_unit, options.float_depth_unit_m, where);
-              img.image = d.depth;
-              img.unit_m = d.unit_m;
-              report.depth_clipped_pixels += d.clipped;
-            }
+            decode(sensor_msgs::CompressedImage());
           } else {
-            sensor_msgs::Image msg;
-            deserialize(m.data, m.size, msg);
-            img.t = stampOf(msg.header);
-            img.label = where = label(m, img.t);
-            if (role == Role::Color) {
-              img.image = decodeColorImage(msg, where);
-            } else {
-              DepthImage d = decodeDepthImage(msg, depth_unit, options.float_depth_unit_m, where);
-              img.image = d.depth;
-              img.unit_m = d.unit_m;
-              report.depth_clipped_pixels += d.clipped;
-            }
+            decode(sensor_msgs::Image());
           }
           if (role == Role::Color) {
             checkSize(img.image, cam_color, "colour", color_source, where, checked_color_size);
