@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include "rgbdi/eval/evaluate.h"
@@ -119,8 +120,17 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   } catch (const ConfigError& e) {
     throw UserError(std::string("configuration error: ") + e.what());
   }
-  if (!opt.gt_path.empty() && !fs::exists(opt.gt_path))
-    throw UserError(opt.gt_path + ": ground-truth file does not exist");
+  // Ground truth is read before the run, so a bad file is reported at once.
+  Trajectory gt;
+  if (!opt.gt_path.empty()) {
+    if (!fs::exists(opt.gt_path))
+      throw UserError(opt.gt_path + ": ground-truth file does not exist");
+    try {
+      gt = eval::readTum(opt.gt_path);
+    } catch (const std::exception& e) {
+      throw UserError(e.what());
+    }
+  }
   prepareOutputDir(opt.out_dir);
 
   std::unique_ptr<io::RawlogSource> source;
@@ -210,14 +220,19 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
 
   // Map outputs.
   nlohmann::json outputs_map;
-  Trajectory gt;
-  bool have_gt = false;
+  // Evaluation against ground truth, once: its position+yaw alignment also places the ground
+  // truth in the estimate's frame for the plot and the scene.
+  std::optional<eval::EvalResult> eval_posyaw, eval_sim3;
+  std::string eval_error;
   if (!opt.gt_path.empty()) {
     try {
-      gt = eval::readTum(opt.gt_path);
-      have_gt = true;
+      eval::EvalOptions eo;
+      eo.align = eval::AlignMode::PosYaw;
+      eval_posyaw = eval::evaluate(gt, vio.trajectoryBody(), eo);
+      eo.align = eval::AlignMode::Sim3;
+      eval_sim3 = eval::evaluate(gt, vio.trajectoryBody(), eo);
     } catch (const std::exception& e) {
-      throw UserError(e.what());
+      eval_error = e.what();
     }
   }
   const auto t_out = Clock::now();
@@ -237,17 +252,10 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   }
   // Ground truth expressed in the estimate's frame (position + yaw alignment) for the plot/scene.
   Trajectory gt_in_est;
-  if (have_gt && vio.trajectoryBody().size() >= 2) {
-    try {
-      eval::EvalOptions eo;
-      eo.align = eval::AlignMode::PosYaw;
-      const auto r = eval::evaluate(gt, vio.trajectoryBody(), eo);
-      const Eigen::Isometry3d T_est_gt = r.alignment.rigid().inverse();
-      for (const auto& g : gt)
-        gt_in_est.push_back(StampedPose::fromIsometry(g.t, T_est_gt * g.isometry()));
-    } catch (const std::exception&) {
-      gt_in_est.clear();  // reported with the evaluation below
-    }
+  if (eval_posyaw) {
+    const Eigen::Isometry3d T_est_gt = eval_posyaw->alignment.rigid().inverse();
+    for (const auto& g : gt)
+      gt_in_est.push_back(StampedPose::fromIsometry(g.t, T_est_gt * g.isometry()));
   }
   if (cfg.output.write_scene) {
     outputs_map["scene"] = opt.out_dir + "/scene.3Dscene";
@@ -305,22 +313,15 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
                         {"pose_graph", graph_path}};
   for (const auto& [k, v] : outputs_map.items()) summary["outputs"][k] = v;
 
-  if (!opt.gt_path.empty()) {
-    try {
-      eval::EvalOptions eo;
-      eo.align = eval::AlignMode::PosYaw;
-      const eval::EvalResult posyaw = eval::evaluate(gt, vio.trajectoryBody(), eo);
-      eo.align = eval::AlignMode::Sim3;
-      const eval::EvalResult sim3 = eval::evaluate(gt, vio.trajectoryBody(), eo);
-      summary["evaluation"] = eval::toJson(posyaw);
-      summary["evaluation_sim3"] = eval::toJson(sim3);
-      log << "Accuracy against " << opt.gt_path << " (position+yaw alignment):\n"
-          << eval::formatReport(posyaw) << "Scale (Sim(3) alignment): " << std::setprecision(6)
-          << sim3.alignment.scale << "\n";
-    } catch (const std::exception& e) {
-      summary["evaluation_error"] = e.what();
-      log << "Evaluation failed: " << e.what() << "\n";
-    }
+  if (eval_posyaw && eval_sim3) {
+    summary["evaluation"] = eval::toJson(*eval_posyaw);
+    summary["evaluation_sim3"] = eval::toJson(*eval_sim3);
+    log << "Accuracy against " << opt.gt_path << " (position+yaw alignment):\n"
+        << eval::formatReport(*eval_posyaw) << "Scale (Sim(3) alignment): " << std::setprecision(6)
+        << eval_sim3->alignment.scale << "\n";
+  } else if (!eval_error.empty()) {
+    summary["evaluation_error"] = eval_error;
+    log << "Evaluation failed: " << eval_error << "\n";
   }
   const std::string summary_path = opt.out_dir + "/summary.json";
   summary["outputs"]["summary"] = summary_path;
