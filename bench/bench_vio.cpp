@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
             << " frames/s\n";
   std::cout << "resets " << st.resets << ", first pose at "
             << (st.first_pose_t_image - seq.frameStamp(0)) << " s, time offset "
-            << vio.estimator().timeOffset() << " s\n";
+            << 1000.0 * vio.estimator().timeOffset() << " ms\n";
   double used = 0, verified = 0;
   int updates = 0;
   for (const auto& e : vio.estimates())

@@ -53,6 +53,8 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   if (o.window_size < o.init_min_frames)
     ini.fail(s, "init_min_frames", "must not exceed window_size");
   o.estimate_time_offset = ini.getBool(s, "estimate_time_offset", o.estimate_time_offset);
+  o.time_offset_velocity =
+      ini.getEnum(s, "time_offset_velocity", o.time_offset_velocity, {"motion_field", "tracked"});
   o.time_offset_prior_sigma_s =
       ini.getDouble(s, "time_offset_prior_sigma_s", o.time_offset_prior_sigma_s, 1e-5, 1.0);
   o.update_rate_hz = ini.getDouble(s, "update_rate_hz", o.update_rate_hz, 0.0, 1000.0);
@@ -60,6 +62,12 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
       ini.getDouble(s, "fail_max_acc_bias_m_s2", o.fail_max_acc_bias_m_s2, 0.01, 100);
   o.fail_max_gyr_bias_rad_s =
       ini.getDouble(s, "fail_max_gyr_bias_rad_s", o.fail_max_gyr_bias_rad_s, 0.001, 100);
+  o.init_allow_static = ini.getBool(s, "init_allow_static", o.init_allow_static);
+  o.init_max_scale_rel_sigma =
+      ini.getDouble(s, "init_max_scale_rel_sigma", o.init_max_scale_rel_sigma, 1e-4, 1.0);
+  o.init_max_alignment_rms =
+      ini.getDouble(s, "init_max_alignment_rms", o.init_max_alignment_rms, 1e-6, 10.0);
+  o.fail_max_speed_m_s = ini.getDouble(s, "fail_max_speed_m_s", o.fail_max_speed_m_s, 0.1, 1000);
   o.fail_max_jump_m = ini.getDouble(s, "fail_max_jump_m", o.fail_max_jump_m, 0.01, 1000);
   o.fail_max_vertical_jump_m =
       ini.getDouble(s, "fail_max_vertical_jump_m", o.fail_max_vertical_jump_m, 0.01, 1000);

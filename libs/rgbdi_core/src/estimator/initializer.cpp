@@ -48,6 +48,12 @@ std::optional<PnpResult> relativePoseByPnP(const std::vector<Eigen::Vector3d>& p
   PnpResult res;
   res.T_curr_prev.linear() = expSO3(r);  // the exponential map of the rotation vector
   res.T_curr_prev.translation() = t;
+  // Cheirality: on shallow scenes EPnP can return the mirrored pose with the points behind the
+  // camera, which still reprojects well. Require the inliers in front of the current camera.
+  int in_front = 0;
+  for (int i : inliers)
+    if ((res.T_curr_prev * pts_prev_cam[static_cast<size_t>(i)]).z() > 0.0) ++in_front;
+  if (in_front < opt.min_inliers) return std::nullopt;
   res.inliers = static_cast<int>(inliers.size());
   res.inlier_indices = inliers;
   return res;

@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <set>
@@ -10,10 +11,13 @@
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/initializer.h"
 #include "rgbdi/estimator/marginalization.h"
+#include "rgbdi/estimator/motion_field.h"
 #include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
+#include "rgbdi/estimator/scale_alignment.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/visual_sfm.h"
 #include "rgbdi/imu/imu_buffer.h"
 #include "rgbdi/imu/imu_factor.h"
 #include "rgbdi/imu/imu_init.h"
@@ -95,6 +99,42 @@ struct SlidingWindowEstimator::Slot {
     }
   }
 };
+
+void SlidingWindowEstimator::assignMotionFieldVelocities(std::size_t slot) {
+  if (opt_.time_offset_velocity != "motion_field") return;
+  const Slot& s = window_[slot];
+  if (!imu_->covers(s.t, s.t)) return;
+  const Eigen::Vector3d w_b = imu_->interpolate(s.t).gyr - s.bg();
+  const Eigen::Matrix3d R_cb = T_bc_.rotation().transpose();
+  const Eigen::Vector3d w_c = R_cb * w_b;
+  // Velocity of the camera centre, in the camera frame (the lever arm adds omega x t_bc).
+  const Eigen::Vector3d v_c =
+      R_cb * (s.q().normalized().conjugate() * s.v() + w_b.cross(T_bc_.translation()));
+  const Eigen::Isometry3d T_c_w = (s.T() * T_bc_).inverse();
+  const int slot_i = static_cast<int>(slot);
+  // Depth of each observation: measured, else from the track's estimate; features with neither
+  // get the median of the others (the translational term only needs a rough depth).
+  std::vector<std::pair<TrackObservation*, double>> todo;
+  std::vector<double> known;
+  for (auto& [id, f] : features_.tracks()) {
+    if (f.start_slot > slot_i || f.endSlot() < slot_i) continue;
+    TrackObservation& o = f.obs[static_cast<std::size_t>(slot_i - f.start_slot)];
+    double z = o.depth_m;
+    if (!(z > 0.0) && f.hasDepth()) {
+      const Eigen::Isometry3d T_w_ci = window_[static_cast<std::size_t>(f.start_slot)].T() * T_bc_;
+      z = (T_c_w * (T_w_ci * (f.obs.front().meas.xn / f.inv_depth))).z();
+    }
+    if (z > 0.0) known.push_back(z);
+    todo.emplace_back(&o, z);
+  }
+  double typical = 0.0;
+  if (!known.empty()) {
+    std::nth_element(known.begin(), known.begin() + known.size() / 2, known.end());
+    typical = known[known.size() / 2];
+  }
+  for (auto& [o, z] : todo)
+    o->meas.velocity = motionFieldVelocity(o->meas.xn.head<2>(), z > 0.0 ? z : typical, w_c, v_c);
+}
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, const ImuOptions& imu,
                                                const ExtrinsicOptions& ext)
@@ -183,6 +223,7 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
   int n_tracked = 0;
   features_.addFrame(static_cast<int>(window_.size()) - 1, toObservations(frame), &parallax,
                      &n_tracked);
+  if (predict_from_previous) assignMotionFieldVelocities(window_.size() - 1);
   const double min_parallax = opt_.keyframe_parallax_px / EstimatorOptions::kVirtualFocalPx;
   newest_but_one_keyframe_ =
       window_.size() < 3 || n_tracked < opt_.keyframe_min_tracked || parallax >= min_parallax;
@@ -273,6 +314,12 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
 }
 
 bool SlidingWindowEstimator::tryMovingInit() {
+  // Frames without (enough) depth, e.g. --no-depth: the visual SfM initialisation.
+  int with_depth = 0;
+  for (const auto& f : window_.back().raw_features)
+    if (f.depth_m > 0.0 && f.depth_m <= opt_.init_depth_max_m) ++with_depth;
+  visual_init_mode_ = with_depth < opt_.init_min_correspondences;
+  if (visual_init_mode_) return tryVisualInit();
   // PnP of the newest frame against the previous one (metric points from the previous depth).
   const size_t n = window_.size();
   if (n >= 2) {
@@ -365,16 +412,31 @@ bool SlidingWindowEstimator::tryMovingInit() {
     window_[k].preint->repropagate(Eigen::Vector3d::Zero(), bg);
   const auto align = alignVelocitiesAndGravity(T_ref_body, pre, imu_opt_.gravity_m_s2);
   if (!align) return initFail("velocity/gravity alignment failed or inconsistent");
+  // IMU data that disagree with the visual motion (a shock, or the tail of the failure that
+  // caused this re-initialisation) leave a large residual: wait for clean data instead.
+  if (align->residual_rms > opt_.init_max_alignment_rms)
+    return initFail(
+        "IMU and visual motion disagree (alignment residual above init_max_alignment_rms)");
 
+  adoptInitialisation(T_ref_body, align->v_ref, align->g_ref, bg);
+  return true;
+}
+
+void SlidingWindowEstimator::adoptInitialisation(const std::vector<Eigen::Isometry3d>& T_ref_body,
+                                                 const std::vector<Eigen::Vector3d>& v_ref,
+                                                 const Eigen::Vector3d& g_ref,
+                                                 const Eigen::Vector3d& bg) {
+  // The reference frame becomes the world frame: gravity along -z, and position and yaw of the
+  // oldest frame continue the trajectory from before a reset (or start at the origin).
   const double yaw0 = have_anchor_ ? anchor_yaw_ : 0.0;
-  const Eigen::Matrix3d R_w_ref = worldFromGravity(align->g_ref, T_ref_body[0].rotation(), yaw0);
+  const Eigen::Matrix3d R_w_ref = worldFromGravity(g_ref, T_ref_body[0].rotation(), yaw0);
   const Eigen::Vector3d p0 = have_anchor_ ? anchor_p_ : Eigen::Vector3d::Zero();
   const Eigen::Vector3d shift = p0 - R_w_ref * T_ref_body[0].translation();
   for (size_t k = 0; k < window_.size(); ++k) {
     Slot& s = window_[k];
     s.setPose(R_w_ref * T_ref_body[k].translation() + shift,
               Eigen::Quaterniond(R_w_ref * T_ref_body[k].rotation()));
-    s.setV(R_w_ref * align->v_ref[k]);
+    s.setV(R_w_ref * v_ref[k]);
     s.setBiases(Eigen::Vector3d::Zero(), bg);
   }
   init_prior_mean_.setZero();
@@ -385,6 +447,45 @@ bool SlidingWindowEstimator::tryMovingInit() {
       Eigen::Vector3d::Constant(opt_.init_gyr_bias_sigma_rad_s);
   use_init_prior_ = true;
   ++stats_.moving_initialisations;
+}
+
+bool SlidingWindowEstimator::tryVisualInit() {
+  // Without depth (VINS-Mono style): up-to-scale SfM over the window, then the IMU gives scale,
+  // gravity, velocities and gyro bias. It needs a full window: the scale is observable only from
+  // changes of acceleration, and a short window leaves it poorly determined.
+  if (static_cast<int>(window_.size()) < opt_.window_size)
+    return initFail("collecting frames for a visual (SfM) initialisation");
+  std::vector<std::vector<frontend::FeatureObservation>> frames;
+  std::vector<imu::Preintegration*> pre;
+  for (auto& s : window_) {
+    frames.push_back(s.raw_features);
+    pre.push_back(s.preint.get());
+  }
+  SfmOptions so;
+  so.min_correspondences = opt_.init_min_correspondences;
+  so.min_parallax_norm = opt_.init_min_parallax_px / EstimatorOptions::kVirtualFocalPx;
+  so.reprojection_sigma_norm = opt_.reprojection_sigma_px / EstimatorOptions::kVirtualFocalPx;
+  so.seed = window_.back().frame_index + 1;
+  const auto sfm = solveVisualSfm(frames, so);
+  if (!sfm) return initFail("visual SfM over the window failed (parallax or tracks)");
+  const auto align =
+      alignWithScale(sfm->T_c0_c, T_bc_, pre, imu_opt_.gravity_m_s2, opt_.init_max_scale_rel_sigma);
+  if (!align) return initFail("scale/gravity alignment failed or the scale is not observable yet");
+  const Eigen::Vector3d bg = window_[1].preint->biasGyr();  // re-propagated with the solved bias
+  if (bg.norm() > opt_.fail_max_gyr_bias_rad_s)
+    return initFail("gyro bias above fail_max_gyr_bias_rad_s");
+  std::vector<Eigen::Isometry3d> T_ref_body;
+  const Eigen::Isometry3d T_cb = T_bc_.inverse();
+  for (const auto& T : sfm->T_c0_c) {
+    Eigen::Isometry3d T_metric = T;
+    T_metric.translation() *= align->scale;
+    T_ref_body.push_back(T_metric * T_cb);
+  }
+  logFmt(mrpt::system::LVL_INFO,
+         "visual initialisation: scale %.4f (predicted rel. sigma %.3f), %d points\n", align->scale,
+         align->scale_rel_sigma, sfm->n_points);
+  adoptInitialisation(T_ref_body, align->v_ref, align->g_ref, bg);
+  ++stats_.visual_initialisations;
   return true;
 }
 
@@ -397,7 +498,12 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   if (!window_.empty() && t <= window_.back().t) return out;  // stale frame: ignore
   if (!imu_->covers(window_.empty() ? t : window_.back().t, t)) {
     // No IMU for this interval (start of stream or an IMU gap): restart initialisation.
-    if (status_ == EstimatorStatus::kTracking) reset(true);
+    if (status_ == EstimatorStatus::kTracking) {
+      logFmt(mrpt::system::LVL_WARN, "no IMU data up to t=%.3f: re-initialising\n", t);
+      ++stats_.resets;
+      reset(true);
+      out.reset = true;
+    }
     out.status = status_;
     return out;
   }
@@ -407,10 +513,15 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     while (!stillness_frames_.empty() &&
            stillness_frames_.front().t < t - 2.0 * opt_.init_static_window_s)
       stillness_frames_.pop_front();
-    bool ok = tryStaticInit(frame, t);
+    bool ok = opt_.init_allow_static && tryStaticInit(frame, t);
     if (!ok) {
       addSlot(frame, t, false);
       ok = tryMovingInit();
+      if (!ok && visual_init_mode_ && window_.size() >= 3 && !newest_but_one_keyframe_) {
+        // The SfM window holds keyframes (enough parallax between them), as the sliding window
+        // does, so that it spans enough time for the scale to be observable.
+        dropSecondNewestSlot();
+      }
       if (!ok && static_cast<int>(window_.size()) > opt_.window_size) {
         // Keep the initialisation window bounded: forget the oldest frame.
         features_.removeOldest(slotPoses(), T_bc_);
@@ -426,6 +537,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     out.just_initialised = true;
     prior_.reset();
     features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
+    for (std::size_t k = 0; k < window_.size(); ++k) assignMotionFieldVelocities(k);
     if (window_.size() >= 2) optimise(&out);
   } else {
     if (opt_.update_rate_hz > 0.0 && t - window_.back().t < 0.9 / opt_.update_rate_hz) {
@@ -477,6 +589,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   out.status = status_;
   out.t_imu = s.t;
   prev_newest_p_ = s.p();
+  prev_newest_t_ = s.t;
   last_bg_ = s.bg();
   have_anchor_ = true;
   anchor_p_ = s.p();
@@ -595,6 +708,10 @@ std::string SlidingWindowEstimator::failureReason() const {
   if (s.bg().norm() > opt_.fail_max_gyr_bias_rad_s) return "gyro bias too large";
   const Eigen::Vector3d jump = s.p() - prev_newest_p_;
   if (jump.norm() > opt_.fail_max_jump_m) return "position jump";
+  if (s.v().norm() > opt_.fail_max_speed_m_s) return "speed too high";
+  const double dt = s.t - prev_newest_t_;
+  if (dt > 0.0 && jump.norm() > opt_.fail_max_speed_m_s * dt)
+    return "implausible motion between updates";
   if (std::abs(jump.z()) > opt_.fail_max_vertical_jump_m) return "vertical jump";
   for (const auto& w : window_)
     if (!w.p().allFinite() || !w.q().coeffs().allFinite()) return "non-finite state";
@@ -700,21 +817,27 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
         prior_.reset();
       }
     }
-    // Merge pre-integrations: (N-2 -> N-1) followed by (N-1 -> N).
-    auto merged = std::make_unique<imu::Preintegration>(s1.preint->biasAcc(), s1.preint->biasGyr(),
-                                                        imu::ImuNoise::fromOptions(imu_opt_));
-    for (const auto& m : s1.preint->samples()) merged->push(m);
-    const auto& next = window_[N].preint->samples();
-    for (size_t k = 1; k < next.size(); ++k) merged->push(next[k]);
-    window_[N].preint = std::move(merged);
-    features_.removeSlot(static_cast<int>(N) - 1);
     remap[window_[N].pose] = window_[N - 1].pose;
     remap[window_[N].sb] = window_[N - 1].sb;
-    window_.erase(window_.begin() + static_cast<std::ptrdiff_t>(N) - 1);
+    dropSecondNewestSlot();
     if (prior_) prior_->remapBlocks(remap);
   }
   out->ms_marginalisation = msSince(t0);
   stats_.sum_ms_marginalisation += out->ms_marginalisation;
+}
+
+void SlidingWindowEstimator::dropSecondNewestSlot() {
+  const size_t N = window_.size() - 1;
+  Slot& s1 = window_[N - 1];
+  // Merge pre-integrations: (N-2 -> N-1) followed by (N-1 -> N).
+  auto merged = std::make_unique<imu::Preintegration>(s1.preint->biasAcc(), s1.preint->biasGyr(),
+                                                      imu::ImuNoise::fromOptions(imu_opt_));
+  for (const auto& m : s1.preint->samples()) merged->push(m);
+  const auto& next = window_[N].preint->samples();
+  for (size_t k = 1; k < next.size(); ++k) merged->push(next[k]);
+  window_[N].preint = std::move(merged);
+  features_.removeSlot(static_cast<int>(N) - 1);
+  window_.erase(window_.begin() + static_cast<std::ptrdiff_t>(N) - 1);
 }
 
 std::vector<KeyframeState> SlidingWindowEstimator::takeFinishedKeyframes() {

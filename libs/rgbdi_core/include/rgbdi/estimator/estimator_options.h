@@ -33,20 +33,32 @@ struct EstimatorOptions {
   double init_static_max_motion_px = 1.0;      ///< [px at focal 460] mean feature motion when still
   int init_min_frames = 5;                     ///< [count] frames for a moving (PnP) initialisation
   double init_min_span_s = 0.15;               ///< [s] time spanned by those frames
-  double init_acc_bias_sigma_m_s2 = 0.2;       ///< [m/s^2] prior std of the accelerometer bias
-  double init_gyr_bias_sigma_rad_s = 0.01;     ///< [rad/s] prior std of the gyro bias
+  /// [m and m/s] RMS residual of the velocity/gravity alignment above which the IMU and the
+  /// visual motion are judged inconsistent (clean data: < 0.002; an IMU shock: 0.01)
+  double init_max_alignment_rms = 0.005;
+  /// Start while still (gravity from the accelerometer); false waits for motion, as VINS-Mono does
+  bool init_allow_static = true;
+  /// [unitless] without depth: largest predicted relative error of the SfM scale to accept
+  double init_max_scale_rel_sigma = 0.05;
+  double init_acc_bias_sigma_m_s2 = 0.2;         ///< [m/s^2] prior std of the accelerometer bias
+  double init_gyr_bias_sigma_rad_s = 0.01;       ///< [rad/s] prior std of the gyro bias
   double init_static_velocity_sigma_m_s = 0.02;  ///< [m/s] prior std of velocity at a static start
   double outlier_reprojection_px =
       3.0;  ///< [px at focal 460] mean reprojection error that rejects a feature
   double repropagate_acc_bias_m_s2 = 0.05;    ///< [m/s^2] re-integrate when ba moves this far
   double repropagate_gyr_bias_rad_s = 0.005;  ///< [rad/s] re-integrate when bg moves this far
   bool estimate_time_offset = true;
+  /// Image velocity used by the time-offset correction: "motion_field" (from the gyro, the
+  /// estimated velocity and the feature depth) or "tracked" (difference of the tracked positions,
+  /// as the reference does; its noise correlates with the position noise and biases the offset).
+  std::string time_offset_velocity = "motion_field";
   double time_offset_prior_sigma_s =
-      0.02;  ///< [s] prior std of the time offset around the config value
+      0.005;  ///< [s] prior std of the time offset around the config value
   /// [Hz] rate of estimator updates; frames in between get IMU-propagated poses. 0 = every frame.
   double update_rate_hz = 15.0;
   double fail_max_acc_bias_m_s2 = 2.5;    ///< [m/s^2]
   double fail_max_gyr_bias_rad_s = 1.0;   ///< [rad/s]
+  double fail_max_speed_m_s = 5.0;        ///< [m/s] estimated speed (state or between updates)
   double fail_max_jump_m = 5.0;           ///< [m]
   double fail_max_vertical_jump_m = 1.0;  ///< [m]
 

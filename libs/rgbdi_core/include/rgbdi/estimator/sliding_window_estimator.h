@@ -64,7 +64,8 @@ struct EstimatorStats {
   int frames = 0;
   int resets = 0;
   int static_initialisations = 0;
-  int moving_initialisations = 0;
+  int moving_initialisations = 0;  ///< from motion (depth-aided PnP or visual SfM)
+  int visual_initialisations = 0;  ///< of which visual SfM (no depth)
   double first_pose_t_image = -1.0;
   double sum_ms_optimisation = 0.0, sum_ms_marginalisation = 0.0, sum_ms_preintegration = 0.0;
 };
@@ -96,6 +97,13 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
 
   bool tryStaticInit(const frontend::FeatureFrame& frame, double t);
   bool tryMovingInit();
+  bool tryVisualInit();
+  /// Removes the second-newest slot, merging its IMU interval into the newest one's.
+  void dropSecondNewestSlot();
+  /// Sets the window's states from an initialisation solved in a reference frame (first camera).
+  void adoptInitialisation(const std::vector<Eigen::Isometry3d>& T_ref_body,
+                           const std::vector<Eigen::Vector3d>& v_ref, const Eigen::Vector3d& g_ref,
+                           const Eigen::Vector3d& bg);
   void addSlot(const frontend::FeatureFrame& frame, double t, bool predict_from_previous);
   void optimise(FrameEstimate* out);
   void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
@@ -105,6 +113,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   void reset(bool keep_anchor);
   SlotPoses slotPoses() const;
   double depthPriorSigma(const FeatureTrack& f) const;
+  /// Replaces the image velocities of the observations in window slot `slot` by the motion field
+  /// of that slot's state (see motion_field.h); no-op in "tracked" velocity mode.
+  void assignMotionFieldVelocities(std::size_t slot);
   void rejectOutliers();
   std::vector<std::pair<std::uint64_t, TrackObservation>> toObservations(
       const frontend::FeatureFrame& frame) const;
@@ -127,6 +138,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();
   Eigen::Matrix<double, 9, 1> init_prior_sigma_ = Eigen::Matrix<double, 9, 1>::Ones();
   bool newest_but_one_keyframe_ = true;
+  bool visual_init_mode_ = false;  ///< initialising from images alone (frames lack depth)
 
   EstimatorStatus status_ = EstimatorStatus::kInitializing;
   // Anchor for re-initialisation after a failure: the trajectory continues from the last pose.
@@ -135,6 +147,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   double anchor_yaw_ = 0.0;
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
+  double prev_newest_t_ = 0.0;
   std::vector<KeyframeState> finished_keyframes_;
   /// Recent frames while initialising, for the stillness test.
   struct StillnessFrame {
