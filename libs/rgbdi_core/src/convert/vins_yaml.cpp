@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/common/ini_text.h"
 
 namespace rgbdi::convert {
 namespace {
@@ -62,23 +63,11 @@ class YamlReader {
   cv::FileStorage fs_;
 };
 
-/// Shortest text that reads back to the same double.
-std::string num(double v) {
-  for (int p = 6; p <= 17; ++p) {
-    std::ostringstream t;
-    t << std::setprecision(p) << v;
-    if (std::stod(t.str()) == v) return t.str();
-  }
-  std::ostringstream os;
-  os << std::setprecision(17) << v;
-  return os.str();
-}
-
+// Short local names for the shared INI text helpers (common/ini_text.h).
+std::string num(double v) { return iniNumber(v); }
 void line(std::ostream& os, const std::string& key, const std::string& value,
           const std::string& comment) {
-  std::string kv = key + " = " + value;
-  if (kv.size() < 28) kv.resize(28, ' ');
-  os << kv << " ; " << comment << "\n";
+  iniLine(os, key, value, comment);
 }
 
 }  // namespace
@@ -168,9 +157,7 @@ std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz,
   line(os, "fy", num(c.fy), "[px]");
   line(os, "cx", num(c.cx), "[px]");
   line(os, "cy", num(c.cy), "[px]");
-  line(os, "distortion",
-       num(c.dist[0]) + " " + num(c.dist[1]) + " " + num(c.dist[2]) + " " + num(c.dist[3]) + " " +
-           num(c.dist[4]),
+  line(os, "distortion", iniDistortion(c),
        "k1 k2 p1 p2 k3 [unitless] distortion_parameters (VINS has no k3)");
   line(os, "intrinsics_source", "config",
        "stream|config: use this calibration, not the one stored in the rawlog");

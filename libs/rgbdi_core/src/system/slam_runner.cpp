@@ -303,6 +303,9 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
                     {"points", point_map.pointCount()},
                     {"leaves", point_map.leafCount()},
                     {"memory_bytes", point_map.memoryBytes() + store.memoryBytes()},
+                    {"point_octree_bytes", point_map.memoryBytes()},
+                    {"keyframe_store_bytes", store.memoryBytes()},
+                    {"occupancy_bytes", occupancy ? occupancy->memoryBytes() : 0},
                     {"mapping_ms_total", mapping_ms},
                     {"output_ms", output_ms}};
   summary["stream_diagnostics"] = nlohmann::json::parse(source->diagnostics().toJson());

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/common/ini_text.h"
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/output/tum_writer.h"
 
@@ -17,32 +18,11 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-/// Shortest text that reads back to the same double.
-std::string num(double v) {
-  std::ostringstream os;
-  os << std::setprecision(17) << v;
-  double back = 0.0;
-  for (int p = 6; p <= 17; ++p) {
-    std::ostringstream t;
-    t << std::setprecision(p) << v;
-    std::istringstream(t.str()) >> back;
-    if (back == v) return t.str();
-  }
-  return os.str();
-}
-
-std::string vec(const Eigen::VectorXd& v) {
-  std::string s;
-  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? " " : "") + num(v[i]);
-  return s;
-}
-
-/// "key = value ; comment" with the value column aligned like share/config.ini.
+// Short local names for the shared INI text helpers (common/ini_text.h).
+std::string num(double v) { return iniNumber(v); }
 void line(std::ostream& os, const std::string& key, const std::string& value,
           const std::string& comment) {
-  std::string kv = key + " = " + value;
-  if (kv.size() < 28) kv.resize(28, ' ');
-  os << kv << " ; " << comment << "\n";
+  iniLine(os, key, value, comment);
 }
 
 void cameraSection(std::ostream& os, const CameraOptions& c) {
@@ -54,10 +34,7 @@ void cameraSection(std::ostream& os, const CameraOptions& c) {
   line(os, "fy", num(k.fy), "[px]");
   line(os, "cx", num(k.cx), "[px]");
   line(os, "cy", num(k.cy), "[px]");
-  line(os, "distortion",
-       num(k.dist[0]) + " " + num(k.dist[1]) + " " + num(k.dist[2]) + " " + num(k.dist[3]) + " " +
-           num(k.dist[4]),
-       "k1 k2 p1 p2 k3 [unitless]");
+  line(os, "distortion", iniDistortion(k), "k1 k2 p1 p2 k3 [unitless]");
   line(os, "intrinsics_source", c.intrinsics_source, "stream|config");
 }
 
@@ -68,8 +45,9 @@ void extrinsicSection(std::ostream& os, const ExtrinsicOptions& e, double time_o
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) r[3 * i + j] = R(i, j);
   os << "[extrinsic]\n";
-  line(os, "R_body_cam", vec(r), "row-major [unitless]: colour camera optical frame in the IMU/body frame");
-  line(os, "t_body_cam_m", vec(Eigen::VectorXd(e.T_body_cam.translation())), "[m]");
+  line(os, "R_body_cam", iniNumbers(r),
+       "row-major [unitless]: colour camera optical frame in the IMU/body frame");
+  line(os, "t_body_cam_m", iniNumbers(e.T_body_cam.translation()), "[m]");
   line(os, "time_offset_s", num(time_offset), offset_comment);
   line(os, "sensor_pose_tolerance_m", num(e.sensor_pose_tolerance_m), "[m]");
   line(os, "sensor_pose_tolerance_deg", num(e.sensor_pose_tolerance_deg), "[deg]");
@@ -80,7 +58,11 @@ class WritingSink : public MeasurementSink {
  public:
   WritingSink(const SimulatedSequence& seq, io::RawlogWriter& rawlog, bag::BagWriter* bag,
               const SequenceWriterOptions& options)
-      : seq_(seq), rawlog_(rawlog), bag_(bag), options_(options), start_(Clock::now()),
+      : seq_(seq),
+        rawlog_(rawlog),
+        bag_(bag),
+        options_(options),
+        start_(Clock::now()),
         last_progress_(start_) {}
 
   void feedImu(const ImuSample& imu) override {
@@ -109,7 +91,8 @@ class WritingSink : public MeasurementSink {
   void progress(bool final) {
     if (!options_.progress) return;
     const Clock::time_point now = Clock::now();
-    if (!final && std::chrono::duration<double>(now - last_progress_).count() < options_.progress_interval_s)
+    if (!final &&
+        std::chrono::duration<double>(now - last_progress_).count() < options_.progress_interval_s)
       return;
     last_progress_ = now;
     const double t = elapsed(), fps = frames_ / std::max(1e-9, t);
@@ -170,8 +153,8 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
      << " s, cruise speed " << num(prof.cruise_speed_m_s) << " m/s, path length "
      << num(prof.path_length_m) << " m, " << seq.frameCount() << " frames, " << seq.imuCount()
      << " IMU samples\n"
-     << "; true initial accelerometer bias " << vec(b0.acc) << " m/s^2, gyro bias " << vec(b0.gyr)
-     << " rad/s\n\n[sim]\n";
+     << "; true initial accelerometer bias " << iniNumbers(b0.acc) << " m/s^2, gyro bias "
+     << iniNumbers(b0.gyr) << " rad/s\n\n[sim]\n";
   line(os, "fps", num(o.fps), "[Hz]");
   line(os, "imu_rate_hz", num(o.imu.rate_hz), "[Hz]");
   line(os, "seed", std::to_string(o.seed), "[integer]");
@@ -240,7 +223,8 @@ SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::stri
   ro.T_body_cam = seq.options().extrinsic.T_body_cam;
   io::RawlogWriter rawlog(s.rawlog_path, ro);
   std::unique_ptr<bag::BagWriter> bag;
-  if (options.write_bag) bag = std::make_unique<bag::BagWriter>(s.bag_path, options.bag_compression);
+  if (options.write_bag)
+    bag = std::make_unique<bag::BagWriter>(s.bag_path, options.bag_compression);
 
   WritingSink sink(seq, rawlog, bag.get(), options);
   seq.pump(sink, stop);
