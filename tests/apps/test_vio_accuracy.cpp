@@ -123,7 +123,9 @@ TEST(VioAccuracy, TrackedSlopes15Hz) {
 TEST(VioAccuracy, HandheldTimeOffsetOf10msIsFoundWithin1ms) {
   // Images stamped 10 ms early; the generated config starts the estimate at 0.
   const Metrics m = runProfile("handheld", 30.0, false, 0.010, 20.0);
-  expectHealthy(m);
+  ASSERT_TRUE(m.evaluated) << "the odometry never initialised";
+  EXPECT_EQ(m.resets, 0);
+  EXPECT_LE(m.first_pose_s, 1.0);  // (coverage of a 20 s run is bounded by this start-up time)
   EXPECT_NEAR(m.time_offset_s, 0.010, 0.001);
   EXPECT_LE(m.ate_posyaw, 0.02);
 }
