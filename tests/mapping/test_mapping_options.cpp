@@ -38,6 +38,8 @@ TEST(MappingOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.depth_max_m, d.depth_max_m);
   EXPECT_EQ(f.octree_resolution_m, d.octree_resolution_m);
   EXPECT_EQ(f.max_points_per_leaf, d.max_points_per_leaf);
+  EXPECT_EQ(f.view_update_distance_m, d.view_update_distance_m);
+  EXPECT_EQ(f.view_update_angle_deg, d.view_update_angle_deg);
   EXPECT_EQ(f.min_points_per_leaf_rebuild, d.min_points_per_leaf_rebuild);
   EXPECT_EQ(f.occupancy_resolution_m, d.occupancy_resolution_m);
   EXPECT_EQ(f.occupancy_grid_stride, d.occupancy_grid_stride);

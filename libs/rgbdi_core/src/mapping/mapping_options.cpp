@@ -53,10 +53,14 @@ const std::vector<DoubleKey>& doubleKeys() {
        0.51, 0.99},
       {"occupancy_prob_miss", [](MappingOptions& o) -> double& { return o.occupancy_prob_miss; },
        0.01, 0.49},
+      {"view_update_distance_m",
+       [](MappingOptions& o) -> double& { return o.view_update_distance_m; }, 0.0, 100.0},
+      {"view_update_angle_deg",
+       [](MappingOptions& o) -> double& { return o.view_update_angle_deg; }, 0.0, 180.0},
       {"plot_max_time_diff_s", [](MappingOptions& o) -> double& { return o.plot.max_time_diff_s; },
        0.0, 10.0},
-      {"scene_keyframe_axis_m", [](MappingOptions& o) -> double& { return o.scene.keyframe_axis_m; },
-       0.001, 100.0},
+      {"scene_keyframe_axis_m",
+       [](MappingOptions& o) -> double& { return o.scene.keyframe_axis_m; }, 0.001, 100.0},
   };
   return keys;
 }
@@ -95,9 +99,8 @@ void MappingOptions::validate() const {
     const double v = k.field(copy);
     if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
   }
-  checkConsistency(*this, [](const std::string& key, const std::string& what) {
-    failKey(key, what);
-  });
+  checkConsistency(*this,
+                   [](const std::string& key, const std::string& what) { failKey(key, what); });
 }
 
 MappingOptions MappingOptions::load(IniReader& ini) {

@@ -17,6 +17,7 @@
 #include "rgbdi/mapping/occupancy_map.h"
 #include "rgbdi/mapping/point_map.h"
 #include "rgbdi/mapping/trajectory_plot.h"
+#include "rgbdi/mapping/viewpoint_index.h"
 #include "rgbdi/output/pose_graph.h"
 #include "rgbdi/output/summary_json.h"
 #include "rgbdi/output/tum_writer.h"
@@ -149,6 +150,8 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   std::unique_ptr<mapping::OccupancyMap> occupancy;
   if (cfg.output.write_octomap) occupancy = std::make_unique<mapping::OccupancyMap>(cfg.mapping);
   mapping::KeyframeStore store;
+  mapping::ViewpointIndex viewpoints(cfg.mapping.view_update_distance_m,
+                                     cfg.mapping.view_update_angle_deg);
   std::vector<mapping::SimpleMapEntry> simplemap;
   double mapping_ms = 0.0;
   const Eigen::Isometry3d T_bc = cfg.extrinsic.T_body_cam;
@@ -169,7 +172,12 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
       if (kfe.has_position) kfe.p_cam = Eigen::Vector3d(f.xn.x(), f.xn.y(), 1.0) * f.depth_m;
       k.features.push_back(kfe);
     }
-    if (frame.hasDepth()) k.points = point_map.insertKeyframe(frame, k.T_world_cam);
+    // A keyframe seen from where the map was already seen adds no points (bounded memory on
+    // repeated routes); it is still stored with its features for the pose graph.
+    if (frame.hasDepth() && !viewpoints.covered(k.T_world_cam)) {
+      k.points = point_map.insertKeyframe(frame, k.T_world_cam);
+      viewpoints.add(k.T_world_cam);
+    }
     if (occupancy) occupancy->insertPoints(k.points, k.T_world_cam);
     if (opt.save_simplemap) simplemap.push_back({kf.T_world_body, io::toMrpt(frame, T_bc, "RGBD")});
     store.add(std::move(k));
@@ -297,6 +305,7 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
                                     {"marginalisation", tm.marginalisation_ms / n_est}};
   const auto& ms = point_map.stats();
   summary["map"] = {{"keyframes", store.size()},
+                    {"keyframes_adding_points", viewpoints.size()},
                     {"grid_points", ms.grid_points},
                     {"points_with_depth_in_range", ms.candidates},
                     {"rejected_full_leaf", ms.rejected_full_leaf},
