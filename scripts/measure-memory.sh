@@ -15,7 +15,7 @@ if [ ! -f "$seq/sequence.rawlog" ]; then
   "$build/bin/rgbdi-sim" --profile "$profile" --duration "$duration" --out "$seq" > "$seq.gen.log" 2>&1
 fi
 /usr/bin/time -v -o "$out.time" "$build/bin/rgbdi-slam" --input "$seq/sequence.rawlog" --out "$out" \
-  --gt "$seq/groundtruth.tum" --quiet > "$out.log" 2>&1 &
+  --gt "$seq/groundtruth.tum" --config "$seq/config.ini" --quiet > "$out.log" 2>&1 &
 time_pid=$!
 sleep 1
 slam_pid=$(pgrep -P "$time_pid" | head -1 || true)

@@ -39,7 +39,7 @@ struct EstimatorOptions {
   /// Start while still (gravity from the accelerometer); false waits for motion, as VINS-Mono does
   bool init_allow_static = true;
   /// [unitless] without depth: largest predicted relative error of the SfM scale to accept
-  double init_max_scale_rel_sigma = 0.05;
+  double init_max_scale_rel_sigma = 0.3;
   double init_acc_bias_sigma_m_s2 = 0.2;         ///< [m/s^2] prior std of the accelerometer bias
   double init_gyr_bias_sigma_rad_s = 0.01;       ///< [rad/s] prior std of the gyro bias
   double init_static_velocity_sigma_m_s = 0.02;  ///< [m/s] prior std of velocity at a static start
