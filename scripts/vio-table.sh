@@ -2,7 +2,7 @@
 # Paper-style comparison table (Table 1 / Figures 7-8) on freshly generated simulator sequences:
 # RGB-D-inertial vs monocular-inertial (--no-depth, with and without the static start) for every
 # profile at 30 and 15 Hz. Prints a markdown table; needs a built tree (bench_vio).
-#   scripts/vio-table.sh [BUILD_DIR] [PROFILES...]
+#   [MODES="rgbd mono mono-moving-start"] scripts/vio-table.sh [BUILD_DIR] [PROFILES...]
 set -euo pipefail
 build=${1:-build}
 shift || true
@@ -14,7 +14,7 @@ echo "| profile | camera | mode | ATE posyaw [m] | scale error (sim3) [%] | cove
 echo "|---|---|---|---|---|---|---|---|---|"
 for p in $profiles; do
   for fps in 30 15; do
-    for mode in rgbd mono mono-moving-start; do
+    for mode in ${MODES:-rgbd mono mono-moving-start}; do
       args=(--profile "$p" --fps "$fps")
       case $mode in
         mono) args+=(--no-depth) ;;
