@@ -118,6 +118,15 @@ TEST(So3, ExpLogAndRightJacobian) {
   EXPECT_TRUE((rightJacobianInvSO3(phi) * Jr).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
 }
 
+TEST(So3, SphereTangentBasisIsOrthonormalAndOrthogonalToTheDirection) {
+  for (const Eigen::Vector3d g : {Eigen::Vector3d(0, 0, -9.81), Eigen::Vector3d(1, 0, 0),
+                                  Eigen::Vector3d(0, 1e-3, 0), Eigen::Vector3d(0.3, -2.0, 5.0)}) {
+    const Eigen::Matrix<double, 3, 2> B = sphereTangentBasis(g);
+    EXPECT_NEAR((B.transpose() * B - Eigen::Matrix2d::Identity()).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((g.normalized().transpose() * B).norm(), 0.0, 1e-15);
+  }
+}
+
 TEST(AtomicFile, WritesCompleteFileAndLeavesOldContentOnFailure) {
   const std::string dir = rgbdi::test::makeTempDir("rgbdi_atomic");
   const std::string path = dir + "/out.txt";

@@ -82,18 +82,6 @@ Eigen::Matrix3d worldFromGravity(const Eigen::Vector3d& g_ref, const Eigen::Matr
 
 namespace {
 
-/// Tangent basis of the sphere at direction g (two unit vectors orthogonal to g).
-Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& g) {
-  const Eigen::Vector3d a = g.normalized();
-  Eigen::Vector3d tmp(0, 0, 1);
-  if (std::abs(a.dot(tmp)) > 0.9) tmp = Eigen::Vector3d(1, 0, 0);
-  const Eigen::Vector3d b = (tmp - a * a.dot(tmp)).normalized();
-  Eigen::Matrix<double, 3, 2> B;
-  B.col(0) = b;
-  B.col(1) = a.cross(b);
-  return B;
-}
-
 /// Builds and solves the linear system. Unknowns: v_0..v_n (reference frame) then either the full
 /// gravity vector (3) or, when g_fixed is given, a 2-DOF correction w: g = g_fixed + B w.
 bool solveLinear(const std::vector<Eigen::Isometry3d>& T,
@@ -105,7 +93,7 @@ bool solveLinear(const std::vector<Eigen::Isometry3d>& T,
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(6 * (n - 1), N);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(6 * (n - 1));
   const Eigen::Matrix<double, 3, 2> B =
-      g_fixed ? tangentBasis(*g_fixed) : Eigen::Matrix<double, 3, 2>::Zero();
+      g_fixed ? sphereTangentBasis(*g_fixed) : Eigen::Matrix<double, 3, 2>::Zero();
   for (int k = 0; k + 1 < n; ++k) {
     const imu::Preintegration& P = *pre[static_cast<size_t>(k + 1)];
     const double dt = P.dt();

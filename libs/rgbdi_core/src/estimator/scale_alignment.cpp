@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 
+#include "rgbdi/common/so3.h"
 #include "rgbdi/imu/imu_init.h"
 #include "rgbdi/imu/preintegration.h"
 
@@ -25,18 +26,6 @@ struct Interval {
   Eigen::Matrix<double, 6, 6> C;  // covariance of [dP, dV]
 };
 
-/// Tangent basis of the sphere at g: two orthonormal vectors orthogonal to g.
-Eigen::Matrix<double, 3, 2> sphereTangent(const Eigen::Vector3d& g) {
-  const Eigen::Vector3d a = g.normalized();
-  // Any vector not parallel to a: its smallest component's axis is the furthest from a.
-  Eigen::Index i;
-  a.cwiseAbs().minCoeff(&i);
-  const Eigen::Vector3d b = a.cross(Eigen::Vector3d::Unit(i)).normalized();
-  Eigen::Matrix<double, 3, 2> B;
-  B << b, a.cross(b);
-  return B;
-}
-
 /// Unknowns [v_0..v_n (c0), gravity (3, or the 2-DOF tangent step around *g0), s]. Rows, per
 /// interval (from the pre-integration definitions in preintegration.h):
 ///   R^T dt v_k + 0.5 R^T dt^2 g - s R^T dp_sfm = R^T dlever - dP
@@ -47,7 +36,8 @@ void buildRows(const std::vector<Interval>& iv, const Eigen::Vector3d* g0, Eigen
   const int cols = 3 * n + (g0 ? 2 : 3) + 1;
   A->setZero(6 * (n - 1), cols);
   b->resize(6 * (n - 1));
-  const Eigen::Matrix<double, 3, 2> B = g0 ? sphereTangent(*g0) : Eigen::Matrix<double, 3, 2>();
+  const Eigen::Matrix<double, 3, 2> B =
+      g0 ? sphereTangentBasis(*g0) : Eigen::Matrix<double, 3, 2>();
   for (int k = 0; k + 1 < n; ++k) {
     const Interval& I = iv[static_cast<size_t>(k)];
     const int r = 6 * k;
@@ -229,7 +219,7 @@ std::optional<ScaleAlignmentResult> alignWithScale(const std::vector<Eigen::Isom
     buildRows(iv, &g, &A, &b);
     sol = solveGls(A, b, S);
     if (!sol) return std::nullopt;
-    g = (g + sphereTangent(g) * sol->x.segment<2>(nv)).normalized() * g_norm;
+    g = (g + sphereTangentBasis(g) * sol->x.segment<2>(nv)).normalized() * g_norm;
   }
   res.scale = sol->x(sol->x.size() - 1);
   if (!std::isfinite(res.scale) || !(res.scale > 0.0) || !g.allFinite()) return std::nullopt;

@@ -23,7 +23,8 @@ inline Eigen::Matrix3d expSO3(const Eigen::Vector3d& phi) {
 
 inline Eigen::Quaterniond expQuat(const Eigen::Vector3d& phi) {
   const double th = phi.norm();
-  if (th < 1e-10) return Eigen::Quaterniond(1.0, 0.5 * phi.x(), 0.5 * phi.y(), 0.5 * phi.z()).normalized();
+  if (th < 1e-10)
+    return Eigen::Quaterniond(1.0, 0.5 * phi.x(), 0.5 * phi.y(), 0.5 * phi.z()).normalized();
   return Eigen::Quaterniond(Eigen::AngleAxisd(th, phi / th));
 }
 
@@ -51,6 +52,19 @@ inline Eigen::Matrix3d rightJacobianInvSO3(const Eigen::Vector3d& phi) {
   const double th2 = th * th;
   return Eigen::Matrix3d::Identity() + 0.5 * W +
          (1.0 / th2 - (1.0 + std::cos(th)) / (2.0 * th * std::sin(th))) * W * W;
+}
+
+/// Two orthonormal vectors spanning the tangent plane of the sphere at direction g (the 2-DOF
+/// gravity-direction correction of the initialisations).
+inline Eigen::Matrix<double, 3, 2> sphereTangentBasis(const Eigen::Vector3d& g) {
+  const Eigen::Vector3d a = g.normalized();
+  // The axis of a's smallest component is the furthest from a: never parallel to it.
+  Eigen::Index i;
+  a.cwiseAbs().minCoeff(&i);
+  const Eigen::Vector3d b = a.cross(Eigen::Vector3d::Unit(i)).normalized();
+  Eigen::Matrix<double, 3, 2> B;
+  B << b, a.cross(b);
+  return B;
 }
 
 }  // namespace rgbdi
