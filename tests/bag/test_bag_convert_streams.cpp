@@ -127,6 +127,30 @@ TEST(RgbdPairer, StalledStreamDoesNotGrowTheBuffer) {
   EXPECT_GT(alone, 250u);
 }
 
+TEST(RgbdPairer, FrameFromPairTakesColourStampAndDepthUnitAndCountsDroppedDepth) {
+  StampedImage c{10.0, cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)), 0.0, "colour 7"};
+  StampedImage d{10.004, cv::Mat(2, 2, CV_16UC1, cv::Scalar(1500)), 0.001, "depth 9"};
+  std::size_t dropped = 0;
+  const auto f = frameFromPair(PairedImages{c, d}, true, &dropped);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->t, 10.0);
+  EXPECT_EQ(f->depth_unit_m, 0.001);
+  EXPECT_EQ(f->rgb.at<cv::Vec3b>(1, 1), cv::Vec3b(1, 2, 3));
+  EXPECT_EQ(f->depth.at<std::uint16_t>(0, 1), 1500);
+  EXPECT_EQ(f->source_label, "colour 7");
+  // Colour alone never makes a frame; depth alone only when colour is not required.
+  EXPECT_FALSE(frameFromPair(PairedImages{c, std::nullopt}, true, &dropped).has_value());
+  EXPECT_EQ(dropped, 0u);
+  EXPECT_FALSE(frameFromPair(PairedImages{std::nullopt, d}, true, &dropped).has_value());
+  EXPECT_EQ(dropped, 1u);
+  const auto depth_only = frameFromPair(PairedImages{std::nullopt, d}, false, &dropped);
+  ASSERT_TRUE(depth_only.has_value());
+  EXPECT_EQ(depth_only->t, 10.004);
+  EXPECT_TRUE(depth_only->rgb.empty());
+  EXPECT_EQ(depth_only->source_label, "depth 9");
+  EXPECT_EQ(dropped, 1u);
+}
+
 TEST(AccelGyroMerger, InterpolatesLinearAccelerationOnGyroStamps) {
   // Acceleration linear in time is reproduced exactly; gyro at 200 Hz, accel at 63 Hz.
   const auto acc = [](double t) { return Eigen::Vector3d(1.0 + 2.0 * t, -3.0 * t, 9.81); };

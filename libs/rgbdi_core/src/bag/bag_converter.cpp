@@ -201,23 +201,14 @@ struct BagConverter::Impl {
   void deliverFrames(RgbdPairer& pairer, ConversionSink& sink) {
     PairedImages p;
     while (pairer.pop(p)) {
-      if (!p.depth) continue;  // colour alone: counted by the pairer, dropped
-      if (!p.color && options.require_colour) {
-        ++report.depth_alone_dropped;
-        continue;
-      }
-      RgbdFrame f;
-      f.t = p.color ? p.color->t : p.depth->t;
-      f.index = frame_index++;
-      if (p.color) f.rgb = p.color->image;
-      f.depth = p.depth->image;
-      f.depth_unit_m = p.depth->unit_m;
-      f.cam_color = cam_color;
-      f.cam_depth = cam_depth;
-      f.T_color_depth = T_color_depth;
-      f.depth_aligned_to_color = layout.depth_aligned;
-      f.source_label = p.color ? p.color->label : p.depth->label;
-      sink.frame(f);
+      auto f = frameFromPair(std::move(p), options.require_colour, &report.depth_alone_dropped);
+      if (!f) continue;
+      f->index = frame_index++;
+      f->cam_color = cam_color;
+      f->cam_depth = cam_depth;
+      f->T_color_depth = T_color_depth;
+      f->depth_aligned_to_color = layout.depth_aligned;
+      sink.frame(*f);
     }
   }
 

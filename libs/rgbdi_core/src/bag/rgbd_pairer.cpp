@@ -102,4 +102,20 @@ bool RgbdPairer::pop(PairedImages& out) {
   return true;
 }
 
+std::optional<RgbdFrame> frameFromPair(PairedImages pair, bool require_colour,
+                                       std::size_t* depth_alone_dropped) {
+  if (!pair.depth) return std::nullopt;  // colour alone: counted by the pairer, dropped
+  if (!pair.color && require_colour) {
+    ++*depth_alone_dropped;
+    return std::nullopt;
+  }
+  RgbdFrame f;
+  f.t = pair.color ? pair.color->t : pair.depth->t;
+  if (pair.color) f.rgb = pair.color->image;
+  f.depth = pair.depth->image;
+  f.depth_unit_m = pair.depth->unit_m;
+  f.source_label = pair.color ? pair.color->label : pair.depth->label;
+  return f;
+}
+
 }  // namespace rgbdi::bag

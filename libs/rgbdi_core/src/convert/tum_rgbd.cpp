@@ -239,21 +239,12 @@ bag::ConversionReport TumRgbdConverter::run(bag::ConversionSink& sink,
   const auto deliver = [&]() {
     bag::PairedImages p;
     while (pairer.pop(p)) {
-      if (!p.depth) continue;
-      if (!p.color && options_.require_colour) {
-        ++r.depth_alone_dropped;
-        continue;
-      }
-      RgbdFrame f;
-      f.t = p.color ? p.color->t : p.depth->t;
-      f.index = frame_index++;
-      if (p.color) f.rgb = p.color->image;
-      f.depth = p.depth->image;
-      f.depth_unit_m = depth_unit;
-      f.cam_color = f.cam_depth = camera_;
-      f.depth_aligned_to_color = true;
-      f.source_label = p.color ? p.color->label : p.depth->label;
-      sink.frame(f);
+      auto f = bag::frameFromPair(std::move(p), options_.require_colour, &r.depth_alone_dropped);
+      if (!f) continue;
+      f->index = frame_index++;
+      f->cam_color = f->cam_depth = camera_;
+      f->depth_aligned_to_color = true;
+      sink.frame(*f);
     }
   };
   const auto loadImage = [&](const TumImageEntry& e, bool color) -> bool {

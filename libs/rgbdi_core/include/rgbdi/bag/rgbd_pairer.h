@@ -14,6 +14,8 @@
 #include <optional>
 #include <string>
 
+#include "rgbdi/common/types.h"
+
 namespace rgbdi::bag {
 
 struct StampedImage {
@@ -63,5 +65,11 @@ class RgbdPairer {
   std::deque<PairedImages> ready_;
   PairingStats stats_;
 };
+
+/// The RgbdFrame a pair makes: stamp (the colour image's when there is one), images, depth unit
+/// and label. nullopt for colour alone, and for depth alone when `require_colour` (then counted in
+/// `*depth_alone_dropped`). Index and calibration are left to the caller.
+std::optional<RgbdFrame> frameFromPair(PairedImages pair, bool require_colour,
+                                       std::size_t* depth_alone_dropped);
 
 }  // namespace rgbdi::bag
