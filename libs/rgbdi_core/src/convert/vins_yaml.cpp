@@ -63,13 +63,6 @@ class YamlReader {
   cv::FileStorage fs_;
 };
 
-// Short local names for the shared INI text helpers (common/ini_text.h).
-std::string num(double v) { return iniNumber(v); }
-void line(std::ostream& os, const std::string& key, const std::string& value,
-          const std::string& comment) {
-  iniLine(os, key, value, comment);
-}
-
 }  // namespace
 
 VinsCalibration readVinsYaml(const std::string& path) {
@@ -151,43 +144,45 @@ std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz,
      << "; Sections not given here take the defaults of share/config.ini.\n\n";
   const PinholeCamera& c = v.camera;
   os << "[camera]\n";
-  line(os, "width", std::to_string(c.width), "[px] image_width");
-  line(os, "height", std::to_string(c.height), "[px] image_height");
-  line(os, "fx", num(c.fx), "[px] projection_parameters");
-  line(os, "fy", num(c.fy), "[px]");
-  line(os, "cx", num(c.cx), "[px]");
-  line(os, "cy", num(c.cy), "[px]");
-  line(os, "distortion", iniDistortion(c),
-       "k1 k2 p1 p2 k3 [unitless] distortion_parameters (VINS has no k3)");
-  line(os, "intrinsics_source", "config",
-       "stream|config: use this calibration, not the one stored in the rawlog");
+  iniLine(os, "width", std::to_string(c.width), "[px] image_width");
+  iniLine(os, "height", std::to_string(c.height), "[px] image_height");
+  iniLine(os, "fx", iniNumber(c.fx), "[px] projection_parameters");
+  iniLine(os, "fy", iniNumber(c.fy), "[px]");
+  iniLine(os, "cx", iniNumber(c.cx), "[px]");
+  iniLine(os, "cy", iniNumber(c.cy), "[px]");
+  iniLine(os, "distortion", iniDistortion(c),
+          "k1 k2 p1 p2 k3 [unitless] distortion_parameters (VINS has no k3)");
+  iniLine(os, "intrinsics_source", "config",
+          "stream|config: use this calibration, not the one stored in the rawlog");
   os << "\n[imu]\n";
-  os << "; Densities from the VINS per-sample values at " << num(imu_rate_hz) << " Hz ("
+  os << "; Densities from the VINS per-sample values at " << iniNumber(imu_rate_hz) << " Hz ("
      << rate_note << "): nd = n * sqrt(dt / 2), rw = w * sqrt(dt) (doc/imu.md).\n";
-  line(os, "rate_hz", num(imu_rate_hz), "[Hz]");
-  line(os, "acc_noise_density", num(imu.acc_noise_density),
-       "[m/s^2/sqrt(Hz)]   (VINS acc_n " + num(v.noise.acc_n) + ")");
-  line(os, "gyr_noise_density", num(imu.gyr_noise_density),
-       "[rad/s/sqrt(Hz)]   (VINS gyr_n " + num(v.noise.gyr_n) + ")");
-  line(os, "acc_random_walk", num(imu.acc_random_walk),
-       "[m/s^3/sqrt(Hz)]   (VINS acc_w " + num(v.noise.acc_w) + ")");
-  line(os, "gyr_random_walk", num(imu.gyr_random_walk),
-       "[rad/s^2/sqrt(Hz)] (VINS gyr_w " + num(v.noise.gyr_w) + ")");
-  line(os, "gravity_m_s2", num(v.g_norm), "[m/s^2] g_norm");
+  iniLine(os, "rate_hz", iniNumber(imu_rate_hz), "[Hz]");
+  iniLine(os, "acc_noise_density", iniNumber(imu.acc_noise_density),
+          "[m/s^2/sqrt(Hz)]   (VINS acc_n " + iniNumber(v.noise.acc_n) + ")");
+  iniLine(os, "gyr_noise_density", iniNumber(imu.gyr_noise_density),
+          "[rad/s/sqrt(Hz)]   (VINS gyr_n " + iniNumber(v.noise.gyr_n) + ")");
+  iniLine(os, "acc_random_walk", iniNumber(imu.acc_random_walk),
+          "[m/s^3/sqrt(Hz)]   (VINS acc_w " + iniNumber(v.noise.acc_w) + ")");
+  iniLine(os, "gyr_random_walk", iniNumber(imu.gyr_random_walk),
+          "[rad/s^2/sqrt(Hz)] (VINS gyr_w " + iniNumber(v.noise.gyr_w) + ")");
+  iniLine(os, "gravity_m_s2", iniNumber(v.g_norm), "[m/s^2] g_norm");
   os << "\n[extrinsic]\n";
   if (v.has_extrinsic) {
     std::string r;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) r += (r.empty() ? "" : " ") + num(v.R_body_cam_as_given(i, j));
-    line(os, "R_body_cam", r, "row-major [unitless] extrinsicRotation (camera in the IMU frame)");
+      for (int j = 0; j < 3; ++j)
+        r += (r.empty() ? "" : " ") + iniNumber(v.R_body_cam_as_given(i, j));
+    iniLine(os, "R_body_cam", r,
+            "row-major [unitless] extrinsicRotation (camera in the IMU frame)");
     const Eigen::Vector3d t = v.T_body_cam.translation();
-    line(os, "t_body_cam_m", num(t.x()) + " " + num(t.y()) + " " + num(t.z()),
-         "[m] extrinsicTranslation");
+    iniLine(os, "t_body_cam_m", iniNumber(t.x()) + " " + iniNumber(t.y()) + " " + iniNumber(t.z()),
+            "[m] extrinsicTranslation");
   } else {
     os << "; " << name
        << " has no extrinsicRotation/extrinsicTranslation: the default extrinsic applies.\n";
   }
-  line(os, "time_offset_s", num(v.td), "[s] td: t_imu = t_cam + time_offset_s");
+  iniLine(os, "time_offset_s", iniNumber(v.td), "[s] td: t_imu = t_cam + time_offset_s");
   const std::string text = os.str();
 
   // Load it back: what is written must be a configuration rgbdi-slam accepts.

@@ -18,24 +18,17 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// Short local names for the shared INI text helpers (common/ini_text.h).
-std::string num(double v) { return iniNumber(v); }
-void line(std::ostream& os, const std::string& key, const std::string& value,
-          const std::string& comment) {
-  iniLine(os, key, value, comment);
-}
-
 void cameraSection(std::ostream& os, const CameraOptions& c) {
   const PinholeCamera& k = c.camera;
   os << "[camera]\n";
-  line(os, "width", std::to_string(k.width), "[px]");
-  line(os, "height", std::to_string(k.height), "[px]");
-  line(os, "fx", num(k.fx), "[px]");
-  line(os, "fy", num(k.fy), "[px]");
-  line(os, "cx", num(k.cx), "[px]");
-  line(os, "cy", num(k.cy), "[px]");
-  line(os, "distortion", iniDistortion(k), "k1 k2 p1 p2 k3 [unitless]");
-  line(os, "intrinsics_source", c.intrinsics_source, "stream|config");
+  iniLine(os, "width", std::to_string(k.width), "[px]");
+  iniLine(os, "height", std::to_string(k.height), "[px]");
+  iniLine(os, "fx", iniNumber(k.fx), "[px]");
+  iniLine(os, "fy", iniNumber(k.fy), "[px]");
+  iniLine(os, "cx", iniNumber(k.cx), "[px]");
+  iniLine(os, "cy", iniNumber(k.cy), "[px]");
+  iniLine(os, "distortion", iniDistortion(k), "k1 k2 p1 p2 k3 [unitless]");
+  iniLine(os, "intrinsics_source", c.intrinsics_source, "stream|config");
 }
 
 void extrinsicSection(std::ostream& os, const ExtrinsicOptions& e, double time_offset,
@@ -45,12 +38,12 @@ void extrinsicSection(std::ostream& os, const ExtrinsicOptions& e, double time_o
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) r[3 * i + j] = R(i, j);
   os << "[extrinsic]\n";
-  line(os, "R_body_cam", iniNumbers(r),
-       "row-major [unitless]: colour camera optical frame in the IMU/body frame");
-  line(os, "t_body_cam_m", iniNumbers(e.T_body_cam.translation()), "[m]");
-  line(os, "time_offset_s", num(time_offset), offset_comment);
-  line(os, "sensor_pose_tolerance_m", num(e.sensor_pose_tolerance_m), "[m]");
-  line(os, "sensor_pose_tolerance_deg", num(e.sensor_pose_tolerance_deg), "[deg]");
+  iniLine(os, "R_body_cam", iniNumbers(r),
+          "row-major [unitless]: colour camera optical frame in the IMU/body frame");
+  iniLine(os, "t_body_cam_m", iniNumbers(e.T_body_cam.translation()), "[m]");
+  iniLine(os, "time_offset_s", iniNumber(time_offset), offset_comment);
+  iniLine(os, "sensor_pose_tolerance_m", iniNumber(e.sensor_pose_tolerance_m), "[m]");
+  iniLine(os, "sensor_pose_tolerance_deg", iniNumber(e.sensor_pose_tolerance_deg), "[deg]");
 }
 
 /// Writes rawlog + bag as measurements arrive; prints progress.
@@ -122,22 +115,22 @@ std::string slamConfigText(const SimulatedSequence& seq) {
   os << "; rgbdi-slam configuration for the simulated sequence next to this file (profile "
      << toString(seq.profile().kind) << ", seed " << o.seed << ").\n"
      << "; Camera and extrinsic are the ones used to render. The IMU noise densities are the true\n"
-     << "; ones inflated by config_noise_inflation = " << num(k)
+     << "; ones inflated by config_noise_inflation = " << iniNumber(k)
      << ", as a user would set them (a real user never knows the truth; see simulation.ini).\n\n";
   cameraSection(os, o.camera);
   os << "\n[imu]\n";
-  line(os, "rate_hz", num(o.imu.rate_hz), "[Hz]");
-  line(os, "acc_noise_density", num(k * o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)]");
-  line(os, "gyr_noise_density", num(k * o.imu.gyr_noise_density), "[rad/s/sqrt(Hz)]");
-  line(os, "acc_random_walk", num(k * o.imu.acc_random_walk), "[m/s^3/sqrt(Hz)]");
-  line(os, "gyr_random_walk", num(k * o.imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)]");
-  line(os, "gravity_m_s2", num(o.imu.gravity_m_s2), "[m/s^2]");
+  iniLine(os, "rate_hz", iniNumber(o.imu.rate_hz), "[Hz]");
+  iniLine(os, "acc_noise_density", iniNumber(k * o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)]");
+  iniLine(os, "gyr_noise_density", iniNumber(k * o.imu.gyr_noise_density), "[rad/s/sqrt(Hz)]");
+  iniLine(os, "acc_random_walk", iniNumber(k * o.imu.acc_random_walk), "[m/s^3/sqrt(Hz)]");
+  iniLine(os, "gyr_random_walk", iniNumber(k * o.imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)]");
+  iniLine(os, "gravity_m_s2", iniNumber(o.imu.gravity_m_s2), "[m/s^2]");
   os << "\n";
   // A user would not know the camera-IMU time offset either: start from 0 (rgbdi-slam
   // estimates it online when [estimator] estimate_time_offset is on).
   extrinsicSection(os, o.extrinsic, 0.0,
                    "[s] initial value; the true offset of this sequence is " +
-                       num(o.time_offset_s) + " s (simulation.ini)");
+                       iniNumber(o.time_offset_s) + " s (simulation.ini)");
   return os.str();
 }
 
@@ -149,45 +142,45 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   std::ostringstream os;
   os << "; Settings of this simulated sequence: rgbdi-sim --profile " << toString(prof.kind)
      << " --config simulation.ini regenerates it.\n"
-     << "; profile " << toString(prof.kind) << ": duration " << num(seq.duration())
-     << " s, cruise speed " << num(prof.cruise_speed_m_s) << " m/s, path length "
-     << num(prof.path_length_m) << " m, " << seq.frameCount() << " frames, " << seq.imuCount()
+     << "; profile " << toString(prof.kind) << ": duration " << iniNumber(seq.duration())
+     << " s, cruise speed " << iniNumber(prof.cruise_speed_m_s) << " m/s, path length "
+     << iniNumber(prof.path_length_m) << " m, " << seq.frameCount() << " frames, " << seq.imuCount()
      << " IMU samples\n"
      << "; true initial accelerometer bias " << iniNumbers(b0.acc) << " m/s^2, gyro bias "
      << iniNumbers(b0.gyr) << " rad/s\n\n[sim]\n";
-  line(os, "fps", num(o.fps), "[Hz]");
-  line(os, "imu_rate_hz", num(o.imu.rate_hz), "[Hz]");
-  line(os, "seed", std::to_string(o.seed), "[integer]");
-  line(os, "gravity_m_s2", num(o.imu.gravity_m_s2), "[m/s^2]");
-  line(os, "acc_noise_density", num(o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)] true");
-  line(os, "gyr_noise_density", num(o.imu.gyr_noise_density), "[rad/s/sqrt(Hz)] true");
-  line(os, "acc_random_walk", num(o.imu.acc_random_walk), "[m/s^3/sqrt(Hz)] true");
-  line(os, "gyr_random_walk", num(o.imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)] true");
-  line(os, "acc_bias_max", num(o.imu.acc_bias_max), "[m/s^2]");
-  line(os, "gyr_bias_max", num(o.imu.gyr_bias_max), "[rad/s]");
-  line(os, "config_noise_inflation", num(o.config_noise_inflation), "[unitless]");
-  line(os, "depth_sigma_coeff", num(o.depth_noise.sigma_coeff), "[1/m]");
-  line(os, "depth_min_m", num(o.depth_noise.min_m), "[m]");
-  line(os, "depth_max_m", num(o.depth_noise.max_m), "[m]");
-  line(os, "depth_hole_fraction", num(o.depth_noise.hole_fraction), "[unitless]");
-  line(os, "photometric_noise_sigma", num(o.color_noise.sigma), "[grey levels]");
-  line(os, "time_offset_s", num(o.time_offset_s), "[s] true: t_imu = t_cam + this");
-  line(os, "start_time_s", num(o.start_time_s), "[s]");
-  line(os, "duration_s", num(seq.duration()), "[s]");
-  line(os, "speed", toString(p.speed), "slow|normal|fast");
-  line(os, "speed_m_s", num(p.speed_m_s), "[m/s] 0 = profile default");
-  line(os, "rest_start_s", num(p.rest_start_s), "[s]");
-  line(os, "rest_end_s", num(p.rest_end_s), "[s]");
-  line(os, "wheeled_vibration_acc_rms", num(p.wheeled_vibration_acc_rms), "[m/s^2]");
-  line(os, "wheeled_vibration_gyr_rms", num(p.wheeled_vibration_gyr_rms), "[rad/s]");
-  line(os, "tracked_vibration_acc_rms", num(p.tracked_vibration_acc_rms), "[m/s^2]");
-  line(os, "tracked_vibration_gyr_rms", num(p.tracked_vibration_gyr_rms), "[rad/s]");
-  line(os, "tracked_jitter_deg", num(p.tracked_jitter_deg), "[deg]");
-  line(os, "vibration_band_min_hz", num(p.vibration_band_min_hz), "[Hz]");
-  line(os, "vibration_band_max_hz", num(p.vibration_band_max_hz), "[Hz]");
-  line(os, "wheeled_camera_height_m", num(p.wheeled_camera_height_m), "[m]");
-  line(os, "tracked_camera_height_m", num(p.tracked_camera_height_m), "[m]");
-  line(os, "handheld_camera_height_m", num(p.handheld_camera_height_m), "[m]");
+  iniLine(os, "fps", iniNumber(o.fps), "[Hz]");
+  iniLine(os, "imu_rate_hz", iniNumber(o.imu.rate_hz), "[Hz]");
+  iniLine(os, "seed", std::to_string(o.seed), "[integer]");
+  iniLine(os, "gravity_m_s2", iniNumber(o.imu.gravity_m_s2), "[m/s^2]");
+  iniLine(os, "acc_noise_density", iniNumber(o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)] true");
+  iniLine(os, "gyr_noise_density", iniNumber(o.imu.gyr_noise_density), "[rad/s/sqrt(Hz)] true");
+  iniLine(os, "acc_random_walk", iniNumber(o.imu.acc_random_walk), "[m/s^3/sqrt(Hz)] true");
+  iniLine(os, "gyr_random_walk", iniNumber(o.imu.gyr_random_walk), "[rad/s^2/sqrt(Hz)] true");
+  iniLine(os, "acc_bias_max", iniNumber(o.imu.acc_bias_max), "[m/s^2]");
+  iniLine(os, "gyr_bias_max", iniNumber(o.imu.gyr_bias_max), "[rad/s]");
+  iniLine(os, "config_noise_inflation", iniNumber(o.config_noise_inflation), "[unitless]");
+  iniLine(os, "depth_sigma_coeff", iniNumber(o.depth_noise.sigma_coeff), "[1/m]");
+  iniLine(os, "depth_min_m", iniNumber(o.depth_noise.min_m), "[m]");
+  iniLine(os, "depth_max_m", iniNumber(o.depth_noise.max_m), "[m]");
+  iniLine(os, "depth_hole_fraction", iniNumber(o.depth_noise.hole_fraction), "[unitless]");
+  iniLine(os, "photometric_noise_sigma", iniNumber(o.color_noise.sigma), "[grey levels]");
+  iniLine(os, "time_offset_s", iniNumber(o.time_offset_s), "[s] true: t_imu = t_cam + this");
+  iniLine(os, "start_time_s", iniNumber(o.start_time_s), "[s]");
+  iniLine(os, "duration_s", iniNumber(seq.duration()), "[s]");
+  iniLine(os, "speed", toString(p.speed), "slow|normal|fast");
+  iniLine(os, "speed_m_s", iniNumber(p.speed_m_s), "[m/s] 0 = profile default");
+  iniLine(os, "rest_start_s", iniNumber(p.rest_start_s), "[s]");
+  iniLine(os, "rest_end_s", iniNumber(p.rest_end_s), "[s]");
+  iniLine(os, "wheeled_vibration_acc_rms", iniNumber(p.wheeled_vibration_acc_rms), "[m/s^2]");
+  iniLine(os, "wheeled_vibration_gyr_rms", iniNumber(p.wheeled_vibration_gyr_rms), "[rad/s]");
+  iniLine(os, "tracked_vibration_acc_rms", iniNumber(p.tracked_vibration_acc_rms), "[m/s^2]");
+  iniLine(os, "tracked_vibration_gyr_rms", iniNumber(p.tracked_vibration_gyr_rms), "[rad/s]");
+  iniLine(os, "tracked_jitter_deg", iniNumber(p.tracked_jitter_deg), "[deg]");
+  iniLine(os, "vibration_band_min_hz", iniNumber(p.vibration_band_min_hz), "[Hz]");
+  iniLine(os, "vibration_band_max_hz", iniNumber(p.vibration_band_max_hz), "[Hz]");
+  iniLine(os, "wheeled_camera_height_m", iniNumber(p.wheeled_camera_height_m), "[m]");
+  iniLine(os, "tracked_camera_height_m", iniNumber(p.tracked_camera_height_m), "[m]");
+  iniLine(os, "handheld_camera_height_m", iniNumber(p.handheld_camera_height_m), "[m]");
   os << "\n";
   cameraSection(os, o.camera);
   os << "\n";
