@@ -18,19 +18,12 @@
 #include "rgbdi/bag/bag_converter.h"
 #include "rgbdi/bag/bag_writer.h"
 #include "testing/fixtures.h"
+#include "testing/recording_sink.h"
 
 namespace rgbdi::bag {
 namespace {
 
-struct RecordingSink : ConversionSink {
-  std::vector<ImuSample> imus;
-  std::vector<RgbdFrame> frames;
-  std::vector<StampedPose> poses;
-  void imu(const ImuSample& s) override { imus.push_back(s); }
-  void accelerometer(double, const Eigen::Vector3d&) override { ADD_FAILURE() << "unexpected"; }
-  void frame(const RgbdFrame& f) override { frames.push_back(f); }
-  void groundTruth(const StampedPose& p) override { poses.push_back(p); }
-};
+using test::RecordingSink;
 
 RgbdFrame randomFrame(std::mt19937_64& rng, double t, std::uint64_t index) {
   RgbdFrame f;

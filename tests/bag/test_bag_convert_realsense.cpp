@@ -6,21 +6,12 @@
 
 #include "rgbdi/bag/bag_converter.h"
 #include "testing/fixtures.h"
+#include "testing/recording_sink.h"
 
 namespace rgbdi::bag {
 namespace {
 
-struct RecordingSink : ConversionSink {
-  std::vector<ImuSample> imus;
-  std::vector<RgbdFrame> frames;
-  std::vector<StampedPose> poses;
-  void imu(const ImuSample& s) override { imus.push_back(s); }
-  void accelerometer(double, const Eigen::Vector3d&) override {
-    ADD_FAILURE() << "no accelerometer-only data in bags";
-  }
-  void frame(const RgbdFrame& f) override { frames.push_back(f); }
-  void groundTruth(const StampedPose& p) override { poses.push_back(p); }
-};
+using test::RecordingSink;
 
 std::string fixture() {
   return test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");

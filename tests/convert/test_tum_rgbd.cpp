@@ -10,21 +10,13 @@
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/convert/tum_rgbd.h"
 #include "testing/fixtures.h"
+#include "testing/recording_sink.h"
 
 namespace rgbdi::convert {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RecordingSink : bag::ConversionSink {
-  std::vector<RgbdFrame> frames;
-  std::vector<std::pair<double, Eigen::Vector3d>> accel;
-  std::vector<StampedPose> poses;
-  void imu(const ImuSample&) override { ADD_FAILURE() << "TUM has no gyroscope"; }
-  void accelerometer(double t, const Eigen::Vector3d& a) override { accel.emplace_back(t, a); }
-  void frame(const RgbdFrame& f) override { frames.push_back(f); }
-  void groundTruth(const StampedPose& p) override { poses.push_back(p); }
-};
+using test::RecordingSink;
 
 /// A TUM-style folder: 6 colour images at 30 Hz, depth 8 ms later (one depth missing), a
 /// missing colour file, accelerometer at 100 Hz, ground truth at 100 Hz.
@@ -97,7 +89,7 @@ TEST(TumRgbd, ConvertsAGeneratedFolder) {
   TumRgbdConverter conv(dir, bag::ConvertOptions(), "", bag::FallbackCalibration::defaults());
   EXPECT_DOUBLE_EQ(conv.camera().fx, 517.3);  // fr1 from the folder name
   EXPECT_TRUE(conv.T_body_cam().isApprox(Eigen::Isometry3d::Identity()));
-  RecordingSink sink;
+  RecordingSink sink(RecordingSink::ImuKind::kAccelerometerOnly);
   std::vector<double> progress;
   const bag::ConversionReport r = conv.run(sink, [&](double f) { progress.push_back(f); });
   EXPECT_TRUE(r.ok()) << r.error;
@@ -138,7 +130,7 @@ TEST(TumRgbd, ConvertsAGeneratedFolder) {
   strict.require_colour = true;
   TumRgbdConverter conv2(dir, strict, "fr3", bag::FallbackCalibration::defaults());
   EXPECT_DOUBLE_EQ(conv2.camera().fx, 535.4);
-  RecordingSink sink2;
+  RecordingSink sink2(RecordingSink::ImuKind::kAccelerometerOnly);
   const bag::ConversionReport r2 = conv2.run(sink2);
   EXPECT_EQ(sink2.frames.size(), 4u);
   EXPECT_EQ(r2.depth_alone_dropped, 1u);
