@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -28,12 +29,19 @@ struct DescriptorSet {
   std::string type;                          ///< e.g. "BRIEF-256"; empty when there are none
   std::uint32_t bytes_per_descriptor = 0;
   std::vector<Eigen::Vector2f> keypoints_uv;  ///< distorted pixel position of each keypoint [px]
+  /// Depth-backed position of each keypoint in the colour camera optical frame [m]; all NaN when
+  /// the keypoint has no valid depth. Either empty (no 3-D information at all) or size() long.
+  std::vector<Eigen::Vector3f> keypoints_p_cam;
   std::vector<std::uint8_t> data;
 
   std::size_t size() const { return keypoints_uv.size(); }
-  /// True when data holds exactly size() descriptors.
+  bool hasPoint(std::size_t k) const {
+    return k < keypoints_p_cam.size() && std::isfinite(keypoints_p_cam[k].z());
+  }
+  /// True when data holds exactly size() descriptors and keypoints_p_cam is empty or size() long.
   bool consistent() const {
-    return data.size() == keypoints_uv.size() * static_cast<std::size_t>(bytes_per_descriptor);
+    return data.size() == keypoints_uv.size() * static_cast<std::size_t>(bytes_per_descriptor) &&
+           (keypoints_p_cam.empty() || keypoints_p_cam.size() == keypoints_uv.size());
   }
 };
 
