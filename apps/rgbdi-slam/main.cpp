@@ -15,16 +15,18 @@ void onSignal(int) { g_stop.store(true); }
 
 void usage(std::ostream& os) {
   os << "Usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
-        "                  [--no-depth] [--save-simplemap] [--quiet]\n"
+        "                  [--no-depth] [--save-simplemap] [--sequential] [--quiet]\n"
         "  --input FILE   MRPT rawlog with CObservation3DRangeScan (colour+depth) and "
         "CObservationIMU\n"
-        "  --out DIR      output directory (created): trajectory.tum, trajectory_cam.tum, "
-        "summary.json\n"
+        "  --out DIR      output directory (created): trajectory.tum (best estimate), "
+        "trajectory_online.tum,\n"
+        "                 trajectory_odometry.tum (+ _cam twins), maps, pose graph, summary.json\n"
         "  --config FILE  rgbdi INI configuration (default: built-in values = share/config.ini)\n"
         "  --gt FILE      ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval "
         "figures\n"
         "  --no-depth     monocular-inertial baseline: ignore depth\n"
         "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
+        "  --sequential   run every stage on one thread (same outputs, for debugging)\n"
         "  --quiet        no progress line\n"
         "Ctrl-C stops reading and still writes all outputs for the part processed.\n";
 }
@@ -54,6 +56,8 @@ int main(int argc, char** argv) {
       opt.no_depth = true;
     else if (a == "--save-simplemap")
       opt.save_simplemap = true;
+    else if (a == "--sequential")
+      opt.threaded = false;
     else if (a == "--quiet")
       opt.quiet = true;
     else if (a == "--help" || a == "-h") {

@@ -594,6 +594,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   have_anchor_ = true;
   anchor_p_ = s.p();
   anchor_yaw_ = yawOf(s.T().rotation());
+  last_good_window_ = windowKeyframes();
   if (stats_.first_pose_t_image < 0.0) stats_.first_pose_t_image = frame.t;
   return out;
 }
@@ -721,6 +722,10 @@ std::string SlidingWindowEstimator::failureReason() const {
 bool SlidingWindowEstimator::failureDetected() const { return !failureReason().empty(); }
 
 void SlidingWindowEstimator::reset(bool keep_anchor) {
+  finished_keyframes_.insert(finished_keyframes_.end(), last_good_window_.begin(),
+                             last_good_window_.end());
+  last_good_window_.clear();
+  if (status_ == EstimatorStatus::kTracking) ++segment_;
   if (!keep_anchor) have_anchor_ = false;
   window_.clear();
   features_.clear();
@@ -790,7 +795,7 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
       }
     }
     const bool kept = info->marginalize(remove, constant);
-    finished_keyframes_.push_back({s0.t, s0.T(), s0.frame_index});
+    finished_keyframes_.push_back({s0.t, s0.T(), s0.frame_index, segment_});
     features_.removeOldest(slotPoses(), T_bc_);
     for (size_t k = 1; k <= N; ++k) {
       remap[window_[k].pose] = window_[k - 1].pose;
@@ -849,7 +854,7 @@ std::vector<KeyframeState> SlidingWindowEstimator::takeFinishedKeyframes() {
 std::vector<KeyframeState> SlidingWindowEstimator::windowKeyframes() const {
   std::vector<KeyframeState> out;
   if (status_ != EstimatorStatus::kTracking) return out;
-  for (const auto& s : window_) out.push_back({s.t, s.T(), s.frame_index});
+  for (const auto& s : window_) out.push_back({s.t, s.T(), s.frame_index, segment_});
   return out;
 }
 

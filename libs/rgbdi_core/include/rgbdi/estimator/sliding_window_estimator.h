@@ -58,6 +58,9 @@ struct KeyframeState {
   double t_imu = 0.0;
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
   std::uint64_t frame_index = 0;
+  /// Odometry segment: 0 until the first reset, then one more after each reset. Keyframes of
+  /// different segments are not related by odometry (each restart has a frame of its own).
+  int segment = 0;
 };
 
 struct EstimatorStats {
@@ -85,7 +88,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().
   FrameEstimate processFrame(const frontend::FeatureFrame& frame);
 
-  /// Keyframes that left the window since the last call (oldest first).
+  /// Keyframes that left the window since the last call (oldest first); at a reset the window's
+  /// keyframes leave it too, with their states of the last successful update.
   std::vector<KeyframeState> takeFinishedKeyframes();
   /// States of the keyframes still in the window (for flushing at the end of a run).
   std::vector<KeyframeState> windowKeyframes() const;
@@ -149,6 +153,10 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
   std::vector<KeyframeState> finished_keyframes_;
+  /// States of the window's keyframes after the last successful update: handed out at a reset,
+  /// so keyframes still in the window are not lost (the failed update's states are not used).
+  std::vector<KeyframeState> last_good_window_;
+  int segment_ = 0;
   /// Recent frames while initialising, for the stillness test.
   struct StillnessFrame {
     double t;

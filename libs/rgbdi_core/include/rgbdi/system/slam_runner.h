@@ -1,4 +1,4 @@
-// One offline rgbdi-slam run: read a rawlog, run the odometry, write every output, evaluate
+// One offline rgbdi-slam run: read a rawlog into the SLAM system, write every output, evaluate
 // against ground truth when given. Everything the rgbdi-slam app does apart from parsing
 // arguments, so tests and benchmarks run exactly what users run.
 #pragma once
@@ -18,6 +18,7 @@ struct SlamRunOptions {
   bool no_depth = false;    ///< monocular baseline
   bool quiet = false;       ///< no progress line
   bool save_simplemap = false;  ///< also write keyframes.simplemap (keyframe observations + poses)
+  bool threaded = true;  ///< stages on their own threads (false: sequential, identical outputs)
   const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C: stop reading, write what we have
 };
 
@@ -27,9 +28,9 @@ class UserError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Runs and writes DIR/trajectory.tum, trajectory_cam.tum, keyframes.tum, pose_graph.graph,
-/// map.ply, map.bt, map.pointsmap, scene.3Dscene, trajectory.png and summary.json (with the
-/// evaluation when ground truth is given).
+/// Runs and writes DIR/trajectory{,_online,_odometry}{,_cam}.tum, keyframes.tum,
+/// pose_graph.graph, map.ply, map.bt, map.pointsmap, scene.3Dscene, trajectory.png and
+/// summary.json (with the evaluation when ground truth is given).
 /// Returns the summary. `log` receives the human-readable report and the progress line.
 nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log);
 

@@ -59,6 +59,7 @@ class VioSystem : public MeasurementSink {
   std::size_t framesDropped() const { return frames_dropped_; }
   const Eigen::Isometry3d& T_body_cam() const { return cfg_.extrinsic.T_body_cam; }
   estimator::SlidingWindowEstimator& estimator() { return *estimator_; }
+  double timeOffset() const { return estimator_->timeOffset(); }
 
  private:
   struct Pending {

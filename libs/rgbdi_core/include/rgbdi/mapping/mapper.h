@@ -1,0 +1,83 @@
+// The mapping stage as one object: keyframes whose poses are final for the odometry come in with
+// their images; their depth goes into the point octree (and the occupancy OctoMap), the keyframe
+// store keeps their features, descriptors and kept points; after a pose-graph solve correct()
+// moves the keyframes and the map follows them (paper section 4.5).
+//
+// Keyframes seen from an already mapped viewpoint add no points (viewpoint_index.h), so the map
+// grows with the explored space, not with time. The occupancy map is ray cast at insertion with
+// the pose known then; after a correction it is rebuilt once, by finish() (ray casting every
+// keyframe again after every loop would cost more than the whole odometry).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "rgbdi/common/types.h"
+#include "rgbdi/mapping/keyframe_store.h"
+#include "rgbdi/mapping/mapping_options.h"
+#include "rgbdi/mapping/occupancy_map.h"
+#include "rgbdi/mapping/point_map.h"
+#include "rgbdi/mapping/viewpoint_index.h"
+
+namespace rgbdi::mapping {
+
+/// What one correct() call did.
+struct MapCorrection {
+  std::size_t keyframes_moved = 0;  ///< keyframes whose pose changed
+  RebuildReport rebuild;            ///< the point-map rebuild (empty when nothing moved)
+  double milliseconds = 0.0;        ///< wall-clock time of the whole correction
+};
+
+struct MapperStats {
+  std::size_t keyframes = 0;
+  std::size_t keyframes_adding_points = 0;
+  std::size_t corrections = 0;       ///< correct() calls that moved keyframes
+  double insert_ms_total = 0.0;      ///< addKeyframe wall-clock time, summed
+  double correction_ms_total = 0.0;  ///< correct() wall-clock time, summed
+  double correction_ms_max = 0.0;
+  std::size_t points_at_last_correction = 0;
+  double occupancy_rebuild_ms = 0.0;  ///< finish()'s occupancy rebuild (0 if not needed)
+};
+
+class Mapper {
+ public:
+  /// build_occupancy = false: no occupancy map at all (no map.bt).
+  Mapper(const MappingOptions& options, bool build_occupancy);
+
+  /// Adds a keyframe (its `points` are filled here; `T_world_cam` is the best estimate now).
+  /// Throws std::invalid_argument for a duplicate id or an unusable frame (see PointMap).
+  void addKeyframe(Keyframe keyframe, const RgbdFrame& frame);
+
+  /// Moves keyframes to corrected camera poses (id, T_world_cam); ids not in the store are
+  /// ignored (keyframes the mapper has not received yet). Rebuilds the point map when any pose
+  /// changed, dropping leaves with fewer than min_points_per_leaf_rebuild points.
+  MapCorrection correct(const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses);
+
+  /// Brings the occupancy map up to the corrected poses (once, at the end of a run).
+  void finish();
+
+  const KeyframeStore& store() const { return store_; }
+  const PointMap& pointMap() const { return points_; }
+  /// nullptr when built without occupancy.
+  const OccupancyMap* occupancy() const { return occupancy_.get(); }
+  const MapperStats& stats() const { return stats_; }
+  /// Heap bytes of the point octree + keyframe store + occupancy map.
+  std::size_t memoryBytes() const;
+
+ private:
+  void rebuildViewpoints();
+
+  MappingOptions options_;
+  KeyframeStore store_;
+  PointMap points_;
+  std::unique_ptr<OccupancyMap> occupancy_;
+  bool occupancy_outdated_ = false;
+  ViewpointIndex viewpoints_;
+  std::vector<std::uint64_t> adding_ids_;  ///< keyframes that added points (viewpoints), by id
+  MapperStats stats_;
+};
+
+}  // namespace rgbdi::mapping

@@ -1,0 +1,79 @@
+#include "rgbdi/mapping/mapper.h"
+
+#include <chrono>
+
+namespace rgbdi::mapping {
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+Mapper::Mapper(const MappingOptions& options, bool build_occupancy)
+    : options_(options),
+      points_(options),
+      viewpoints_(options.view_update_distance_m, options.view_update_angle_deg) {
+  if (build_occupancy) occupancy_ = std::make_unique<OccupancyMap>(options);
+}
+
+void Mapper::addKeyframe(Keyframe k, const RgbdFrame& frame) {
+  const auto t0 = Clock::now();
+  if (store_.contains(k.id))
+    throw std::invalid_argument("Mapper: keyframe " + std::to_string(k.id) + " added twice");
+  k.points.clear();
+  // A keyframe seen from where the map was already seen adds no points (bounded memory on
+  // repeated routes); it is still stored with its features for the pose graph.
+  if (frame.hasDepth() && !viewpoints_.covered(k.T_world_cam)) {
+    k.points = points_.insertKeyframe(frame, k.T_world_cam);
+    viewpoints_.add(k.T_world_cam);
+    adding_ids_.push_back(k.id);
+  }
+  if (occupancy_) occupancy_->insertPoints(k.points, k.T_world_cam);
+  store_.add(std::move(k));
+  ++stats_.keyframes;
+  stats_.keyframes_adding_points = adding_ids_.size();
+  stats_.insert_ms_total += msSince(t0);
+}
+
+MapCorrection Mapper::correct(
+    const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses) {
+  const auto t0 = Clock::now();
+  MapCorrection c;
+  for (const auto& [id, T] : poses) {
+    if (!store_.contains(id)) continue;
+    if (store_.get(id).T_world_cam.isApprox(T, 1e-12)) continue;
+    store_.setPose(id, T);
+    ++c.keyframes_moved;
+  }
+  if (c.keyframes_moved == 0) return c;
+  c.rebuild = points_.rebuild(store_);
+  rebuildViewpoints();
+  occupancy_outdated_ = occupancy_ != nullptr;
+  c.milliseconds = msSince(t0);
+  ++stats_.corrections;
+  stats_.correction_ms_total += c.milliseconds;
+  stats_.correction_ms_max = std::max(stats_.correction_ms_max, c.milliseconds);
+  stats_.points_at_last_correction = c.rebuild.input_points;
+  return c;
+}
+
+void Mapper::rebuildViewpoints() {
+  viewpoints_ = ViewpointIndex(options_.view_update_distance_m, options_.view_update_angle_deg);
+  for (std::uint64_t id : adding_ids_) viewpoints_.add(store_.get(id).T_world_cam);
+}
+
+void Mapper::finish() {
+  if (!occupancy_outdated_) return;
+  const auto t0 = Clock::now();
+  occupancy_->rebuild(store_);
+  occupancy_outdated_ = false;
+  stats_.occupancy_rebuild_ms = msSince(t0);
+}
+
+std::size_t Mapper::memoryBytes() const {
+  return points_.memoryBytes() + store_.memoryBytes() +
+         (occupancy_ ? occupancy_->memoryBytes() : 0);
+}
+
+}  // namespace rgbdi::mapping

@@ -1,0 +1,93 @@
+#include "rgbdi/system/slam_outputs.h"
+
+#include "rgbdi/mapping/map_export.h"
+#include "rgbdi/mapping/trajectory_plot.h"
+#include "rgbdi/output/pose_graph.h"
+#include "rgbdi/output/tum_writer.h"
+
+namespace rgbdi::system {
+
+output::PoseGraph slamPoseGraph(const SlamSystem& sys) {
+  const output::OutputOptions& oo = sys.config().output;
+  Eigen::Matrix<double, 6, 1> info_diag;
+  info_diag << Eigen::Vector3d::Constant(
+      1.0 / (oo.graph_translation_sigma_m * oo.graph_translation_sigma_m)),
+      Eigen::Vector3d::Constant(1.0 / (oo.graph_rotation_sigma_rad * oo.graph_rotation_sigma_rad));
+  output::PoseGraph g;
+  const auto& kfs = sys.keyframeStates();
+  for (std::size_t i = 0; i < kfs.size(); ++i) {
+    g.nodes.push_back({kfs[i].id, kfs[i].state.t_imu, sys.keyframePose(i)});
+    if (i == 0 || kfs[i - 1].state.segment != kfs[i].state.segment) continue;
+    output::PoseGraphEdge e;
+    e.from = kfs[i - 1].id;
+    e.to = kfs[i].id;
+    e.T_from_to = kfs[i - 1].state.T_world_body.inverse() * kfs[i].state.T_world_body;
+    e.information = info_diag.asDiagonal();
+    e.kind = "odometry";
+    g.edges.push_back(e);
+  }
+  if (!g.nodes.empty()) g.root = g.nodes.front().id;
+  return g;
+}
+
+nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
+                                const Trajectory* gt_in_est, bool write_simplemap) {
+  const SystemConfig& cfg = sys.config();
+  nlohmann::json out;
+  const Trajectory final_body = sys.finalTrajectory();
+  const Trajectory online_body = sys.onlineTrajectory();
+  const Trajectory odom_body = sys.odometryTrajectory();
+  auto tum = [&](const std::string& name, const Trajectory& t) {
+    const std::string path = dir + "/" + name + ".tum";
+    output::writeTum(path, t);
+    out[name] = path;
+  };
+  tum("trajectory", final_body);
+  tum("trajectory_cam", sys.toCameraFrame(final_body));
+  tum("trajectory_online", online_body);
+  tum("trajectory_online_cam", sys.toCameraFrame(online_body));
+  tum("trajectory_odometry", odom_body);
+  tum("trajectory_odometry_cam", sys.toCameraFrame(odom_body));
+
+  Trajectory kf_traj;
+  for (std::size_t i = 0; i < sys.keyframeStates().size(); ++i)
+    kf_traj.push_back(
+        StampedPose::fromIsometry(sys.keyframeStates()[i].state.t_imu, sys.keyframePose(i)));
+  tum("keyframes", kf_traj);
+  const output::PoseGraph graph = slamPoseGraph(sys);
+  if (!graph.nodes.empty()) {
+    out["pose_graph"] = dir + "/pose_graph.graph";
+    output::writePoseGraph(out["pose_graph"], graph.nodes, graph.edges);
+  }
+
+  const mapping::Mapper& map = sys.mapper();
+  if (cfg.output.write_ply) {
+    out["map_ply"] = dir + "/map.ply";
+    mapping::writePly(out["map_ply"], map.pointMap());
+  }
+  out["map_pointsmap"] = dir + "/map.pointsmap";
+  mapping::writePointsMap(out["map_pointsmap"], map.pointMap());
+  if (map.occupancy()) {
+    out["map_bt"] = dir + "/map.bt";
+    map.occupancy()->write(out["map_bt"]);
+  }
+  if (write_simplemap) {
+    std::vector<mapping::SimpleMapEntry> entries;
+    for (std::size_t i = 0; i < sys.observations().size(); ++i)
+      entries.push_back({sys.keyframePose(i), sys.observations()[i]});
+    out["keyframes_simplemap"] = dir + "/keyframes.simplemap";
+    mapping::writeSimpleMap(out["keyframes_simplemap"], entries);
+  }
+  if (cfg.output.write_scene) {
+    out["scene"] = dir + "/scene.3Dscene";
+    mapping::writeScene(out["scene"], map.pointMap(), final_body, map.store(), cfg.mapping.scene,
+                        gt_in_est);
+  }
+  if (cfg.output.write_plot && final_body.size() >= 2) {
+    out["plot"] = dir + "/trajectory.png";
+    mapping::plotTrajectory(out["plot"], final_body, gt_in_est, cfg.mapping.plot);
+  }
+  return out;
+}
+
+}  // namespace rgbdi::system

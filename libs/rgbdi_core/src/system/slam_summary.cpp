@@ -1,0 +1,121 @@
+#include "rgbdi/system/slam_summary.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace rgbdi::system {
+
+RunEvaluation evaluateRun(const SlamSystem& sys, const Trajectory& gt) {
+  RunEvaluation ev;
+  try {
+    eval::EvalOptions eo;
+    eo.align = eval::AlignMode::PosYaw;
+    ev.final_posyaw = eval::evaluate(gt, sys.finalTrajectory(), eo);
+    ev.online = eval::evaluate(gt, sys.onlineTrajectory(), eo);
+    ev.odometry = eval::evaluate(gt, sys.odometryTrajectory(), eo);
+    eo.align = eval::AlignMode::Sim3;
+    ev.final_sim3 = eval::evaluate(gt, sys.finalTrajectory(), eo);
+  } catch (const std::exception& e) {
+    ev.error = e.what();
+  }
+  return ev;
+}
+
+nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunEvaluation& ev,
+                           const nlohmann::json& outputs) {
+  const VioSystem& vio = sys.odometry();
+  const auto& st = vio.estimatorStats();
+  const auto& tm = vio.timings();
+  const SystemConfig& cfg = sys.config();
+  const bool have_t = !std::isnan(run.stream_t0);
+  nlohmann::json s;
+  s["input"] = run.input;
+  s["config"] = cfg.source;
+  s["mode"] = run.no_depth ? "mono-inertial (--no-depth)" : "rgbd-inertial";
+  s["interrupted"] = run.interrupted;
+  s["read_error"] = run.read_error.empty() ? nlohmann::json() : nlohmann::json(run.read_error);
+  s["frames"] = vio.framesReceived();
+  s["frames_dropped"] = vio.framesDropped();
+  s["poses"] = sys.frames().size();
+  s["stream_start_s"] = have_t ? nlohmann::json(run.stream_t0) : nlohmann::json();
+  s["stream_duration_s"] = have_t ? run.stream_t_last - run.stream_t0 : 0.0;
+  s["first_pose_time_s"] = st.first_pose_t_image < 0 || !have_t
+                               ? nlohmann::json()
+                               : nlohmann::json(st.first_pose_t_image - run.stream_t0);
+  s["resets"] = st.resets;
+  s["static_initialisations"] = st.static_initialisations;
+  s["moving_initialisations"] = st.moving_initialisations;
+  s["time_offset_s"] = vio.timeOffset();
+  s["wall_time_s"] = run.wall_s;
+  s["frames_per_s"] = run.wall_s > 0 ? run.frames / run.wall_s : 0.0;
+  const double n_tr = std::max(1, tm.frames_tracked), n_est = std::max(1, tm.frames_estimated);
+  s["timing_ms_per_frame"] = {{"tracking", tm.tracking_ms / n_tr},
+                              {"preintegration", tm.preintegration_ms / n_est},
+                              {"optimisation", tm.optimisation_ms / n_est},
+                              {"marginalisation", tm.marginalisation_ms / n_est}};
+  const mapping::Mapper& map = sys.mapper();
+  const auto& ms = map.pointMap().stats();
+  const auto& mst = map.stats();
+  s["map"] = {{"keyframes", map.store().size()},
+              {"keyframes_adding_points", mst.keyframes_adding_points},
+              {"grid_points", ms.grid_points},
+              {"points_with_depth_in_range", ms.candidates},
+              {"rejected_full_leaf", ms.rejected_full_leaf},
+              {"points", map.pointMap().pointCount()},
+              {"leaves", map.pointMap().leafCount()},
+              {"memory_bytes", map.memoryBytes()},
+              {"point_octree_bytes", map.pointMap().memoryBytes()},
+              {"keyframe_store_bytes", map.store().memoryBytes()},
+              {"occupancy_bytes", map.occupancy() ? map.occupancy()->memoryBytes() : 0},
+              {"mapping_ms_total", mst.insert_ms_total},
+              {"corrections", mst.corrections},
+              {"correction_ms_total", mst.correction_ms_total},
+              {"correction_ms_max", mst.correction_ms_max},
+              {"occupancy_rebuild_ms", mst.occupancy_rebuild_ms}};
+  int segments = 0;
+  for (const auto& k : sys.keyframeStates()) segments = std::max(segments, k.state.segment + 1);
+  s["keyframes"] = sys.keyframeStates().size();
+  s["segments"] = segments;
+  s["stream_diagnostics"] = run.stream_diagnostics;
+  s["outputs"] = outputs;
+  if (ev.final_posyaw && ev.final_sim3 && ev.online && ev.odometry) {
+    s["evaluation"] = eval::toJson(*ev.final_posyaw);
+    s["evaluation_sim3"] = eval::toJson(*ev.final_sim3);
+    s["evaluation_online"] = eval::toJson(*ev.online);
+    s["evaluation_odometry"] = eval::toJson(*ev.odometry);
+  } else if (!ev.error.empty()) {
+    s["evaluation_error"] = ev.error;
+  }
+  return s;
+}
+
+std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
+                            const std::string& gt_path) {
+  std::ostringstream os;
+  if (ev.final_posyaw && ev.final_sim3 && ev.online && ev.odometry) {
+    os << "Accuracy against " << gt_path << " (position+yaw alignment):\n"
+       << eval::formatReport(*ev.final_posyaw)
+       << "Scale (Sim(3) alignment): " << std::setprecision(6) << ev.final_sim3->alignment.scale
+       << "\n";
+    os << std::fixed << std::setprecision(4) << "ATE RMSE [m]   final (trajectory.tum) "
+       << ev.final_posyaw->ate.rmse << "   online (trajectory_online.tum) " << ev.online->ate.rmse
+       << "   odometry (trajectory_odometry.tum) " << ev.odometry->ate.rmse << "\n";
+    os.unsetf(std::ios::floatfield);
+  } else if (!ev.error.empty()) {
+    os << "Evaluation failed: " << ev.error << "\n";
+  }
+  os << "Processed " << s["frames"].get<std::size_t>() << " frames in " << std::setprecision(3)
+     << s["wall_time_s"].get<double>() << " s (" << s["frames_per_s"].get<double>()
+     << " frames/s), " << s["poses"].get<std::size_t>() << " poses, "
+     << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets"
+     << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
+  if (!s["read_error"].is_null())
+    os << "Input ended early: " << s["read_error"].get<std::string>() << "\n";
+  os << "Outputs:\n";
+  for (const auto& [name, path] : s["outputs"].items())
+    os << "  " << path.get<std::string>() << "\n";
+  return os.str();
+}
+
+}  // namespace rgbdi::system
