@@ -26,40 +26,39 @@ Eigen::Isometry3d tiltedPose(double x, double y, double z, double yaw, double pi
   return T;
 }
 
-// State of one edge: p_i, yaw_i, p_j, yaw_j.
+// State of one edge: x_i, x_j = [px, py, pz, yaw].
 struct EdgeState {
-  double p_i[3], yaw_i, p_j[3], yaw_j;
+  Eigen::Vector4d x_i, x_j;
 };
 
 Eigen::Matrix<double, 4, 8> analytic(const FourDofEdgeFactor& f, const EdgeState& s) {
-  const double* params[4] = {s.p_i, &s.yaw_i, s.p_j, &s.yaw_j};
-  Eigen::Matrix<double, 4, 3, Eigen::RowMajor> Jpi, Jpj;
-  Eigen::Vector4d Jyi, Jyj;
-  double* jac[4] = {Jpi.data(), Jyi.data(), Jpj.data(), Jyj.data()};
+  const double* params[2] = {s.x_i.data(), s.x_j.data()};
+  Eigen::Matrix<double, 4, 4, Eigen::RowMajor> Ji, Jj;
+  double* jac[2] = {Ji.data(), Jj.data()};
   Eigen::Vector4d r;
   EXPECT_TRUE(f.Evaluate(params, r.data(), jac));
   Eigen::Matrix<double, 4, 8> J;
-  J << Jpi, Jyi, Jpj, Jyj;
+  J << Ji, Jj;
   return J;
 }
 
-// Central differences through the manifold (Plus on the yaws, plain addition on positions).
+// Central differences through NodeStateManifold::Plus.
 Eigen::Matrix<double, 4, 8> numeric(const FourDofEdgeFactor& f, const EdgeState& s) {
-  const YawManifold m;
+  const NodeStateManifold m;
   const double h = 1e-6;
   Eigen::Matrix<double, 4, 8> J;
   for (int k = 0; k < 8; ++k) {
     EdgeState plus = s, minus = s;
-    auto bump = [&](EdgeState& e, double d) {
-      if (k < 3) e.p_i[k] += d;
-      if (k == 3) m.Plus(&s.yaw_i, &d, &e.yaw_i);
-      if (k >= 4 && k < 7) e.p_j[k - 4] += d;
-      if (k == 7) m.Plus(&s.yaw_j, &d, &e.yaw_j);
-    };
-    bump(plus, h);
-    bump(minus, -h);
-    J.col(k) = (f.residual(plus.p_i, plus.yaw_i, plus.p_j, plus.yaw_j) -
-                f.residual(minus.p_i, minus.yaw_i, minus.p_j, minus.yaw_j)) /
+    Eigen::Vector4d d = Eigen::Vector4d::Zero();
+    d[k % 4] = h;
+    const Eigen::Vector4d& x = k < 4 ? s.x_i : s.x_j;
+    Eigen::Vector4d& xp = k < 4 ? plus.x_i : plus.x_j;
+    Eigen::Vector4d& xm = k < 4 ? minus.x_i : minus.x_j;
+    m.Plus(x.data(), d.data(), xp.data());
+    d = -d;
+    m.Plus(x.data(), d.data(), xm.data());
+    J.col(k) = (f.residual(plus.x_i.data(), plus.x_j.data()) -
+                f.residual(minus.x_i.data(), minus.x_j.data())) /
                (2 * h);
   }
   return J;
@@ -106,6 +105,20 @@ TEST(YawManifold, PlusAndMinusWrapAcrossPlusMinusPi) {
   EXPECT_EQ(jm, 1.0);
 }
 
+TEST(NodeStateManifold, AddsPositionsAndWrapsTheYaw) {
+  const NodeStateManifold m;
+  EXPECT_EQ(m.AmbientSize(), 4);
+  EXPECT_EQ(m.TangentSize(), 4);
+  const Eigen::Vector4d x(1, 2, 3, 3.0), d(0.5, -1, 0, 0.3);
+  Eigen::Vector4d y;
+  m.Plus(x.data(), d.data(), y.data());
+  EXPECT_EQ(y.head<3>(), Eigen::Vector3d(1.5, 1, 3));
+  EXPECT_NEAR(y[3], 3.3 - 2.0 * M_PI, 1e-15);
+  Eigen::Vector4d back;
+  m.Minus(y.data(), x.data(), back.data());
+  EXPECT_TRUE(back.isApprox(d, 1e-14));
+}
+
 TEST(FourDof, YawAndTiltRecomposeTheRotation) {
   const Eigen::Isometry3d T = tiltedPose(1, 2, 3, 2.5, 0.2, -0.1);
   EXPECT_NEAR(yawOf(T.linear()), 2.5, 1e-14);
@@ -139,15 +152,15 @@ TEST(FourDof, CorrectionMapsOnePoseOntoTheOther) {
 TEST(FourDofEdgeFactor, KnownResidual) {
   FourDofDelta m;  // identity measurement
   const FourDofEdgeFactor f(m, 0.5, 0.1);
-  const double p_i[3] = {0, 0, 0}, p_j[3] = {1, 0, 0};
-  const Eigen::Vector4d r = f.residual(p_i, 0.0, p_j, M_PI / 2);
+  const Eigen::Vector4d x_i(0, 0, 0, 0), x_j(1, 0, 0, M_PI / 2);
+  const Eigen::Vector4d r = f.residual(x_i.data(), x_j.data());
   EXPECT_NEAR(r[0], 2.0, 1e-15);
   EXPECT_EQ(r[1], 0.0);
   EXPECT_EQ(r[2], 0.0);
   EXPECT_NEAR(r[3], M_PI / 2 / 0.1, 1e-12);
   // Translation is compared in i's yaw frame: i turned by 90 deg sees j at (0, -1, 0).
-  const double q_j[3] = {0, -1, 0};
-  const Eigen::Vector4d r2 = f.residual(p_i, -M_PI / 2, q_j, -M_PI / 2);
+  const Eigen::Vector4d y_i(0, 0, 0, -M_PI / 2), y_j(0, -1, 0, -M_PI / 2);
+  const Eigen::Vector4d r2 = f.residual(y_i.data(), y_j.data());
   EXPECT_NEAR(r2[0], 2.0, 1e-15);
   EXPECT_NEAR(r2[1], 0.0, 1e-15);
   EXPECT_EQ(r2[3], 0.0);
@@ -157,8 +170,10 @@ TEST(FourDofEdgeFactor, ZeroAtTheMeasuredRelativePoseWhateverTheTilt) {
   const Eigen::Isometry3d A = tiltedPose(1, -2, 0.3, 3.0, 0.1, -0.2);
   const Eigen::Isometry3d B = tiltedPose(2, -1, 0.5, -3.0, -0.15, 0.05);
   const FourDofEdgeFactor f(fourDofDelta(tiltOf(A.linear()), A.inverse() * B), 0.01, 0.001);
-  const Eigen::Vector4d r = f.residual(A.translation().data(), yawOf(A.linear()),
-                                       B.translation().data(), yawOf(B.linear()));
+  Eigen::Vector4d x_a, x_b;
+  x_a << A.translation(), yawOf(A.linear());
+  x_b << B.translation(), yawOf(B.linear());
+  const Eigen::Vector4d r = f.residual(x_a.data(), x_b.data());
   EXPECT_LT(r.norm(), 1e-10);
 }
 
@@ -170,14 +185,12 @@ TEST(FourDofEdgeFactor, AnalyticJacobiansMatchNumericOnes) {
     m.t_m << u(rng), u(rng), 0.2 * u(rng);
     m.yaw_rad = M_PI * u(rng);
     const FourDofEdgeFactor f(m, 0.05 + 0.1 * std::abs(u(rng)), 0.01 + 0.05 * std::abs(u(rng)));
-    EdgeState s{};
-    for (int a = 0; a < 3; ++a) {
-      s.p_i[a] = 10 * u(rng);
-      s.p_j[a] = 10 * u(rng);
-    }
+    EdgeState s;
+    s.x_i << 10 * u(rng), 10 * u(rng), 10 * u(rng), M_PI * u(rng);
+    s.x_j << 10 * u(rng), 10 * u(rng), 10 * u(rng), M_PI * u(rng);
     // Includes headings near +-pi, where the manifold wraps.
-    s.yaw_i = k % 4 == 0 ? M_PI - 1e-4 : M_PI * u(rng);
-    s.yaw_j = k % 4 == 1 ? -M_PI + 1e-4 : M_PI * u(rng);
+    if (k % 4 == 0) s.x_i[3] = M_PI - 1e-4;
+    if (k % 4 == 1) s.x_j[3] = -M_PI + 1e-4;
     const Eigen::Matrix<double, 4, 8> Ja = analytic(f, s), Jn = numeric(f, s);
     EXPECT_LT((Ja - Jn).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, Ja.cwiseAbs().maxCoeff()))
         << "case " << k << "\nanalytic\n"

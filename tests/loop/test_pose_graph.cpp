@@ -147,7 +147,7 @@ TEST(PoseGraph4Dof, CorrectsASquareLoopWithKnownDrift) {
             0.4 * kDeg);
   EXPECT_LT(g.edges()[static_cast<std::size_t>(e0)].normalised_residual, 1.0);
   // The first node is the gauge: exactly its odometry pose.
-  EXPECT_EQ(g.nodes()[0].p_world_body_m, lap.odom[0].translation());
+  EXPECT_EQ(g.nodes()[0].p_world_body_m(), lap.odom[0].translation());
   // The whole lap is closer to the truth (what is left is mostly the 1 % scale error, which a
   // loop at the start point cannot observe).
   double worst = 0.0, worst_odom = 0.0, sq = 0.0, sq_odom = 0.0;
@@ -188,8 +188,8 @@ TEST(PoseGraph4Dof, WithoutLoopsThePosesEqualTheOdometryExactly) {
   const PoseGraphSolveReport r = g.solve();
   EXPECT_EQ(r.solver_runs, 0);
   for (std::size_t k = 0; k < lap.odom.size(); ++k) {
-    EXPECT_EQ(g.nodes()[k].p_world_body_m, lap.odom[k].translation());
-    EXPECT_EQ(g.nodes()[k].yaw_rad, yawOf(lap.odom[k].linear()));
+    EXPECT_EQ(g.nodes()[k].p_world_body_m(), lap.odom[k].translation());
+    EXPECT_EQ(g.nodes()[k].yaw_rad(), yawOf(lap.odom[k].linear()));
     EXPECT_TRUE(g.pose(k).isApprox(lap.odom[k], 1e-14));
   }
   EXPECT_TRUE(g.drift(0).isApprox(Isometry3d::Identity(), 0.0));
@@ -225,7 +225,7 @@ TEST(PoseGraph4Dof, YawWrapsAroundPlusMinusPi) {
   EXPECT_TRUE(r.rolled_back_loop_edges.empty());
   bool crossed = false;
   for (std::size_t k = 0; k < odom.size(); ++k) {
-    const double yaw = g.nodes()[k].yaw_rad;
+    const double yaw = g.nodes()[k].yaw_rad();
     EXPECT_GE(yaw, -M_PI);
     EXPECT_LT(yaw, M_PI);
     crossed = crossed || yaw < -M_PI / 2;
@@ -357,8 +357,8 @@ TEST(PoseGraph4Dof, AnUnconnectedSegmentKeepsItsOdometryPoses) {
   EXPECT_EQ(s[1].last_id, 160u);
   EXPECT_EQ(s[1].nodes, 80u);
   // Segment 1 is corrected by its own loop but stays anchored at its first odometry pose.
-  EXPECT_EQ(g.nodes()[81].p_world_body_m, seg1[0].translation());
-  EXPECT_EQ(g.nodes()[81].yaw_rad, yawOf(seg1[0].linear()));
+  EXPECT_EQ(g.nodes()[81].p_world_body_m(), seg1[0].translation());
+  EXPECT_EQ(g.nodes()[81].yaw_rad(), yawOf(seg1[0].linear()));
   EXPECT_GT(positionError(g.pose(160), seg1.back()), 0.3);
 
   // Without any loop of its own, segment 1 is exactly its odometry.
@@ -368,8 +368,8 @@ TEST(PoseGraph4Dof, AnUnconnectedSegmentKeepsItsOdometryPoses) {
   h.addLoopEdge(80, 0, relative(route.truth, 80, 0));
   h.solve();
   for (std::size_t k = 81; k < 161; ++k) {
-    EXPECT_EQ(h.nodes()[k].p_world_body_m, seg1[k - 81].translation());
-    EXPECT_EQ(h.nodes()[k].yaw_rad, yawOf(seg1[k - 81].linear()));
+    EXPECT_EQ(h.nodes()[k].p_world_body_m(), seg1[k - 81].translation());
+    EXPECT_EQ(h.nodes()[k].yaw_rad(), yawOf(seg1[k - 81].linear()));
   }
   EXPECT_GT(positionError(h.pose(80), route.odom[80]), 0.35);  // segment 0 did move
 }
@@ -441,8 +441,8 @@ TEST(PoseGraph4Dof, TheSameCallsGiveTheSameResult) {
   EXPECT_EQ(ra.final_cost, rb.final_cost);
   EXPECT_EQ(ra.rolled_back_loop_edges, rb.rolled_back_loop_edges);
   for (std::size_t k = 0; k < route.odom.size(); ++k) {
-    EXPECT_EQ(a.nodes()[k].p_world_body_m, b.nodes()[k].p_world_body_m);
-    EXPECT_EQ(a.nodes()[k].yaw_rad, b.nodes()[k].yaw_rad);
+    EXPECT_EQ(a.nodes()[k].p_world_body_m(), b.nodes()[k].p_world_body_m());
+    EXPECT_EQ(a.nodes()[k].yaw_rad(), b.nodes()[k].yaw_rad());
   }
 }
 
@@ -479,4 +479,16 @@ TEST(PoseGraph4Dof, IdsOutOfOrderAndBadArgumentsAreRejected) {
   EXPECT_THROW(g.drift(3), std::out_of_range);
   EXPECT_TRUE(g.hasNode(6));
   EXPECT_FALSE(g.hasNode(7));
+}
+
+TEST(PoseGraph4Dof, MemoryGrowsWithNodesAndEdges) {
+  const SquareLap lap;
+  PoseGraph4Dof g;
+  const std::size_t empty = g.memoryBytes();
+  addAll(g, lap.odom);
+  EXPECT_GE(g.memoryBytes(), empty + 81 * sizeof(GraphNode) + g.edges().size() * sizeof(GraphEdge));
+  const std::size_t before = g.memoryBytes();
+  for (int k = 0; k < 200; ++k) g.addLoopEdge(80, 0, relative(lap.truth, 80, 0));
+  EXPECT_GT(g.memoryBytes(), before);
+  EXPECT_GE(g.memoryBytes(), empty + 81 * sizeof(GraphNode) + g.edges().size() * sizeof(GraphEdge));
 }

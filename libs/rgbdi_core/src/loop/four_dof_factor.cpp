@@ -4,8 +4,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "rgbdi/loop/yaw_manifold.h"
-
 namespace rgbdi::loop {
 
 FourDofEdgeFactor::FourDofEdgeFactor(const FourDofDelta& measured, double sigma_pos_m,
@@ -20,9 +18,8 @@ FourDofEdgeFactor::FourDofEdgeFactor(const FourDofDelta& measured, double sigma_
   w_yaw_ = 1.0 / sigma_yaw_rad;
 }
 
-Eigen::Vector4d FourDofEdgeFactor::residual(const double* p_i, double yaw_i, const double* p_j,
-                                            double yaw_j) const {
-  const double* params[4] = {p_i, &yaw_i, p_j, &yaw_j};
+Eigen::Vector4d FourDofEdgeFactor::residual(const double* x_i, const double* x_j) const {
+  const double* params[2] = {x_i, x_j};
   Eigen::Vector4d r;
   Evaluate(params, r.data(), nullptr);
   return r;
@@ -31,9 +28,9 @@ Eigen::Vector4d FourDofEdgeFactor::residual(const double* p_i, double yaw_i, con
 bool FourDofEdgeFactor::Evaluate(double const* const* parameters, double* residuals,
                                  double** jacobians) const {
   const Eigen::Map<const Eigen::Vector3d> p_i(parameters[0]);
-  const double yaw_i = parameters[1][0];
-  const Eigen::Map<const Eigen::Vector3d> p_j(parameters[2]);
-  const double yaw_j = parameters[3][0];
+  const double yaw_i = parameters[0][3];
+  const Eigen::Map<const Eigen::Vector3d> p_j(parameters[1]);
+  const double yaw_j = parameters[1][3];
 
   const double c = std::cos(yaw_i), s = std::sin(yaw_i);
   Eigen::Matrix3d Rt;  // Rz(yaw_i)^T
@@ -46,23 +43,19 @@ bool FourDofEdgeFactor::Evaluate(double const* const* parameters, double* residu
 
   if (jacobians == nullptr) return true;
   if (jacobians[0] != nullptr) {
-    Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>> J(jacobians[0]);
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> J(jacobians[0]);
     J.setZero();
-    J.topRows<3>() = -w_pos_ * Rt;
+    J.topLeftCorner<3, 3>() = -w_pos_ * Rt;
+    // d(Rz(yaw_i)^T)/dyaw_i * d
+    J(0, 3) = w_pos_ * (-s * d.x() + c * d.y());
+    J(1, 3) = w_pos_ * (-c * d.x() - s * d.y());
+    J(3, 3) = -w_yaw_;
   }
   if (jacobians[1] != nullptr) {
-    Eigen::Map<Eigen::Vector4d> J(jacobians[1]);
-    // d(Rz^T)/dyaw * d
-    J << w_pos_ * (-s * d.x() + c * d.y()), w_pos_ * (-c * d.x() - s * d.y()), 0.0, -w_yaw_;
-  }
-  if (jacobians[2] != nullptr) {
-    Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>> J(jacobians[2]);
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> J(jacobians[1]);
     J.setZero();
-    J.topRows<3>() = w_pos_ * Rt;
-  }
-  if (jacobians[3] != nullptr) {
-    Eigen::Map<Eigen::Vector4d> J(jacobians[3]);
-    J << 0.0, 0.0, 0.0, w_yaw_;
+    J.topLeftCorner<3, 3>() = w_pos_ * Rt;
+    J(3, 3) = w_yaw_;
   }
   return true;
 }

@@ -32,11 +32,6 @@ std::unique_ptr<ceres::LossFunction> makeLoss(const PoseGraphOptions& o) {
   return std::make_unique<ceres::HuberLoss>(o.loss_scale_sigma);
 }
 
-struct NodeState {
-  Eigen::Vector3d p;
-  double yaw;
-};
-
 }  // namespace
 
 PoseGraph4Dof::PoseGraph4Dof(const PoseGraphOptions& options) : options_(options) {
@@ -67,15 +62,13 @@ void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
 
   const bool new_segment = segments_.empty() || segments_.back().segment != segment;
   if (new_segment) {
-    n.p_world_body_m = T_world_body_odom.translation();
-    n.yaw_rad = n.yaw_odom_rad;
+    n.xyz_yaw << T_world_body_odom.translation(), n.yaw_odom_rad;
     segments_.push_back({segment, nodes_.size(), nodes_.size()});
     solved_labels_.push_back(segments_.size() - 1);
   } else {
     // Start where the segment's current correction puts it, so the initial guess is good.
     const Eigen::Isometry3d C = drift(segment);
-    n.p_world_body_m = C * T_world_body_odom.translation();
-    n.yaw_rad = wrapAngle(n.yaw_odom_rad + yawOf(C.linear()));
+    n.xyz_yaw << C * T_world_body_odom.translation(), wrapAngle(n.yaw_odom_rad + yawOf(C.linear()));
   }
 
   const std::size_t index = nodes_.size();
@@ -134,15 +127,11 @@ PoseGraphSolveReport PoseGraph4Dof::solve() {
   PoseGraphSolveReport report;
   report.nodes = nodes_.size();
 
-  std::vector<NodeState> before(nodes_.size());
-  for (std::size_t i = 0; i < nodes_.size(); ++i)
-    before[i] = {nodes_[i].p_world_body_m, nodes_[i].yaw_rad};
+  std::vector<Eigen::Vector4d> before(nodes_.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i) before[i] = nodes_[i].xyz_yaw;
   const std::vector<std::size_t> labels_before = solved_labels_;
   auto restore = [&] {
-    for (std::size_t i = 0; i < nodes_.size(); ++i) {
-      nodes_[i].p_world_body_m = before[i].p;
-      nodes_[i].yaw_rad = before[i].yaw;
-    }
+    for (std::size_t i = 0; i < nodes_.size(); ++i) nodes_[i].xyz_yaw = before[i];
     solved_labels_ = labels_before;
   };
 
@@ -157,6 +146,9 @@ PoseGraphSolveReport PoseGraph4Dof::solve() {
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  // Eigen's sparse Cholesky: single-threaded by construction (SuiteSparse may call a threaded
+  // BLAS) and as fast here (bench_pose_graph).
+  so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   so.num_threads = 1;
   so.max_num_iterations = options_.max_iterations;
   so.function_tolerance = options_.function_tolerance;
@@ -184,11 +176,9 @@ PoseGraphSolveReport PoseGraph4Dof::solve() {
       if (!optimised[labels[s]]) continue;
       for (std::size_t i = segments_[s].begin; i < segments_[s].end; ++i) {
         GraphNode& n = nodes_[i];
-        problem.AddParameterBlock(n.p_world_body_m.data(), 3);
-        problem.AddParameterBlock(&n.yaw_rad, 1, &yaw_manifold_);
+        problem.AddParameterBlock(n.xyz_yaw.data(), 4, &state_manifold_);
         if (s == labels[s] && i == segments_[s].begin) {  // the component's anchor
-          problem.SetParameterBlockConstant(n.p_world_body_m.data());
-          problem.SetParameterBlockConstant(&n.yaw_rad);
+          problem.SetParameterBlockConstant(n.xyz_yaw.data());
         } else {
           ++free_nodes;
         }
@@ -199,15 +189,16 @@ PoseGraphSolveReport PoseGraph4Dof::solve() {
       GraphNode& a = nodes_[e.from_index];
       GraphNode& b = nodes_[e.to_index];
       problem.AddResidualBlock(new FourDofEdgeFactor(e.measured, e.sigma_pos_m, e.sigma_yaw_rad),
-                               e.kind == EdgeKind::kLoop ? loss.get() : nullptr,
-                               a.p_world_body_m.data(), &a.yaw_rad, b.p_world_body_m.data(),
-                               &b.yaw_rad);
+                               e.kind == EdgeKind::kLoop ? loss.get() : nullptr, a.xyz_yaw.data(),
+                               b.xyz_yaw.data());
     }
 
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     if (!summary.IsSolutionUsable()) {
       restore();
+      for (int id : report.rolled_back_loop_edges)
+        edges_[static_cast<std::size_t>(id)].active = true;
       throw std::runtime_error("PoseGraph4Dof::solve: Ceres failed on " +
                                std::to_string(nodes_.size()) + " nodes: " + summary.message);
     }
@@ -261,8 +252,7 @@ void PoseGraph4Dof::prepare(const std::vector<std::size_t>& labels) {
     if (!has_loop[comp]) {
       // A lone segment without loops: its odometry is the exact optimum.
       for (std::size_t i = segments_[comp].begin; i < segments_[comp].end; ++i) {
-        nodes_[i].p_world_body_m = nodes_[i].T_world_body_odom.translation();
-        nodes_[i].yaw_rad = nodes_[i].yaw_odom_rad;
+        nodes_[i].xyz_yaw << nodes_[i].T_world_body_odom.translation(), nodes_[i].yaw_odom_rad;
       }
       continue;
     }
@@ -274,13 +264,12 @@ void PoseGraph4Dof::prepare(const std::vector<std::size_t>& labels) {
         if (labels[s] == comp && solved_labels_[s] == group) applyCorrection(C, s);
     };
     GraphNode& anchor = nodes_[segments_[comp].begin];
-    if (anchor.p_world_body_m != anchor.T_world_body_odom.translation() ||
-        anchor.yaw_rad != anchor.yaw_odom_rad) {
+    if (anchor.p_world_body_m() != anchor.T_world_body_odom.translation() ||
+        anchor.yaw_rad() != anchor.yaw_odom_rad) {
       moveGroup(solved_labels_[comp],
                 fourDofCorrection(anchor.T_world_body_odom.translation(), anchor.yaw_odom_rad,
-                                  anchor.p_world_body_m, anchor.yaw_rad));
-      anchor.p_world_body_m = anchor.T_world_body_odom.translation();
-      anchor.yaw_rad = anchor.yaw_odom_rad;
+                                  anchor.p_world_body_m(), anchor.yaw_rad()));
+      anchor.xyz_yaw << anchor.T_world_body_odom.translation(), anchor.yaw_odom_rad;
     }
     // Groups newly joined by loops are moved rigidly onto the first loop that ties them to an
     // already placed group (edge order, so deterministic).
@@ -298,14 +287,14 @@ void PoseGraph4Dof::prepare(const std::vector<std::size_t>& labels) {
         const GraphNode& a = nodes_[e.from_index];
         const GraphNode& b = nodes_[e.to_index];
         if (placed[ga]) {  // move b's group: b = a (+) measured
-          const double yaw_b = wrapAngle(a.yaw_rad + e.measured.yaw_rad);
-          const Eigen::Vector3d p_b = a.p_world_body_m + rotZ(a.yaw_rad) * e.measured.t_m;
-          moveGroup(gb, fourDofCorrection(p_b, yaw_b, b.p_world_body_m, b.yaw_rad));
+          const double yaw_b = wrapAngle(a.yaw_rad() + e.measured.yaw_rad);
+          const Eigen::Vector3d p_b = a.p_world_body_m() + rotZ(a.yaw_rad()) * e.measured.t_m;
+          moveGroup(gb, fourDofCorrection(p_b, yaw_b, b.p_world_body_m(), b.yaw_rad()));
           placed[gb] = true;
         } else {  // move a's group: a = b (-) measured
-          const double yaw_a = wrapAngle(b.yaw_rad - e.measured.yaw_rad);
-          const Eigen::Vector3d p_a = b.p_world_body_m - rotZ(yaw_a) * e.measured.t_m;
-          moveGroup(ga, fourDofCorrection(p_a, yaw_a, a.p_world_body_m, a.yaw_rad));
+          const double yaw_a = wrapAngle(b.yaw_rad() - e.measured.yaw_rad);
+          const Eigen::Vector3d p_a = b.p_world_body_m() - rotZ(yaw_a) * e.measured.t_m;
+          moveGroup(ga, fourDofCorrection(p_a, yaw_a, a.p_world_body_m(), a.yaw_rad()));
           placed[ga] = true;
         }
         changed = true;
@@ -317,8 +306,8 @@ void PoseGraph4Dof::prepare(const std::vector<std::size_t>& labels) {
 void PoseGraph4Dof::applyCorrection(const Eigen::Isometry3d& C, std::size_t segment_index) {
   const double dyaw = yawOf(C.linear());
   for (std::size_t i = segments_[segment_index].begin; i < segments_[segment_index].end; ++i) {
-    nodes_[i].p_world_body_m = C * nodes_[i].p_world_body_m;
-    nodes_[i].yaw_rad = wrapAngle(nodes_[i].yaw_rad + dyaw);
+    GraphNode& n = nodes_[i];
+    n.xyz_yaw << C * n.p_world_body_m(), wrapAngle(n.yaw_rad() + dyaw);
   }
 }
 
@@ -327,8 +316,7 @@ void PoseGraph4Dof::updateResiduals() {
     const GraphNode& a = nodes_[e.from_index];
     const GraphNode& b = nodes_[e.to_index];
     const FourDofEdgeFactor f(e.measured, e.sigma_pos_m, e.sigma_yaw_rad);
-    e.normalised_residual =
-        f.residual(a.p_world_body_m.data(), a.yaw_rad, b.p_world_body_m.data(), b.yaw_rad).norm();
+    e.normalised_residual = f.residual(a.xyz_yaw.data(), b.xyz_yaw.data()).norm();
   }
 }
 
@@ -355,8 +343,8 @@ std::vector<std::size_t> PoseGraph4Dof::components() const {
 Eigen::Isometry3d PoseGraph4Dof::pose(std::uint64_t id) const {
   const GraphNode& n = nodes_[indexOf(id)];
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = rotZ(n.yaw_rad) * n.R_tilt;
-  T.translation() = n.p_world_body_m;
+  T.linear() = rotZ(n.yaw_rad()) * n.R_tilt;
+  T.translation() = n.p_world_body_m();
   return T;
 }
 
@@ -364,7 +352,7 @@ Eigen::Isometry3d PoseGraph4Dof::drift(int segment) const {
   for (const SegmentRange& r : segments_) {
     if (r.segment != segment) continue;
     const GraphNode& n = nodes_[r.end - 1];
-    return fourDofCorrection(n.p_world_body_m, n.yaw_rad, n.T_world_body_odom.translation(),
+    return fourDofCorrection(n.p_world_body_m(), n.yaw_rad(), n.T_world_body_odom.translation(),
                              n.yaw_odom_rad);
   }
   throw std::out_of_range("PoseGraph4Dof::drift: segment " + std::to_string(segment) +
@@ -397,6 +385,12 @@ std::vector<SegmentState> PoseGraph4Dof::segments() const {
     out.push_back(st);
   }
   return out;
+}
+
+std::size_t PoseGraph4Dof::memoryBytes() const {
+  return sizeof(*this) + nodes_.capacity() * sizeof(GraphNode) +
+         edges_.capacity() * sizeof(GraphEdge) + segments_.capacity() * sizeof(SegmentRange) +
+         solved_labels_.capacity() * sizeof(std::size_t);
 }
 
 bool PoseGraph4Dof::hasNode(std::uint64_t id) const {

@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "rgbdi/loop/four_dof.h"
+#include "rgbdi/loop/four_dof_factor.h"
 #include "rgbdi/loop/pose_graph_options.h"
-#include "rgbdi/loop/yaw_manifold.h"
 
 namespace rgbdi::loop {
 
@@ -33,10 +33,13 @@ struct GraphNode {
   std::uint64_t id = 0;
   int segment = 0;
   Eigen::Isometry3d T_world_body_odom = Eigen::Isometry3d::Identity();  ///< as added
-  Eigen::Matrix3d R_tilt = Eigen::Matrix3d::Identity();      ///< roll/pitch part of the odometry
-  double yaw_odom_rad = 0.0;                                 ///< [rad] heading of the odometry
-  Eigen::Vector3d p_world_body_m = Eigen::Vector3d::Zero();  ///< [m] corrected position
-  double yaw_rad = 0.0;  ///< [rad] corrected heading, in [-pi, pi)
+  Eigen::Matrix3d R_tilt = Eigen::Matrix3d::Identity();  ///< roll/pitch part of the odometry
+  double yaw_odom_rad = 0.0;                             ///< [rad] heading of the odometry
+  /// Corrected state [x, y, z] [m] and yaw [rad, in [-pi, pi)]: one Ceres parameter block.
+  Eigen::Vector4d xyz_yaw = Eigen::Vector4d::Zero();
+
+  Eigen::Vector3d p_world_body_m() const { return xyz_yaw.head<3>(); }  ///< [m] corrected
+  double yaw_rad() const { return xyz_yaw[3]; }                         ///< [rad] corrected heading
 };
 
 struct GraphEdge {
@@ -96,7 +99,7 @@ class PoseGraph4Dof {
 
   /// Optimises every component that has an active loop edge (others are set to their odometry),
   /// then rolls back wrong loops (see the file comment). Throws std::runtime_error when Ceres
-  /// fails (the poses are then left as they were before the call).
+  /// fails (poses and loop edges are then left as they were before the call).
   PoseGraphSolveReport solve();
 
   /// Corrected body pose: optimised x, y, z, yaw and the odometry's roll/pitch. Throws
@@ -114,6 +117,8 @@ class PoseGraph4Dof {
   const std::vector<GraphNode>& nodes() const { return nodes_; }  ///< ordered by id
   const std::vector<GraphEdge>& edges() const { return edges_; }  ///< ordered by id
   const PoseGraphOptions& options() const { return options_; }
+  /// [B] memory held by the graph (node, edge and segment storage, allocated capacity).
+  std::size_t memoryBytes() const;
 
  private:
   struct SegmentRange {
@@ -131,7 +136,7 @@ class PoseGraph4Dof {
   void updateResiduals();
 
   PoseGraphOptions options_;
-  YawManifold yaw_manifold_;
+  NodeStateManifold state_manifold_;
   std::vector<GraphNode> nodes_;
   std::vector<GraphEdge> edges_;
   std::vector<SegmentRange> segments_;

@@ -31,7 +31,7 @@ struct PoseGraphOptions {
 
   // --- solver (Levenberg-Marquardt, sparse Cholesky, one thread) ---
   int max_iterations = 200;            ///< [count] per solve; the solver stops on convergence
-  double function_tolerance = 1e-10;   ///< [unitless] relative cost decrease that ends a solve
+  double function_tolerance = 1e-6;    ///< [unitless] relative cost decrease that ends a solve
   double gradient_tolerance = 1e-12;   ///< [unitless] max-norm of the projected gradient
   double parameter_tolerance = 1e-10;  ///< [unitless] relative step size that ends a solve
 
