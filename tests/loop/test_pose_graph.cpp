@@ -279,6 +279,43 @@ TEST(PoseGraph4Dof, AWrongLoopAmongGoodOnesIsRolledBack) {
     EXPECT_LT(positionError(with_wrong.pose(k), route.truth[k]), 0.15) << k;
 }
 
+TEST(PoseGraph4Dof, TheCauchyLossRollsTheWrongLoopBackToo) {
+  const ThreeLaps route;
+  PoseGraphOptions o;
+  o.loss = RobustLoss::kCauchy;
+  PoseGraph4Dof with_wrong(o), reference(o);
+  for (PoseGraph4Dof* g : {&with_wrong, &reference}) {
+    addAll(*g, route.odom);
+    route.addGoodLoops(*g);
+  }
+  const int wrong = with_wrong.addLoopEdge(180, 60, Isometry3d::Identity());
+  EXPECT_EQ(with_wrong.solve().rolled_back_loop_edges, std::vector<int>{wrong});
+  EXPECT_TRUE(reference.solve().rolled_back_loop_edges.empty());
+  for (std::size_t k = 0; k < route.odom.size(); ++k)
+    EXPECT_LT(positionError(with_wrong.pose(k), reference.pose(k)), 1e-6) << k;
+}
+
+TEST(PoseGraph4Dof, WithNoRollbacksAllowedTheWrongLoopStaysAndDistortsTheGraph) {
+  const ThreeLaps route;
+  PoseGraphOptions o;
+  o.max_rollbacks_per_solve = 0;
+  PoseGraph4Dof g(o);
+  addAll(g, route.odom);
+  route.addGoodLoops(g);
+  const int wrong = g.addLoopEdge(180, 60, Isometry3d::Identity());
+  const PoseGraphSolveReport r = g.solve();
+  EXPECT_TRUE(r.rolled_back_loop_edges.empty());
+  EXPECT_EQ(r.solver_runs, 1);
+  EXPECT_TRUE(g.edges()[static_cast<std::size_t>(wrong)].active);
+  EXPECT_GT(g.edges()[static_cast<std::size_t>(wrong)].normalised_residual, 3.0);
+  PoseGraph4Dof reference(o);
+  addAll(reference, route.odom);
+  route.addGoodLoops(reference);
+  reference.solve();
+  // The robust loss bounds the damage (2 cm here), but it is there.
+  EXPECT_GT(positionError(g.pose(180), reference.pose(180)), 0.01);
+}
+
 TEST(PoseGraph4Dof, AWrongLoopThatJoinsASegmentFirstIsRolledBackToo) {
   // Segment 1 (second and third laps after a reset, in a frame of its own) is joined to segment
   // 0 by a wrong loop added before the good ones, so the wrong loop also places it first.
