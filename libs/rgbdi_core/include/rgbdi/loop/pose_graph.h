@@ -2,7 +2,9 @@
 // odometry's). Keyframes are added as they arrive, each tied by odometry edges to its last few
 // predecessors of the same odometry segment; verified loops add loop edges. solve() runs Ceres
 // to convergence, then rolls back loop edges the solved graph cannot agree with (normalised
-// residual above the gate): the worst one is deactivated and the graph solved again.
+// residual above the gate): the worst one is deactivated for good and the graph solved again
+// from the poses it had when solve() was called, so the result equals a solve of the graph that
+// never had that edge. A component without any active loop is exactly its odometry.
 //
 // Gauge and segments: segments (odometry restarted after a reset) are never joined by odometry
 // edges. Segments joined by active loop edges form a component; the component of the first
