@@ -1,0 +1,107 @@
+#include "rgbdi/loop/pose_graph_options.h"
+
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace rgbdi::loop {
+namespace {
+
+const char* const kSection = "loop";
+
+// One table of keys and ranges serves load() and validate(), so options built in code are held
+// to the same limits as options read from a file.
+struct IntKey {
+  const char* key;
+  std::function<int&(PoseGraphOptions&)> field;
+  int min, max;
+};
+struct DoubleKey {
+  const char* key;
+  std::function<double&(PoseGraphOptions&)> field;
+  double min, max;
+};
+
+const std::vector<IntKey>& intKeys() {
+  static const std::vector<IntKey> keys = {
+      {"graph_sequential_edges", [](PoseGraphOptions& o) -> int& { return o.sequential_edges; }, 1,
+       100},
+      {"graph_max_iterations", [](PoseGraphOptions& o) -> int& { return o.max_iterations; }, 1,
+       100000},
+      {"graph_max_rollbacks", [](PoseGraphOptions& o) -> int& { return o.max_rollbacks_per_solve; },
+       0, 100000},
+  };
+  return keys;
+}
+
+const std::vector<DoubleKey>& doubleKeys() {
+  static const std::vector<DoubleKey> keys = {
+      {"graph_odom_sigma_pos_base_m",
+       [](PoseGraphOptions& o) -> double& { return o.odom_sigma_pos_base_m; }, 1e-6, 100.0},
+      {"graph_odom_sigma_pos_per_m",
+       [](PoseGraphOptions& o) -> double& { return o.odom_sigma_pos_per_m; }, 0.0, 10.0},
+      {"graph_odom_sigma_yaw_base_deg",
+       [](PoseGraphOptions& o) -> double& { return o.odom_sigma_yaw_base_deg; }, 1e-6, 180.0},
+      {"graph_odom_sigma_yaw_per_m_deg",
+       [](PoseGraphOptions& o) -> double& { return o.odom_sigma_yaw_per_m_deg; }, 0.0, 180.0},
+      {"graph_loop_sigma_pos_m", [](PoseGraphOptions& o) -> double& { return o.loop_sigma_pos_m; },
+       1e-6, 100.0},
+      {"graph_loop_sigma_yaw_deg",
+       [](PoseGraphOptions& o) -> double& { return o.loop_sigma_yaw_deg; }, 1e-6, 180.0},
+      {"graph_loss_scale_sigma", [](PoseGraphOptions& o) -> double& { return o.loss_scale_sigma; },
+       1e-3, 1000.0},
+      {"graph_function_tolerance",
+       [](PoseGraphOptions& o) -> double& { return o.function_tolerance; }, 0.0, 1.0},
+      {"graph_gradient_tolerance",
+       [](PoseGraphOptions& o) -> double& { return o.gradient_tolerance; }, 0.0, 1.0},
+      {"graph_parameter_tolerance",
+       [](PoseGraphOptions& o) -> double& { return o.parameter_tolerance; }, 0.0, 1.0},
+      {"graph_rollback_gate_sigma",
+       [](PoseGraphOptions& o) -> double& { return o.rollback_gate_sigma; }, 0.1, 1000.0},
+  };
+  return keys;
+}
+
+const char* lossName(RobustLoss l) { return l == RobustLoss::kHuber ? "huber" : "cauchy"; }
+
+[[noreturn]] void failKey(const std::string& key, const std::string& what) {
+  throw ConfigError("PoseGraphOptions [" + std::string(kSection) + "] " + key + ": " + what);
+}
+
+template <typename T>
+std::string outside(T v, T lo, T hi) {
+  std::ostringstream os;
+  os << "value " << v << " outside [" << lo << ", " << hi << "]";
+  return os.str();
+}
+
+}  // namespace
+
+void PoseGraphOptions::validate() const {
+  PoseGraphOptions copy = *this;
+  for (const IntKey& k : intKeys()) {
+    const int v = k.field(copy);
+    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
+  }
+  for (const DoubleKey& k : doubleKeys()) {
+    const double v = k.field(copy);
+    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
+  }
+  if (loss != RobustLoss::kHuber && loss != RobustLoss::kCauchy)
+    failKey("graph_loss", "unknown robust loss");
+}
+
+PoseGraphOptions PoseGraphOptions::load(IniReader& ini) {
+  PoseGraphOptions o;
+  for (const IntKey& k : intKeys())
+    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
+  for (const DoubleKey& k : doubleKeys())
+    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  const std::string loss =
+      ini.getEnum(kSection, "graph_loss", lossName(o.loss), {"huber", "cauchy"});
+  o.loss = loss == "huber" ? RobustLoss::kHuber : RobustLoss::kCauchy;
+  return o;
+}
+
+}  // namespace rgbdi::loop
