@@ -145,17 +145,45 @@ LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyfr
   std::vector<int> inliers;
   bool pnp_ok = false;
   try {
-    // Classic RANSAC (EPnP minimal sets, fixed internal seed, then an iterative refinement on
-    // the inliers): the same input always gives the same pose.
+    // Classic RANSAC on AP3P minimal sets (4 points: fewer iterations than EPnP's 5 for the
+    // same confidence) with OpenCV's fixed internal seed: the same input gives the same pose.
     pnp_ok = cv::solvePnPRansac(object_points, image_points, K, cv::noArray(), rvec, tvec, false,
                                 o.pnp_iterations, static_cast<float>(o.pnp_threshold_px),
-                                o.pnp_confidence, inliers, cv::SOLVEPNP_ITERATIVE);
+                                o.pnp_confidence, inliers, cv::SOLVEPNP_AP3P);
   } catch (const cv::Exception& e) {
     return reject(LoopRejection::PnpFailed, cat("PnP RANSAC threw: ", e.what()));
   }
   if (!pnp_ok || rvec.empty() || tvec.empty())
     return reject(LoopRejection::PnpFailed,
                   cat("PnP RANSAC found no pose from ", c.matches, " correspondences"));
+  // RANSAC keeps the inliers of its best minimal sample; re-select them under the pose, refine
+  // the pose on them (Levenberg-Marquardt on the reprojection error) and re-select again, so
+  // the support reflects the best pose rather than the luckiest sample.
+  auto selectInliers = [&](std::vector<int>& out) {
+    cv::Matx33d R;
+    cv::Rodrigues(rvec, R);
+    const cv::Vec3d t(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    const double thr2 = o.pnp_threshold_px * o.pnp_threshold_px;
+    out.clear();
+    for (std::size_t i = 0; i < object_points.size(); ++i) {
+      const cv::Vec3d X = R * cv::Vec3d(object_points[i]) + t;
+      if (!(X[2] > 0.0)) continue;
+      const double du = cam_.fx * X[0] / X[2] + cam_.cx - image_points[i].x;
+      const double dv = cam_.fy * X[1] / X[2] + cam_.cy - image_points[i].y;
+      if (du * du + dv * dv <= thr2) out.push_back(static_cast<int>(i));
+    }
+  };
+  selectInliers(inliers);
+  if (static_cast<int>(inliers.size()) >= o.min_pnp_inliers) {
+    std::vector<cv::Point3d> obj;
+    std::vector<cv::Point2d> img;
+    for (int i : inliers) {
+      obj.push_back(object_points[static_cast<std::size_t>(i)]);
+      img.push_back(image_points[static_cast<std::size_t>(i)]);
+    }
+    cv::solvePnPRefineLM(obj, img, K, cv::noArray(), rvec, tvec);
+    selectInliers(inliers);
+  }
   c.pnp_inliers = static_cast<int>(inliers.size());
   if (c.pnp_inliers < o.min_pnp_inliers)
     return reject(LoopRejection::TooFewPnpInliers,
