@@ -168,6 +168,8 @@ TEST(LoopVerifier, RejectsWrongDepthOnOneSideIn3dCheck) {
   EXPECT_EQ(v.reason, LoopRejection::DepthDisagreement);
   EXPECT_GE(v.constraint.pnp_inliers, 300);
   EXPECT_LT(v.constraint.depth_inliers, 20);
+  // The PnP pose is reported with the rejection (for diagnostics); it is right.
+  EXPECT_LT(translationError(v.constraint.T_from_to, p.T_from_to_true), 1e-4);
   // Without depth in the query there is nothing to check against: rejected as well.
   for (auto& q : p.query.descriptors.keypoints_p_cam) q.z() = NAN;
   const LoopVerification w = verifyPair(p);

@@ -200,6 +200,7 @@ LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyfr
   Eigen::Isometry3d T_cc_qc = T_qc_cc.inverse();
   if (!T_cc_qc.matrix().allFinite())
     return reject(LoopRejection::PnpFailed, "PnP RANSAC returned a non-finite pose");
+  c.T_from_to = T_body_cam_ * T_cc_qc * T_cam_body_;  // PnP pose until refined below
 
   // --- 3-D/3-D: inliers with depth on both sides must agree under the pose ---
   std::vector<DepthPair> pairs;

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <cstdint>
 
 #include "rgbdi/mapping/keyframe.h"

@@ -102,7 +102,9 @@ struct LoopConstraint {
 
 struct LoopVerification {
   bool accepted = false;
-  LoopConstraint constraint;  ///< filled as far as verification got
+  /// Filled as far as verification got: counts up to the failed step; T_from_to from PnP on (the
+  /// refined pose once the 3-D/3-D check passed).
+  LoopConstraint constraint;
   LoopRejection reason = LoopRejection::Accepted;
   std::string detail;  ///< the measured value and the gate it failed (empty when accepted)
 };
