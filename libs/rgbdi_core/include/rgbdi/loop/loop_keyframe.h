@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+
 #include <cstdint>
 
 #include "rgbdi/mapping/keyframe.h"
