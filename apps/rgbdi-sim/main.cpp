@@ -1,5 +1,6 @@
 // rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast] [--fps N]
-//           [--seed N] [--config FILE] [--time-offset S] [--bag [--bag-compression none|bz2|lz4]]
+//           [--seed N] [--config FILE] [--time-offset S] [--aliased-walls]
+//           [--bag [--bag-compression none|bz2|lz4]]
 // Simulates an RGB-D-inertial sequence (doc/simulator.md) and writes it to DIR. Exit codes:
 // 0 ok, 1 error (configuration, files), 2 bad usage, 130 interrupted (Ctrl-C).
 #include <algorithm>
@@ -26,7 +27,7 @@ constexpr int kExitInterrupted = 130;
 const char* const kUsage =
     "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
     "                 [--fps N] [--seed N] [--config FILE] [--time-offset S]\n"
-    "                 [--bag [--bag-compression none|bz2|lz4]]\n"
+    "                 [--aliased-walls] [--bag [--bag-compression none|bz2|lz4]]\n"
     "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
     "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag])\n"
@@ -37,6 +38,7 @@ const char* const kUsage =
     "  --config           INI file with [sim], [camera], [extrinsic] (default: built-in values,\n"
     "                     the same as share/config.ini)\n"
     "  --time-offset      camera-IMU time offset [s]: images stamped t_imu - offset\n"
+    "  --aliased-walls    the room's +x wall repeats the -x wall (perceptual aliasing)\n"
     "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
     "  --bag-compression  chunk compression of the bag (default none)\n";
 
@@ -60,7 +62,7 @@ struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
   long long seed = -1;
-  bool has_time_offset = false, bag = false, help = false;
+  bool has_time_offset = false, bag = false, help = false, aliased_walls = false;
 };
 
 Arguments parse(int argc, char** argv) {
@@ -103,6 +105,9 @@ Arguments parse(int argc, char** argv) {
       a.time_offset = number(arg, take());
       if (std::abs(a.time_offset) > 0.5) throw UsageError("--time-offset must be within +-0.5 s");
       a.has_time_offset = true;
+    } else if (arg == "--aliased-walls") {
+      if (inline_value) throw UsageError("--aliased-walls takes no value");
+      a.aliased_walls = true;
     } else if (arg == "--bag") {
       if (inline_value) throw UsageError("--bag takes no value");
       a.bag = true;
@@ -124,7 +129,8 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   rgbdi::sim::SimOptions o = rgbdi::sim::SimOptions::load(ini);
   // The simulator reads [sim], [camera] and [extrinsic]; the other modules' sections of a full
   // rgbdi configuration (e.g. share/config.ini) are allowed but not used.
-  for (const char* s : {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "convert"})
+  for (const char* s :
+       {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "convert"})
     ini.acceptSection(s);
   ini.checkNoUnknownKeys();
   try {
@@ -137,6 +143,7 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   if (a.fps > 0.0) o.fps = a.fps;
   if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
   if (a.has_time_offset) o.time_offset_s = a.time_offset;
+  if (a.aliased_walls) o.scene.aliased_walls = true;
   return o;
 }
 
@@ -180,9 +187,9 @@ int main(int argc, char** argv) {
     }
     std::cout << std::fixed << std::setprecision(1) << "profile " << args.profile << ": "
               << sequence.duration() << " s, " << sequence.profile().path_length_m << " m at "
-              << std::setprecision(3) << sequence.profile().cruise_speed_m_s << " m/s, "
-              << s.frames << " frames, " << s.imu_samples << " IMU samples in "
-              << std::setprecision(1) << s.wall_time_s << " s (" << s.frames / std::max(1e-9, s.wall_time_s)
+              << std::setprecision(3) << sequence.profile().cruise_speed_m_s << " m/s, " << s.frames
+              << " frames, " << s.imu_samples << " IMU samples in " << std::setprecision(1)
+              << s.wall_time_s << " s (" << s.frames / std::max(1e-9, s.wall_time_s)
               << " frames/s)\n"
               << "  " << s.rawlog_path << "\n  " << s.groundtruth_path << "\n  "
               << s.groundtruth_cam_path << "\n  " << s.config_path << "\n  " << s.simulation_path

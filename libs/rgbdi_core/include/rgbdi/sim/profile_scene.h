@@ -11,8 +11,17 @@
 
 namespace rgbdi::sim {
 
+/// Appearance choices of a profile's world beyond the seed.
+struct ProfileSceneOptions {
+  /// Perceptual aliasing: the room's +x wall shows the -x wall's texture as seen from the
+  /// half-turned viewpoint (RoomStyles::aliased_x_walls), so a camera facing either end wall
+  /// from point-symmetric places sees the same wall image.
+  bool aliased_walls = false;
+};
+
 /// Builds (and build()s) the scene of a profile. The geometry is the same for every seed; the
 /// seed drives the textures only.
-Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed);
+Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
+                        const ProfileSceneOptions& options = {});
 
 }  // namespace rgbdi::sim

@@ -7,7 +7,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -20,13 +19,13 @@ namespace rgbdi::sim {
 
 /// Closest intersection of a ray with the scene.
 struct Hit {
-  double t = 0.0;                                   ///< distance along the unit ray [m]
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< world point [m]
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< unit normal facing the ray origin
+  double t = 0.0;                                    ///< distance along the unit ray [m]
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< world point [m]
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit normal facing the ray origin
   MaterialId material = 0;
-  Eigen::Vector2d uv = Eigen::Vector2d::Zero();     ///< texture coordinates on the surface [m]
-  std::uint32_t primitive = 0;                      ///< index in insertion order
-  int face = -1;                                    ///< face of that primitive (see primitives.h)
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();  ///< texture coordinates on the surface [m]
+  std::uint32_t primitive = 0;                   ///< index in insertion order
+  int face = -1;                                 ///< face of that primitive (see primitives.h)
 };
 
 /// Textures of the six surfaces of a room (walls in the order -x, +x, -y, +y).
@@ -35,6 +34,11 @@ struct RoomStyles {
   TextureStyle ceiling = TextureStyle::Speckle;
   std::array<TextureStyle, 4> walls{TextureStyle::Posters, TextureStyle::Bricks,
                                     TextureStyle::Shelves, TextureStyle::Planks};
+  /// Perceptual aliasing: the inner face of the +x wall shows the inner face of the -x wall
+  /// (same style, seed, offset, orientation and gain) mirrored along y, so that two cameras a
+  /// half turn apart about the room's vertical centre line, one facing each wall, see the same
+  /// wall image. walls[1] is then unused for that face.
+  bool aliased_x_walls = false;
 };
 
 class Scene {
@@ -43,6 +47,10 @@ class Scene {
 
   /// A new material of the given style with its own seed (derived from the scene seed).
   MaterialId addMaterial(TextureStyle style);
+  /// Makes material `target` look like `source` seen mirrored about u = mirror_length_m / 2 on
+  /// its face (see mirroredAppearance): it takes the source's style and seed. Other material
+  /// ids and appearances are unchanged.
+  void aliasMaterialMirrored(MaterialId target, MaterialId source, double mirror_length_m);
   const Material& material(MaterialId id) const;
 
   // --- primitives (each returns its primitive index; each face gets a fresh material) ---
@@ -142,6 +150,11 @@ class Scene {
   std::uint64_t seed_;
   std::vector<Material> materials_;
   std::vector<MaterialAppearance> appearances_;
+  struct MaterialMirror {
+    MaterialId id, source;
+    double length_m;
+  };
+  std::vector<MaterialMirror> mirrors_;  ///< applied by build() after resolving the sources
   std::vector<Box> boxes_;
   std::vector<Cylinder> cylinders_;
   std::vector<Prism> prisms_;

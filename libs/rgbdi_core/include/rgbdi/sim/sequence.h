@@ -11,7 +11,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -22,6 +21,7 @@
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/common/types.h"
 #include "rgbdi/sim/imu_synth.h"
+#include "rgbdi/sim/profile_scene.h"
 #include "rgbdi/sim/profiles.h"
 #include "rgbdi/sim/renderer.h"
 #include "rgbdi/sim/scene.h"
@@ -31,22 +31,24 @@ namespace rgbdi::sim {
 
 struct SimOptions {
   ProfileOptions profile;
-  ImuSynthOptions imu;           ///< the TRUE IMU noise
-  CameraOptions camera;          ///< colour (= depth) camera, [camera]
-  ExtrinsicOptions extrinsic;    ///< T_body_cam, [extrinsic] (its time_offset_s is not used)
+  ProfileSceneOptions scene;   ///< [sim] aliased_walls
+  ImuSynthOptions imu;         ///< the TRUE IMU noise
+  CameraOptions camera;        ///< colour (= depth) camera, [camera]
+  ExtrinsicOptions extrinsic;  ///< T_body_cam, [extrinsic] (its time_offset_s is not used)
   DepthNoiseOptions depth_noise;
   ColorNoiseOptions color_noise;
   RenderOptions render;
-  double fps = 30.0;              ///< [Hz]
-  std::uint64_t seed = 1;         ///< noise and textures
-  double time_offset_s = 0.0;     ///< [s] t_cam = t_imu - time_offset_s
-  double start_time_s = 1000.0;   ///< [s] stamp of the first IMU sample
+  double fps = 30.0;             ///< [Hz]
+  std::uint64_t seed = 1;        ///< noise and textures
+  double time_offset_s = 0.0;    ///< [s] t_cam = t_imu - time_offset_s
+  double start_time_s = 1000.0;  ///< [s] stamp of the first IMU sample
   /// Densities written to the sequence's config.ini = truth * this (a user never knows them).
   double config_noise_inflation = 2.0;
   /// Render frames on a second thread while the consumer works on the previous one.
   bool prefetch_frames = true;
 
-  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation and the keys of
+  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls and
+  /// the keys of
   /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
   /// [extrinsic]. The profile kind is not read (command line).
   static SimOptions load(IniReader& ini);

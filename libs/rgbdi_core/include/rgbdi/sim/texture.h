@@ -19,8 +19,8 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rgbdi::sim {
@@ -31,8 +31,8 @@ std::string toString(TextureStyle style);
 
 struct TextureOptions {
   double texel_size_m = 0.004;  ///< [m] world size of one finest-level texel
-  int size_log2 = 10;           ///< textures are 2^size_log2 texels square (period 4.1 m at defaults)
-  int variants_per_style = 2;   ///< distinct generated textures per style
+  int size_log2 = 10;  ///< textures are 2^size_log2 texels square (period 4.1 m at defaults)
+  int variants_per_style = 2;  ///< distinct generated textures per style
 };
 
 /// Generates one periodic (seamlessly wrapping) texture: CV_8UC3, R,G,B order, size x size.
@@ -74,11 +74,39 @@ struct Material {
 
 /// A material resolved onto the texture bank.
 struct MaterialAppearance {
-  int texture = 0;                              ///< index into TextureBank
+  int texture = 0;                                     ///< index into TextureBank
   Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();  ///< [m] shift of the surface coordinates
-  int orientation = 0;                          ///< 0..7: quarter turns (bits 0-1) and mirror (bit 2)
+  int orientation = 0;  ///< 0..7: quarter turns (bits 0-1) and mirror (bit 2)
   Eigen::Vector3f gain = Eigen::Vector3f::Ones();  ///< per-channel colour gain
 };
+
+/// Applies a MaterialAppearance::orientation to surface coordinates (a, b): the mirror (bit 2)
+/// negates a, then bits 0-1 turn by quarter turns.
+inline void orientSurfaceCoordinates(int orientation, double& a, double& b) {
+  if (orientation & 4) a = -a;
+  switch (orientation & 3) {
+    case 1:
+      std::swap(a, b);
+      a = -a;
+      break;
+    case 2:
+      a = -a;
+      b = -b;
+      break;
+    case 3:
+      std::swap(a, b);
+      b = -b;
+      break;
+    default:
+      break;
+  }
+}
+
+/// The appearance that shows at surface coordinates (L - u, v) what `a` shows at (u, v): the
+/// same texture, gain and (un-mirrored) orientation, seen mirrored about u = L / 2. Two facing
+/// walls of a room whose u axes both run along the same world axis then look identical from
+/// viewpoints that are a half turn apart (the walls' appearance aliases).
+MaterialAppearance mirroredAppearance(const MaterialAppearance& a, double mirror_length_m);
 
 class TextureBank {
  public:
@@ -205,28 +233,25 @@ inline Eigen::Vector3f MipTexture::sample(double u, double v, float lod) const {
     return detail::bilinear(lv.texels.data(), lv.size, lv.mask, uf * scale, vf * scale);
   };
   if (!(lod > 0.0f)) return detail::toVector3(at(0, 1.0f));  // magnified (also catches NaN)
-  if (lod >= static_cast<float>(top)) return detail::toVector3(at(top, scale_[static_cast<std::size_t>(top)]));
+  if (lod >= static_cast<float>(top))
+    return detail::toVector3(at(top, scale_[static_cast<std::size_t>(top)]));
   const int l = static_cast<int>(lod);
   const float s0 = scale_[static_cast<std::size_t>(l)];
-  return detail::toVector3(detail::lerp4(at(l, s0), at(l + 1, 0.5f * s0), lod - static_cast<float>(l)));
+  return detail::toVector3(
+      detail::lerp4(at(l, s0), at(l + 1, 0.5f * s0), lod - static_cast<float>(l)));
 }
 
 inline Eigen::Vector3f TextureBank::sample(const MaterialAppearance& appearance,
                                            const Eigen::Vector2d& uv_m, double footprint_m) const {
   double a = uv_m.x(), b = uv_m.y();
-  if (appearance.orientation & 4) a = -a;
-  switch (appearance.orientation & 3) {
-    case 1: std::swap(a, b); a = -a; break;
-    case 2: a = -a; b = -b; break;
-    case 3: std::swap(a, b); b = -b; break;
-    default: break;
-  }
+  orientSurfaceCoordinates(appearance.orientation, a, b);
   // Surface v points up (world z on vertical faces) while image rows go down: negate v so the
   // texture is upright.
   const double u = (a + appearance.offset_m.x()) * inv_texel_;
   const double v = (appearance.offset_m.y() - b) * inv_texel_;
   const float lod = detail::fastLog2(static_cast<float>(footprint_m * inv_texel_));
-  const Eigen::Vector3f c = textures_[static_cast<std::size_t>(appearance.texture)].sample(u, v, lod);
+  const Eigen::Vector3f c =
+      textures_[static_cast<std::size_t>(appearance.texture)].sample(u, v, lod);
   return c.cwiseProduct(appearance.gain);
 }
 

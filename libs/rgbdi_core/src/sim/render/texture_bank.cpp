@@ -8,12 +8,18 @@ namespace rgbdi::sim {
 
 std::string toString(TextureStyle style) {
   switch (style) {
-    case TextureStyle::Posters: return "posters";
-    case TextureStyle::Bricks: return "bricks";
-    case TextureStyle::Tiles: return "tiles";
-    case TextureStyle::Shelves: return "shelves";
-    case TextureStyle::Speckle: return "speckle";
-    case TextureStyle::Planks: return "planks";
+    case TextureStyle::Posters:
+      return "posters";
+    case TextureStyle::Bricks:
+      return "bricks";
+    case TextureStyle::Tiles:
+      return "tiles";
+    case TextureStyle::Shelves:
+      return "shelves";
+    case TextureStyle::Speckle:
+      return "speckle";
+    case TextureStyle::Planks:
+      return "planks";
   }
   return "unknown";
 }
@@ -46,14 +52,25 @@ MaterialAppearance TextureBank::resolve(const Material& material) {
   a.offset_m = {rnd.uniform(0.0, period), rnd.uniform(0.0, period)};
   // Styles with a natural "up" (brick courses, shelves, planks, poster text) are only mirrored
   // left-right; the others may also be turned by quarter turns.
-  const bool upright = material.style == TextureStyle::Bricks ||
-                       material.style == TextureStyle::Shelves ||
-                       material.style == TextureStyle::Planks ||
-                       material.style == TextureStyle::Posters;
+  const bool upright =
+      material.style == TextureStyle::Bricks || material.style == TextureStyle::Shelves ||
+      material.style == TextureStyle::Planks || material.style == TextureStyle::Posters;
   a.orientation = upright ? (rnd.chance(0.5) ? 4 : 0) : rnd.integer(0, 7);
   const float brightness = static_cast<float>(rnd.uniform(0.9, 1.1));
   for (int c = 0; c < 3; ++c) a.gain[c] = brightness * static_cast<float>(rnd.uniform(0.9, 1.1));
   return a;
+}
+
+MaterialAppearance mirroredAppearance(const MaterialAppearance& a, double mirror_length_m) {
+  // sample() maps (u, v) to M (u, v) + offset with M the orientation's linear map. For
+  // u' = L - u: M S (u', v) + M (L, 0) + offset, S = diag(-1, 1). M S is the orientation with the
+  // mirror bit toggled (the mirror is applied first); M (L, 0) moves into the offset.
+  MaterialAppearance m = a;
+  m.orientation = a.orientation ^ 4;
+  double du = mirror_length_m, dv = 0.0;
+  orientSurfaceCoordinates(a.orientation, du, dv);
+  m.offset_m += Eigen::Vector2d(du, -dv);  // sample() negates the v offset term
+  return m;
 }
 
 }  // namespace rgbdi::sim

@@ -19,8 +19,8 @@ class LayoutRandom {
   double uniform(double a, double b) { return a + (b - a) * rng_.uniform(n_++); }
   bool chance(double p) { return rng_.uniform(n_++) < p; }
   TextureStyle style() {
-    return static_cast<TextureStyle>(std::min<int>(kTextureStyleCount - 1,
-                                                   static_cast<int>(uniform(0, kTextureStyleCount))));
+    return static_cast<TextureStyle>(
+        std::min<int>(kTextureStyleCount - 1, static_cast<int>(uniform(0, kTextureStyleCount))));
   }
 
  private:
@@ -28,7 +28,8 @@ class LayoutRandom {
   std::uint64_t n_ = 0;
 };
 
-double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
   const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
   return (p - (a + t * ab)).norm();
@@ -57,8 +58,8 @@ class Furnisher {
       if (distanceToSegment(c, ramp.from, ramp.to) < 0.5 * ramp.width + r + 0.1) return false;
     for (const PlatformLayout& pl : l.platforms) {
       const Eigen::Vector2d d(std::cos(pl.yaw), std::sin(pl.yaw));
-      if (distanceToSegment(c, pl.center - 0.5 * pl.size.x() * d, pl.center + 0.5 * pl.size.x() * d) <
-          0.5 * pl.size.y() + r + 0.1)
+      if (distanceToSegment(c, pl.center - 0.5 * pl.size.x() * d,
+                            pl.center + 0.5 * pl.size.x() * d) < 0.5 * pl.size.y() + r + 0.1)
         return false;
     }
     for (const Item& it : items_)
@@ -70,7 +71,8 @@ class Furnisher {
   /// returns whether it fitted.
   bool tryPlace(std::size_t i, double side, bool handheld, LayoutRandom& rnd) {
     const auto& xy = p_.layout.path_xy;
-    const Eigen::Vector2d t = (xy[std::min(i + 1, xy.size() - 1)] - xy[i > 0 ? i - 1 : 0]).normalized();
+    const Eigen::Vector2d t =
+        (xy[std::min(i + 1, xy.size() - 1)] - xy[i > 0 ? i - 1 : 0]).normalized();
     const Eigen::Vector2d n(-t.y(), t.x());
     const double heading = std::atan2(t.y(), t.x());
     const double ceiling = p_.layout.room_max.z();
@@ -107,7 +109,8 @@ class Furnisher {
       const double yaw = heading + rnd.uniform(-0.4, 0.4);
       scene_.addStep(c, size, yaw, 0.0, 0.75, rnd.style());
       for (int k = 0; k < 2; ++k) {
-        const Eigen::Vector2d off(rnd.uniform(-0.25, 0.25) * size.x(), rnd.uniform(-0.25, 0.25) * size.y());
+        const Eigen::Vector2d off(rnd.uniform(-0.25, 0.25) * size.x(),
+                                  rnd.uniform(-0.25, 0.25) * size.y());
         const double s = rnd.uniform(0.12, 0.3);
         scene_.addStep(c + Eigen::Rotation2Dd(yaw) * off, {s, s * rnd.uniform(0.7, 1.3)},
                        rnd.uniform(-M_PI, M_PI), 0.75, rnd.uniform(0.08, 0.35), rnd.style());
@@ -141,10 +144,13 @@ class Furnisher {
 
 }  // namespace
 
-Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed) {
+Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
+                        const ProfileSceneOptions& options) {
   const ProfileLayout& l = profile.layout;
   Scene scene(seed);
-  scene.addRoom(l.room_min, l.room_max);
+  RoomStyles room;
+  room.aliased_x_walls = options.aliased_walls;
+  scene.addRoom(l.room_min, l.room_max, room);
   for (const RampLayout& r : l.ramps) {
     if (r.symmetric)
       scene.addSymmetricRamp(r.from, r.to, 0.0, r.width, r.height, TextureStyle::Planks);

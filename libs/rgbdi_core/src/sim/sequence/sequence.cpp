@@ -35,6 +35,7 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.start_time_s = ini.getDouble(s, "start_time_s", o.start_time_s, 1.0, 4.0e9);
   o.config_noise_inflation =
       ini.getDouble(s, "config_noise_inflation", o.config_noise_inflation, 1.0, 100.0);
+  o.scene.aliased_walls = ini.getBool(s, "aliased_walls", o.scene.aliased_walls);
   return o;
 }
 
@@ -51,11 +52,15 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   Eigen::Isometry3d& T = options_.extrinsic.T_body_cam;
   T.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
   profile_ = makeMotionProfile(options_.profile, options_.extrinsic.T_body_cam);
-  scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed));
+  scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed, options_.scene));
   imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
+  // Aliased end walls must also be lit alike: a light without an x component shades the -x and
+  // +x walls equally (otherwise one would be a darker copy of the other).
+  if (options_.scene.aliased_walls) options_.render.light_dir_world.x() = 0.0;
   renderer_ = std::make_unique<Renderer>(*scene_, options_.camera.camera, options_.render);
   frame_count_ =
-      static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + 1e-9)) + 1;
+      static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + 1e-9)) +
+      1;
 }
 
 SimulatedSequence::~SimulatedSequence() = default;

@@ -166,6 +166,8 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "photometric_noise_sigma", iniNumber(o.color_noise.sigma), "[grey levels]");
   iniLine(os, "time_offset_s", iniNumber(o.time_offset_s), "[s] true: t_imu = t_cam + this");
   iniLine(os, "start_time_s", iniNumber(o.start_time_s), "[s]");
+  iniLine(os, "aliased_walls", o.scene.aliased_walls ? "true" : "false",
+          "[bool] the +x wall repeats the -x wall (perceptual aliasing)");
   iniLine(os, "duration_s", iniNumber(seq.duration()), "[s]");
   iniLine(os, "speed", toString(p.speed), "slow|normal|fast");
   iniLine(os, "speed_m_s", iniNumber(p.speed_m_s), "[m/s] 0 = profile default");

@@ -1,5 +1,6 @@
 #include "rgbdi/sim/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -17,6 +18,17 @@ MaterialId Scene::addMaterial(TextureStyle style) {
   materials_.push_back({style, detail::mixSeed(seed_, 0x6d61746cULL + id)});
   built_ = false;
   return id;
+}
+
+void Scene::aliasMaterialMirrored(MaterialId target, MaterialId source, double mirror_length_m) {
+  if (source >= materials_.size() || target >= materials_.size())
+    throw std::invalid_argument("Scene::aliasMaterialMirrored: unknown material id " +
+                                std::to_string(std::max(source, target)));
+  if (!std::isfinite(mirror_length_m))
+    throw std::invalid_argument("Scene::aliasMaterialMirrored: mirror length must be finite");
+  materials_[target] = materials_[source];
+  mirrors_.push_back({target, source, mirror_length_m});
+  built_ = false;
 }
 
 const Material& Scene::material(MaterialId id) const {
@@ -73,7 +85,8 @@ Eigen::Isometry3d rampFrame(const Eigen::Vector2d& from_xy, const Eigen::Vector2
   if (!(length > 0.0) || !std::isfinite(length))
     throw std::invalid_argument("Scene: ramp start and end must be distinct finite points");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(std::atan2(d.y(), d.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.linear() =
+      Eigen::AngleAxisd(std::atan2(d.y(), d.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(from_xy.x(), from_xy.y(), base_z);
   return T;
 }
@@ -90,8 +103,9 @@ std::uint32_t Scene::addRamp(const Eigen::Vector2d& from_xy, const Eigen::Vector
   checkRampSize(width, height);
   double length = 0.0;
   const Eigen::Isometry3d T = rampFrame(from_xy, to_xy, base_z, length);
-  return addPrism(T, {Eigen::Vector2d(0, 0), Eigen::Vector2d(length, 0), Eigen::Vector2d(length, height)},
-                  0.5 * width, style);
+  return addPrism(
+      T, {Eigen::Vector2d(0, 0), Eigen::Vector2d(length, 0), Eigen::Vector2d(length, height)},
+      0.5 * width, style);
 }
 
 std::uint32_t Scene::addSymmetricRamp(const Eigen::Vector2d& from_xy, const Eigen::Vector2d& to_xy,
@@ -100,9 +114,9 @@ std::uint32_t Scene::addSymmetricRamp(const Eigen::Vector2d& from_xy, const Eige
   checkRampSize(width, height);
   double length = 0.0;
   const Eigen::Isometry3d T = rampFrame(from_xy, to_xy, base_z, length);
-  return addPrism(T,
-                  {Eigen::Vector2d(0, 0), Eigen::Vector2d(length, 0), Eigen::Vector2d(0.5 * length, height)},
-                  0.5 * width, style);
+  return addPrism(
+      T, {Eigen::Vector2d(0, 0), Eigen::Vector2d(length, 0), Eigen::Vector2d(0.5 * length, height)},
+      0.5 * width, style);
 }
 
 std::uint32_t Scene::addStep(const Eigen::Vector2d& center_xy, const Eigen::Vector2d& size_xy,
@@ -120,8 +134,10 @@ std::array<std::uint32_t, 6> Scene::addRoom(const Eigen::Vector3d& min_corner,
                                             const RoomStyles& styles, double wall_thickness) {
   if (!((max_corner - min_corner).array() > 0.0).all() || !min_corner.allFinite() ||
       !max_corner.allFinite())
-    throw std::invalid_argument("Scene::addRoom: need finite min_corner < max_corner on every axis");
-  if (!(wall_thickness > 0.0)) throw std::invalid_argument("Scene::addRoom: wall thickness must be positive");
+    throw std::invalid_argument(
+        "Scene::addRoom: need finite min_corner < max_corner on every axis");
+  if (!(wall_thickness > 0.0))
+    throw std::invalid_argument("Scene::addRoom: wall thickness must be positive");
   const double w = wall_thickness;
   // Slabs extend by the wall thickness beyond the interior on every side so corners are closed.
   auto slab = [&](Eigen::Vector3d lo, Eigen::Vector3d hi, TextureStyle style) {
@@ -134,12 +150,21 @@ std::array<std::uint32_t, 6> Scene::addRoom(const Eigen::Vector3d& min_corner,
   std::array<std::uint32_t, 6> ids{};
   ids[0] = slab(lo, {hi.x(), hi.y(), min_corner.z()}, styles.floor);
   ids[1] = slab({lo.x(), lo.y(), max_corner.z()}, hi, styles.ceiling);
-  ids[2] = slab({lo.x(), lo.y(), min_corner.z()}, {min_corner.x(), hi.y(), max_corner.z()}, styles.walls[0]);
-  ids[3] = slab({max_corner.x(), lo.y(), min_corner.z()}, {hi.x(), hi.y(), max_corner.z()}, styles.walls[1]);
-  ids[4] = slab({min_corner.x(), lo.y(), min_corner.z()}, {max_corner.x(), min_corner.y(), max_corner.z()},
-                styles.walls[2]);
-  ids[5] = slab({min_corner.x(), max_corner.y(), min_corner.z()}, {max_corner.x(), hi.y(), max_corner.z()},
-                styles.walls[3]);
+  ids[2] = slab({lo.x(), lo.y(), min_corner.z()}, {min_corner.x(), hi.y(), max_corner.z()},
+                styles.walls[0]);
+  ids[3] = slab({max_corner.x(), lo.y(), min_corner.z()}, {hi.x(), hi.y(), max_corner.z()},
+                styles.walls[1]);
+  if (styles.aliased_x_walls) {
+    // Both slabs span y in [lo.y, hi.y] and their inner faces (the -x wall's +x face, the +x
+    // wall's -x face) both take u = y - lo.y, so the half-turn image of y has u' = L - u.
+    const MaterialId minus_x_inner = boxes_[refs_[ids[2]].index].material(1);
+    const MaterialId plus_x_inner = boxes_[refs_[ids[3]].index].material(0);
+    aliasMaterialMirrored(plus_x_inner, minus_x_inner, hi.y() - lo.y());
+  }
+  ids[4] = slab({min_corner.x(), lo.y(), min_corner.z()},
+                {max_corner.x(), min_corner.y(), max_corner.z()}, styles.walls[2]);
+  ids[5] = slab({min_corner.x(), max_corner.y(), min_corner.z()},
+                {max_corner.x(), hi.y(), max_corner.z()}, styles.walls[3]);
   return ids;
 }
 
@@ -148,15 +173,23 @@ void Scene::build() {
   bounds_.reserve(refs_.size());
   for (const Ref& r : refs_) {
     switch (r.kind) {
-      case Kind::Box: bounds_.push_back(boxes_[r.index].bounds()); break;
-      case Kind::Cylinder: bounds_.push_back(cylinders_[r.index].bounds()); break;
-      case Kind::Prism: bounds_.push_back(prisms_[r.index].bounds()); break;
+      case Kind::Box:
+        bounds_.push_back(boxes_[r.index].bounds());
+        break;
+      case Kind::Cylinder:
+        bounds_.push_back(cylinders_[r.index].bounds());
+        break;
+      case Kind::Prism:
+        bounds_.push_back(prisms_[r.index].bounds());
+        break;
     }
   }
   bvh_.build(bounds_);
   appearances_.clear();
   appearances_.reserve(materials_.size());
   for (const Material& m : materials_) appearances_.push_back(textures_.resolve(m));
+  for (const MaterialMirror& m : mirrors_)
+    appearances_[m.id] = mirroredAppearance(appearances_[m.source], m.length_m);
   built_ = true;
 }
 
@@ -178,9 +211,12 @@ bool Scene::intersectRef(std::uint32_t prim, const Eigen::Vector3d& origin,
                          const Eigen::Vector3d& dir, double t_max, PrimitiveHit& hit) const {
   const Ref r = refs_[prim];
   switch (r.kind) {
-    case Kind::Box: return boxes_[r.index].intersect(origin, dir, t_max, hit);
-    case Kind::Cylinder: return cylinders_[r.index].intersect(origin, dir, t_max, hit);
-    case Kind::Prism: return prisms_[r.index].intersect(origin, dir, t_max, hit);
+    case Kind::Box:
+      return boxes_[r.index].intersect(origin, dir, t_max, hit);
+    case Kind::Cylinder:
+      return cylinders_[r.index].intersect(origin, dir, t_max, hit);
+    case Kind::Prism:
+      return prisms_[r.index].intersect(origin, dir, t_max, hit);
   }
   return false;
 }
@@ -223,8 +259,7 @@ bool Scene::raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, d
   PrimitiveHit best;
   std::uint32_t best_prim = 0;
   double t_start = max_range;
-  if (hint_primitive < refs_.size() &&
-      intersectRef(hint_primitive, origin, dir, max_range, best)) {
+  if (hint_primitive < refs_.size() && intersectRef(hint_primitive, origin, dir, max_range, best)) {
     best_prim = hint_primitive;
     t_start = best.t;
   }
