@@ -103,13 +103,13 @@ struct LiveSource::Impl {
         slot->sensor->loadConfig(*mcfg, sec.name);
       } catch (const std::exception& e) {
         throw LiveError(LiveError::Kind::OpenFailed, sec.name,
-                        who(*slot) + ": invalid configuration: " + mrptMessage(e.what()));
+                        who(*slot) + ": invalid configuration: " + exceptionMessage(e));
       }
       try {
         slot->sensor->initialize();
       } catch (const std::exception& e) {
         throw LiveError(LiveError::Kind::OpenFailed, sec.name,
-                        who(*slot) + ": cannot open the sensor: " + mrptMessage(e.what()));
+                        who(*slot) + ": cannot open the sensor: " + exceptionMessage(e));
       }
       if (slot->sensor->getState() == Sensor::ssError)
         throw LiveError(LiveError::Kind::OpenFailed, sec.name,
@@ -142,7 +142,7 @@ struct LiveSource::Impl {
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lk(mutex);
         fault(LiveError::Kind::SensorFailed, s.section.name,
-              who(s) + ": sensor failed: " + mrptMessage(e.what()));
+              who(s) + ": sensor failed: " + exceptionMessage(e));
         return;
       }
       if (ended) {

@@ -105,6 +105,7 @@ class RecordedRealSenseDevice : public RealSenseDevice {
   void deliverPairs(bag::RgbdPairer& pairer) {
     bag::PairedImages p;
     while (pairer.pop(p)) {
+      if (!p.depth) continue;  // colour without depth is dropped, as rawlog-convert does
       RealSenseFrameset fs;
       fs.t = clock_.outputStamp(p.color ? p.color->t : p.depth->t);
       fs.number = frames_++;
