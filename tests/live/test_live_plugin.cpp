@@ -22,7 +22,8 @@ const char* const kSmallCamera =
 std::string simulatorSection(double duration_s) {
   return "[SIM]\ndriver = RgbdiSimulator\nprocess_rate = 200\nprofile = wheeled_circle\n"
          "duration_s = " +
-         std::to_string(duration_s) + "\nconfig = camera.ini\nseed = 3\n";
+         std::to_string(duration_s) +
+         "\nconfig = camera.ini\nseed = 3\nmax_frame_lateness_s = 1000\n";
 }
 
 TEST(RgbdiSensorPlugin, LoadsInRawlogGrabberAndRecordsFromTheSimulator) {

@@ -375,6 +375,25 @@ TEST_F(LiveSourceTest, RecordedRawlogReadsBackIdentical) {
   }
 }
 
+TEST_F(LiveSourceTest, ReplaysARealSenseSdkBagAsRawlogConvertReadsIt) {
+  const std::string bag = test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+  RGBDI_REQUIRE_FIXTURE(bag);
+  LiveSource src(SensorConfig::fromFile(
+      ini("[global]\nlive_camera_timeout_s = 5\n[BAG]\ndriver = RgbdiRawlogReplay\n"
+          "process_rate = 100\nstamps = source\nspeed = 5\nfile = " +
+          bag + "\n")));
+  test::CollectingSink sink;
+  src.pump(sink);
+  // The fixture: two depth-only frames (the colour image has no depth partner), no IMU.
+  ASSERT_EQ(sink.frames.size(), 2u);
+  EXPECT_TRUE(sink.imu.empty());
+  EXPECT_NEAR(sink.frames[0].t, 360.8151, 5e-5);
+  EXPECT_NEAR(sink.frames[1].t, 360.9818, 5e-5);
+  EXPECT_EQ(sink.frames[0].depth.cols, 640);
+  EXPECT_NEAR(sink.frames[0].cam_depth.fx, 390.43, 0.005);
+  EXPECT_FALSE(sink.frames[0].depth_aligned_to_color);
+}
+
 TEST_F(LiveSourceTest, StopReadingEndsALiveStreamCleanly) {
   LiveSource src(SensorConfig::fromFile(
       ini("[CAM]\ndriver = TestCamera\nprocess_rate = 200\nframes = 100000\n")));

@@ -5,6 +5,7 @@
 #include "rgbdi/live/latency_histogram.h"
 #include "rgbdi/live/playback_clock.h"
 #include "rgbdi/live/sensor_config.h"
+#include "testing/fixtures.h"
 
 namespace rgbdi::live {
 namespace {
@@ -55,6 +56,18 @@ TEST(SensorConfig, RejectsAFileWithoutSensorsAndUnknownGlobalKeys) {
   EXPECT_NE(configError("[global]\nlive_image_queue_len = 0\n[A]\ndriver = X\nprocess_rate = 1\n")
                 .find("live_image_queue_len"),
             std::string::npos);
+}
+
+TEST(SensorConfig, ShippedSensorFilesAreValid) {
+  for (const char* name : {"d435i", "replay", "simulator"}) {
+    const SensorConfig c =
+        SensorConfig::fromFile(test::sourceDir() + "/share/sensors/" + name + ".ini");
+    ASSERT_EQ(c.sensors.size(), 1u) << name;
+    EXPECT_EQ(c.sensors[0].process_rate_hz, 200.0) << name;
+  }
+  EXPECT_EQ(
+      SensorConfig::fromFile(test::sourceDir() + "/share/sensors/d435i.ini").sensors[0].driver,
+      "RgbdiRealSense");
 }
 
 TEST(LatencyHistogram, PercentilesAreTheUpperBinEdgeAndTheMaximumIsExact) {

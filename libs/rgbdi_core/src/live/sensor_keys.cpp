@@ -32,7 +32,10 @@ void SensorKeys::fail(const std::string& key, const std::string& what) const {
 
 std::string SensorKeys::getString(const std::string& key, const std::string& def) const {
   std::string v = cfg_.read_string(section_, key, def);
-  // MRPT keeps trailing comments out but not surrounding blanks.
+  // A trailing "; comment" or "# comment" (the unit notes of rgbdi's INI files) is not part of
+  // the value, as for IniReader.
+  const auto c = v.find_first_of(";#");
+  if (c != std::string::npos) v.resize(c);
   const auto b = v.find_first_not_of(" \t\r");
   const auto e = v.find_last_not_of(" \t\r");
   return b == std::string::npos ? std::string() : v.substr(b, e - b + 1);

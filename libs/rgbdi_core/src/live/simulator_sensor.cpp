@@ -16,13 +16,14 @@ namespace rgbdi::live {
 struct RgbdiSimulator::Impl {
   std::string profile = "wheeled_circle", speed_preset = "normal", config;
   std::string camera_label = "RGBD", imu_label = "IMU", external_dir;
-  double duration_s = 0.0, fps = 0.0, speed = 1.0;
+  double duration_s = 0.0, fps = 0.0, speed = 1.0, max_frame_lateness_s = 0.1;
   int seed = -1;
   bool restamp = true;
 
   std::unique_ptr<sim::SimulatedSequence> seq;
   std::optional<PlaybackClock> clock;
   std::size_t next_imu = 0, next_frame = 0;
+  std::atomic<std::size_t> skipped{0};
   std::atomic<bool> ended{false};
 };
 
@@ -42,6 +43,7 @@ void RgbdiSimulator::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBa
   d.config = k.getPath("config", false);
   d.speed = k.getDouble("speed", d.speed, 1e-3, 1000.0);
   d.restamp = k.getEnum("stamps", "now", {"now", "source"}) == "now";
+  d.max_frame_lateness_s = k.getDouble("max_frame_lateness_s", d.max_frame_lateness_s, 0.0, 3600.0);
   d.camera_label = k.getString("camera_label", d.camera_label);
   d.imu_label = k.getString("imu_label", d.imu_label);
 }
@@ -87,6 +89,12 @@ void RgbdiSimulator::doProcess() {
     const double tf = frame_left ? s.frameStamp(d.next_frame) : 0.0;
     const bool take_imu = imu_left && (!frame_left || ti <= tf);
     if ((take_imu ? ti : tf) > horizon) break;
+    if (!take_imu && (horizon - tf) / d.speed > d.max_frame_lateness_s) {
+      // Rendering fell behind: skip the frame, as a camera whose host is too slow loses it.
+      ++d.next_frame;
+      ++d.skipped;
+      continue;
+    }
     if (take_imu) {
       ImuSample imu = s.imuSample(d.next_imu++);
       imu.t = d.clock->outputStamp(imu.t);
@@ -106,5 +114,7 @@ void RgbdiSimulator::doProcess() {
 }
 
 bool RgbdiSimulator::endOfData() const { return impl_->ended; }
+
+std::size_t RgbdiSimulator::framesSkipped() const { return impl_->skipped; }
 
 }  // namespace rgbdi::live

@@ -1,8 +1,9 @@
 // RgbdiSimulator: rgbdi's simulator (sim::SimulatedSequence) as a live sensor, paced in real
 // time: doProcess() appends every IMU sample and renders every frame whose stamp is due
 // (t <= t0 + (wall - wall0) * speed; playback starts at the first doProcess()). Frames are
-// rendered in the sensor's thread; when rendering is slower than the frame rate, frames come
-// late (their stamps keep the schedule, so the lateness shows as latency).
+// rendered in the sensor's thread; a frame that is already more than max_frame_lateness_s late
+// when its turn comes is skipped (counted), as a camera loses frames its host cannot take, so a
+// machine slower than the frame rate gets fewer frames, not a growing delay.
 //
 // Keys of its section (besides driver and process_rate, which should be >= the frame rate):
 //   profile      = wheeled_circle   handheld | wheeled_circle | wheeled_slopes | tracked_slopes
@@ -13,6 +14,7 @@
 //   config       =         rgbdi INI with [sim], [camera] (image size, intrinsics), [extrinsic]
 //   speed        = 1.0     [sim s / wall s] playback speed
 //   stamps       = now     now: stamps on the wall clock; source: the simulator's own stamps
+//   max_frame_lateness_s = 0.1  [s] later frames are skipped (rendering slower than real time)
 //   camera_label = RGBD, imu_label = IMU
 #pragma once
 
@@ -35,6 +37,8 @@ class RgbdiSimulator : public mrpt::hwdrivers::CGenericSensor, public FiniteSens
   void initialize() override;
   void doProcess() override;
   bool endOfData() const override;
+  /// Frames skipped because rendering was behind (thread-safe).
+  std::size_t framesSkipped() const;
   void setPathForExternalImages(const std::string& directory) override;
 
  protected:
