@@ -346,6 +346,28 @@ TEST_F(LiveSourceTest, SensorFailingWhileRunningEndsTheStreamNamingIt) {
   EXPECT_EQ(sink.imu.size(), 3u);  // everything received before the failure
 }
 
+TEST_F(LiveSourceTest, ImuBacklogBeyondItsLimitStopsTheRunAsOverload) {
+  LiveSource src(SensorConfig::fromFile(
+      ini("[global]\nlive_imu_queue_len = 10\n[CAM]\ndriver = TestCamera\nprocess_rate = 200\n"
+          "frames = 100000\n")));
+  struct SlowSink : test::CollectingSink {
+    void feedImu(const ImuSample& s) override {
+      CollectingSink::feedImu(s);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));  // 20 samples/s against 200
+    }
+  } sink;
+  try {
+    src.pump(sink);
+    FAIL() << "no error";
+  } catch (const LiveError& e) {
+    EXPECT_EQ(e.kind(), LiveError::Kind::Overload);
+    EXPECT_NE(std::string(e.what()).find("live_imu_queue_len = 10"), std::string::npos) << e.what();
+  }
+  const LiveStats st = src.stats();
+  EXPECT_EQ(st.imu_delivered, st.imu_received - st.imu_rejected);  // still nothing dropped
+  EXPECT_LE(st.imu_queue_high_water, 11u + st.ordering_high_water);
+}
+
 TEST_F(LiveSourceTest, RecordedRawlogReadsBackIdentical) {
   test::writeLiveRawlog(dir + "/seq.rawlog", 1.0);
   LiveSource src(SensorConfig::fromFile(ini(replayIni("speed = 4.0\nstamps = source\n"))));

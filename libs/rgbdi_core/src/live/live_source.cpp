@@ -261,7 +261,7 @@ struct LiveSource::Impl {
     }
     stats.imu_queue_high_water = std::max(stats.imu_queue_high_water, imu_q.size());
     stats.frame_queue_high_water = std::max(stats.frame_queue_high_water, frame_q.size());
-    if (imu_q.size() > static_cast<std::size_t>(cfg.live.imu_queue_len)) {
+    if (!input_ended && imu_q.size() > static_cast<std::size_t>(cfg.live.imu_queue_len)) {
       fault(LiveError::Kind::Overload, "",
             file + ": the consumer is too slow even for the IMU stream: " +
                 std::to_string(imu_q.size()) + " IMU samples waiting (live_imu_queue_len = " +
