@@ -395,7 +395,10 @@ struct LiveSource::Impl {
     watchdog = std::thread([this] { watchdogLoop(); });
   }
 
+  /// Safe from several threads at once (the consumer at the end of the stream, stopReading()
+  /// from a signal-watching thread, the destructor).
   void joinAll() {
+    std::lock_guard<std::mutex> join_lock(join_mutex);
     {
       std::lock_guard<std::mutex> lk(mutex);
       stop_grabbing = true;
@@ -418,6 +421,7 @@ struct LiveSource::Impl {
   std::vector<std::unique_ptr<Slot>> slots;
 
   mutable std::mutex mutex;
+  std::mutex join_mutex;  ///< serialises joinAll()
   std::condition_variable data_cv;  ///< consumer: data or the end is there
   std::condition_variable stop_cv;  ///< sensor threads and watchdog: stop requested
   io::StreamChecker checker;

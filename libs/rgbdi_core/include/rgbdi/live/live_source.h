@@ -59,7 +59,8 @@ class LiveSource : public io::MeasurementSource {
   void start();
 
   bool next(io::Measurement& out) override;
-  /// Stops grabbing (sensor threads are joined); what was received is still delivered.
+  /// Stops grabbing (sensor threads are joined); what was received is still delivered. May be
+  /// called from any thread, also while another thread waits in next().
   void stopReading() override;
   /// Checks of the delivered stream (as for rawlogs); complete at the end of the stream.
   const io::StreamDiagnostics& diagnostics() const override;
