@@ -12,6 +12,7 @@
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/live/live_source.h"
+#include "rgbdi/live/realsense_device.h"
 #include "testing/fixtures.h"
 
 namespace rgbdi::live::testsensors {
@@ -424,6 +425,29 @@ TEST_F(LiveSourceTest, ReplaysARealSenseSdkBagAsRawlogConvertReadsIt) {
   EXPECT_EQ(sink.frames[0].depth.cols, 640);
   EXPECT_NEAR(sink.frames[0].cam_depth.fx, 390.43, 0.005);
   EXPECT_FALSE(sink.frames[0].depth_aligned_to_color);
+}
+
+TEST_F(LiveSourceTest, ShippedSensorFilesConfigureTheirSensors) {
+  const std::string share = test::sourceDir() + "/share/sensors/";
+  // Every key of the shipped files is accepted by MRPT's loadConfig and the sensor's own keys;
+  // what remains is opening the device (no camera, no demo output here, or no SDK).
+  const auto openError = [&](const std::string& name) -> std::string {
+    try {
+      LiveSource src(SensorConfig::fromFile(share + name));
+    } catch (const LiveError& e) {
+      EXPECT_EQ(e.kind(), LiveError::Kind::OpenFailed) << e.what();
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(openError("simulator.ini"), "");  // builds the 60 s sequence, starts nothing
+  if (!realSenseSdkAvailable())
+    EXPECT_NE(openError("d435i.ini").find("built without librealsense2"), std::string::npos);
+  const std::string replay = openError("replay.ini");
+  if (!replay.empty())
+    EXPECT_NE(replay.find("demo_wheeled_slopes/sequence/sequence.rawlog: file does not exist"),
+              std::string::npos)
+        << replay;
 }
 
 TEST_F(LiveSourceTest, StopReadingEndsALiveStreamCleanly) {

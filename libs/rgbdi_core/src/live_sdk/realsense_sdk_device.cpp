@@ -8,11 +8,10 @@
 // Options are applied to the device's sensors after the pipeline has started: global time on
 // every sensor that has it, emitter and auto-exposure on the stereo module, auto-exposure on the
 // RGB camera. An SDK .bag (playback_file) is played by the SDK itself in real time, once.
-#include <librealsense2/rs.hpp>
-
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <librealsense2/rs.hpp>
 #include <mutex>
 #include <thread>
 
@@ -75,8 +74,9 @@ class LibrealsenseDevice : public RealSenseDevice {
         cfg_.enable_device_from_file(playback_, false);
       } else {
         if (ctx_.query_devices().size() == 0)
-          throw RealSenseError("no RealSense device found (is it plugged into a USB 3 port, and "
-                               "are Intel's udev rules installed?)");
+          throw RealSenseError(
+              "no RealSense device found (is it plugged into a USB 3 port, and "
+              "are Intel's udev rules installed?)");
         if (!r.serial.empty()) cfg_.enable_device(r.serial);
       }
       cfg_.enable_stream(RS2_STREAM_COLOR, r.color_width, r.color_height, RS2_FORMAT_RGB8,
@@ -94,9 +94,9 @@ class LibrealsenseDevice : public RealSenseDevice {
             std::to_string(r.color_height) + "@" + std::to_string(r.color_fps) + ", depth " +
             std::to_string(r.depth_width) + "x" + std::to_string(r.depth_height) + "@" +
             std::to_string(r.depth_fps) +
-            (r.imu ? ", accel @" + std::to_string(r.accel_hz) + ", gyro @" +
-                         std::to_string(r.gyro_hz)
-                   : std::string()) +
+            (r.imu
+                 ? ", accel @" + std::to_string(r.accel_hz) + ", gyro @" + std::to_string(r.gyro_hz)
+                 : std::string()) +
             " (check the keys against rs-enumerate-devices; a D435 has no IMU: imu = false)");
       const rs2::pipeline_profile prof = cfg_.resolve(*pipe_);
       const auto color = prof.get_stream(RS2_STREAM_COLOR).as<rs2::video_stream_profile>();
@@ -106,8 +106,7 @@ class LibrealsenseDevice : public RealSenseDevice {
       c.color = cameraOf(color, "colour");
       c.depth_aligned = r.align_depth_to_color;
       c.depth = c.depth_aligned ? c.color : cameraOf(depth, "depth");
-      c.T_color_depth =
-          c.depth_aligned ? Eigen::Isometry3d::Identity() : extrinsic(depth, color);
+      c.T_color_depth = c.depth_aligned ? Eigen::Isometry3d::Identity() : extrinsic(depth, color);
       for (rs2::sensor s : prof.get_device().query_sensors())
         if (auto ds = s.as<rs2::depth_sensor>()) c.depth_unit_m = ds.get_depth_scale();
       if (r.imu) {
@@ -218,8 +217,8 @@ class LibrealsenseDevice : public RealSenseDevice {
         out.number = frames_++;
         if (rs2::video_frame c = fs.get_color_frame()) {
           out.t = c.get_timestamp() * 1e-3;
-          out.rgb = cv::Mat(c.get_height(), c.get_width(), CV_8UC3,
-                            const_cast<void*>(c.get_data()), c.get_stride_in_bytes())
+          out.rgb = cv::Mat(c.get_height(), c.get_width(), CV_8UC3, const_cast<void*>(c.get_data()),
+                            c.get_stride_in_bytes())
                         .clone();
         }
         if (rs2::depth_frame d = fs.get_depth_frame()) {
