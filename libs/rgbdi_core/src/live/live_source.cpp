@@ -421,7 +421,7 @@ struct LiveSource::Impl {
   std::vector<std::unique_ptr<Slot>> slots;
 
   mutable std::mutex mutex;
-  std::mutex join_mutex;  ///< serialises joinAll()
+  std::mutex join_mutex;            ///< serialises joinAll()
   std::condition_variable data_cv;  ///< consumer: data or the end is there
   std::condition_variable stop_cv;  ///< sensor threads and watchdog: stop requested
   io::StreamChecker checker;
