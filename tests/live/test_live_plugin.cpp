@@ -2,6 +2,9 @@
 // seconds, and the rawlog (with rawlog-grabber's external images) reads back with RawlogSource.
 // Also RgbdiSimulator through LiveSource: real-time stamps at the configured rates.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationIMU.h>
 
 #include <filesystem>
 
@@ -9,6 +12,7 @@
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/live/live_source.h"
+#include "rgbdi/live/simulator_sensor.h"
 #include "testing/fixtures.h"
 
 namespace rgbdi::live {
@@ -93,6 +97,37 @@ TEST(RgbdiSimulatorLive, DeliversTheSimulatorInRealTimeOnTheWallClock) {
   const LiveStats st = src.stats();
   EXPECT_TRUE(st.error.empty()) << st.error;
   EXPECT_EQ(st.frame_latency.count, st.frames_delivered);
+}
+
+TEST(RgbdiSimulatorLive, SkipsFramesItWouldRenderTooLateAndNothingElse) {
+  const std::string dir = test::makeTempDir("live_sim_skip");
+  test::writeFile(dir + "/camera.ini", kSmallCamera);
+  // At 50x real time a frame is due every 0.7 ms, faster than it renders.
+  const auto run = [&](double lateness_s, std::size_t& imu, std::size_t& frames) {
+    mrpt::config::CConfigFile cfg(test::writeFile(
+        dir + "/s.ini", simulatorSection(10.0) + "speed = 50\nmax_frame_lateness_s = " +
+                            std::to_string(lateness_s) + "\n"));
+    RgbdiSimulator sim;
+    sim.loadConfig(cfg, "SIM");
+    sim.initialize();
+    imu = frames = 0;
+    while (!sim.endOfData()) {
+      sim.doProcess();
+      for (const auto& [t, o] : sim.getObservations()) {
+        (void)t;
+        if (std::dynamic_pointer_cast<mrpt::obs::CObservationIMU>(o)) ++imu;
+        if (std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) ++frames;
+      }
+    }
+    return sim.framesSkipped();
+  };
+  std::size_t imu_all = 0, frames_all = 0, imu_late = 0, frames_late = 0;
+  EXPECT_EQ(run(1000.0, imu_all, frames_all), 0u);
+  const std::size_t skipped = run(0.0, imu_late, frames_late);
+  EXPECT_GT(skipped, 0u);
+  EXPECT_EQ(frames_late + skipped, frames_all);
+  EXPECT_EQ(imu_late, imu_all);  // IMU samples are never skipped
+  EXPECT_EQ(imu_all, 2001u);     // 10 s at 200 Hz, both ends included
 }
 
 }  // namespace
