@@ -27,13 +27,13 @@ namespace rgbdi::loop {
 /// [loop] keys with prefix place_. Defaults equal share/config.ini.
 struct PlaceRecognitionOptions {
   PlaceIndexOptions index;  ///< place_index_tables, place_index_key_bits, place_index_seed
-  int top_k = 10;           ///< [count] index matches examined per keyframe
+  int top_k = 5;            ///< [count] index matches examined per keyframe
   /// A stored keyframe is a candidate only when it is at least this much older ...
   double exclude_recent_s = 10.0;  ///< [s]
   double exclude_recent_m = 2.0;   ///< [m] ... and at least this much distance travelled back
   int exclude_recent_count = 5;    ///< [count] ... and not one of the last this many keyframes
   /// [unitless] score / (score of the keyframe with its predecessor) needed to be a candidate
-  double min_normalised_score = 0.3;
+  double min_normalised_score = 0.5;
   /// [unitless] the index is not queried when the score with the predecessor is below this
   /// fraction of the keyframe's score with itself (the view changed completely since the
   /// predecessor, e.g. a fast turn: normalising by a near-zero score would pass anything)
