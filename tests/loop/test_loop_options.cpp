@@ -52,6 +52,7 @@ TEST(LoopPlaceOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(p.index.tables, pd.index.tables);
   EXPECT_EQ(p.index.key_bits, pd.index.key_bits);
   EXPECT_EQ(p.index.seed, pd.index.seed);
+  EXPECT_EQ(p.index.max_key_keyframes, pd.index.max_key_keyframes);
   EXPECT_EQ(p.top_k, pd.top_k);
   EXPECT_EQ(p.exclude_recent_s, pd.exclude_recent_s);
   EXPECT_EQ(p.exclude_recent_m, pd.exclude_recent_m);

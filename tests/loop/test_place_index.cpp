@@ -91,6 +91,23 @@ TEST(PlaceIndex, ScoresAHandMadeCaseExactly) {
   EXPECT_EQ(best[0].id, 11u);
 }
 
+TEST(PlaceIndex, KeysOfTooManyKeyframesAreStopWords) {
+  PlaceIndexOptions o = oneByteOptions();
+  o.max_key_keyframes = 2;
+  PlaceIndex index(o);
+  index.add(1, bytes({1, 2}));
+  index.add(2, bytes({1, 3}));
+  EXPECT_GT(index.similarity(bytes({1}), 2), 0.0);  // key 1 in two keyframes still counts
+  index.add(3, bytes({1, 4}));
+  // Key 1 is now in three keyframes: it adds nothing; |Q| and |K| still count it.
+  const std::vector<PlaceMatch> m = index.query(bytes({1, 2}), 10);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].id, 1u);
+  EXPECT_DOUBLE_EQ(m[0].score, std::log(1.0 + 3.0 / 1.0) / std::sqrt(2.0 * 2.0));
+  EXPECT_EQ(index.similarity(bytes({1}), 2), 0.0);
+  EXPECT_DOUBLE_EQ(index.selfSimilarity(bytes({1, 2})), std::log(1.0 + 4.0 / 2.0) / 2.0);
+}
+
 TEST(PlaceIndex, EqualScoresAreOrderedById) {
   PlaceIndex index(oneByteOptions());
   for (std::uint64_t id : {3u, 8u, 20u, 21u}) index.add(id, bytes({7, 9}));

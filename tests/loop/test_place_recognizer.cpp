@@ -297,6 +297,9 @@ TEST(PlaceRecognizer, InsertRebuildsWithoutQueryingAndIdsMustIncrease) {
   EXPECT_EQ(a.index().similarity(q.descriptors, 13), b.index().similarity(q.descriptors, 13));
   EXPECT_THROW(a.process(keyframe(39, 100.0, 100.0, 0.0)), std::invalid_argument);
   EXPECT_THROW(b.insert(keyframe(3, 100.0, 100.0, 0.0)), std::invalid_argument);
+  // Stamps and distances travelled may not go back (the exclusion relies on it).
+  EXPECT_THROW(a.process(keyframe(40, 1.0, 100.0, 0.0)), std::invalid_argument);
+  EXPECT_THROW(a.process(keyframe(40, 100.0, 1.0, 0.0)), std::invalid_argument);
   EXPECT_EQ(a.size(), 40u);
   EXPECT_GT(a.memoryBytes(), a.index().memoryBytes());
   a.clear();

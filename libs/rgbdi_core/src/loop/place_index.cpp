@@ -40,6 +40,7 @@ std::vector<std::vector<int>> drawTableBits(const PlaceIndexOptions& o) {
 void PlaceIndexOptions::validate() const {
   if (tables < 1 || tables > 16) failKey("place_index_tables", "must be in [1, 16]");
   if (key_bits < 8 || key_bits > 20) failKey("place_index_key_bits", "must be in [8, 20]");
+  if (max_key_keyframes < 1) failKey("place_index_max_key_keyframes", "must be at least 1");
   if (descriptor_bytes == 0 || static_cast<long>(descriptor_bytes) * 8 < key_bits)
     failKey("place_index_key_bits",
             "exceeds the " + std::to_string(descriptor_bytes * 8) + " bits of a descriptor");
@@ -114,7 +115,7 @@ std::vector<PlaceMatch> PlaceIndex::query(const mapping::DescriptorSet& descript
   std::vector<std::uint32_t> touched;
   for (std::uint32_t w : keys) {  // increasing keys: the same summation order on every run
     const std::vector<std::uint32_t>& list = postings_[w];
-    if (list.empty()) continue;
+    if (list.empty() || stopWord(list.size())) continue;
     const double weight = idf(list.size());
     for (std::uint32_t slot : list) {
       if (sum[slot] == 0.0) touched.push_back(slot);
@@ -151,7 +152,8 @@ double PlaceIndex::similarity(const mapping::DescriptorSet& descriptors, std::ui
   double sum = 0.0;
   for (std::uint32_t w : keys) {
     const std::vector<std::uint32_t>& list = postings_[w];
-    if (std::binary_search(list.begin(), list.end(), static_cast<std::uint32_t>(slot)))
+    if (!stopWord(list.size()) &&
+        std::binary_search(list.begin(), list.end(), static_cast<std::uint32_t>(slot)))
       sum += idf(list.size());
   }
   return sum / std::sqrt(static_cast<double>(keys.size()) * key_counts_[slot]);
@@ -162,8 +164,10 @@ double PlaceIndex::selfSimilarity(const mapping::DescriptorSet& descriptors) con
   if (keys.empty()) return 0.0;
   const double n = static_cast<double>(ids_.size() + 1);
   double sum = 0.0;
-  for (std::uint32_t w : keys)
-    sum += std::log(1.0 + n / static_cast<double>(postings_[w].size() + 1));
+  for (std::uint32_t w : keys) {
+    const std::size_t df = postings_[w].size() + 1;
+    if (!stopWord(df)) sum += std::log(1.0 + n / static_cast<double>(df));
+  }
   return sum / static_cast<double>(keys.size());
 }
 

@@ -29,6 +29,8 @@ const std::vector<IntKey>& intKeys() {
        16},
       {"place_index_key_bits", [](PlaceRecognitionOptions& o) -> int& { return o.index.key_bits; },
        8, 20},
+      {"place_index_max_key_keyframes",
+       [](PlaceRecognitionOptions& o) -> int& { return o.index.max_key_keyframes; }, 1, 100000000},
       {"place_top_k", [](PlaceRecognitionOptions& o) -> int& { return o.top_k; }, 1, 1000},
       {"place_exclude_recent_count",
        [](PlaceRecognitionOptions& o) -> int& { return o.exclude_recent_count; }, 0, 100000},

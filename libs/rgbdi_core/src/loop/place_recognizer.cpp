@@ -23,11 +23,29 @@ bool PlaceRecognizer::eligible(std::size_t slot, const LoopKeyframe& kf) const {
          kf.travelled_m - r.travelled_m >= options_.exclude_recent_m;
 }
 
+std::size_t PlaceRecognizer::eligibleEnd(const LoopKeyframe& kf) const {
+  // Stamps, distances travelled and slots all grow with the id (checkNewer), so the eligible
+  // keyframes are the oldest ones up to a last eligible slot: a binary search finds it.
+  std::size_t lo = 0, hi = records_.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (eligible(mid, kf))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
 void PlaceRecognizer::checkNewer(const LoopKeyframe& kf, const char* who) const {
-  if (!records_.empty() && kf.id <= records_.back().id)
-    throw std::invalid_argument(std::string(who) + ": keyframe " + std::to_string(kf.id) +
-                                " is not newer than keyframe " +
-                                std::to_string(records_.back().id));
+  if (records_.empty()) return;
+  const Record& last = records_.back();
+  const std::string what = std::string(who) + ": keyframe " + std::to_string(kf.id);
+  if (kf.id <= last.id)
+    throw std::invalid_argument(what + " is not newer than keyframe " + std::to_string(last.id));
+  if (!(kf.t >= last.t) || !(kf.travelled_m >= last.travelled_m))
+    throw std::invalid_argument(what + " has an earlier stamp or a shorter distance travelled " +
+                                "than keyframe " + std::to_string(last.id));
 }
 
 void PlaceRecognizer::add(const LoopKeyframe& kf) {
@@ -43,6 +61,7 @@ void PlaceRecognizer::insert(const LoopKeyframe& kf) {
 
 std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
   checkNewer(kf, "PlaceRecognizer::process");
+  const std::size_t end = eligibleEnd(kf);
   std::vector<PlaceCandidate> out;
   std::vector<Streak> streaks;
   double reference = 0.0;
@@ -55,9 +74,11 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
       ++stats_.no_reference;
       reference = 0.0;
     } else {
+      const std::uint64_t last_id = end > 0 ? records_[end - 1].id : 0;
       const std::vector<PlaceMatch> matches =
-          index_.query(kf.descriptors, static_cast<std::size_t>(options_.top_k),
-                       [&](std::uint64_t id) { return eligible(slotOf(id), kf); });
+          end == 0 ? std::vector<PlaceMatch>()
+                   : index_.query(kf.descriptors, static_cast<std::size_t>(options_.top_k),
+                                  [last_id](std::uint64_t id) { return id <= last_id; });
       for (const PlaceMatch& m : matches) {
         const double normalised = m.score / reference;
         if (normalised < options_.min_normalised_score) continue;
@@ -82,8 +103,8 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
     const Eigen::Vector3d p = kf.T_world_body.translation();
     std::vector<std::pair<double, std::size_t>> near;  // (squared distance, slot)
     const double r2 = options_.proximity_radius_m * options_.proximity_radius_m;
-    for (std::size_t s = 0; s < records_.size(); ++s) {
-      if (records_[s].segment != kf.segment || !eligible(s, kf)) continue;
+    for (std::size_t s = 0; s < end; ++s) {
+      if (records_[s].segment != kf.segment) continue;
       const double d2 = (records_[s].p_world_body - p).squaredNorm();
       if (d2 <= r2) near.emplace_back(d2, s);
     }

@@ -9,8 +9,10 @@
 // so keys that many keyframes share count little, and s(K, K) = mean idf of K's keys. Similar
 // descriptors (small Hamming distance) share the key of a table with probability
 // (1 - d/256)^key_bits; several tables make a match likely to share at least one key.
-// Scores depend only on the stored sets, never on the order of add(): clear() and adding the
-// stored descriptors again gives identical scores.
+// Keys in more than max_key_keyframes keyframes are left out of the sums (stop words), which
+// bounds the query time on large maps of repeated routes. Scores depend only on the stored sets,
+// never on the order of add(): clear() and adding the stored descriptors again gives identical
+// scores.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +28,9 @@ struct PlaceIndexOptions {
   int key_bits = 16;  ///< [bit] descriptor bits per key (8-20; memory 2^key_bits * tables * 24 B)
   std::uint64_t seed = 1;               ///< draws the bit positions of the tables
   std::uint32_t descriptor_bytes = 32;  ///< [byte] size of every descriptor indexed
+  /// [count] keys held by more keyframes than this are stop words: they add nothing to any
+  /// score (their idf is low anyway, and their posting lists would dominate the query time)
+  int max_key_keyframes = 1000;
 
   /// Throws ConfigError when a value is out of range or key_bits exceed the descriptor.
   void validate() const;
@@ -71,6 +76,9 @@ class PlaceIndex {
   std::size_t slotOf(std::uint64_t id) const;  // size() when absent
   void checkSet(const mapping::DescriptorSet& descriptors, const char* who) const;
   double idf(std::size_t df) const;
+  bool stopWord(std::size_t df) const {
+    return df > static_cast<std::size_t>(options_.max_key_keyframes);
+  }
 
   PlaceIndexOptions options_;
   std::vector<std::vector<int>> bits_;  ///< per table, its bit positions

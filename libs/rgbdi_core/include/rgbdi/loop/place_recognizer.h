@@ -26,7 +26,7 @@ namespace rgbdi::loop {
 
 /// [loop] keys with prefix place_. Defaults equal share/config.ini.
 struct PlaceRecognitionOptions {
-  PlaceIndexOptions index;  ///< place_index_tables, place_index_key_bits, place_index_seed
+  PlaceIndexOptions index;  ///< place_index_tables, _key_bits, _max_key_keyframes, _seed
   int top_k = 5;            ///< [count] index matches examined per keyframe
   /// A stored keyframe is a candidate only when it is at least this much older ...
   double exclude_recent_s = 10.0;  ///< [s]
@@ -77,7 +77,8 @@ class PlaceRecognizer {
 
   /// Candidates for `kf` (appearance candidates best first by normalised score, then proximity
   /// candidates nearest first; no id twice), then adds kf. kf.id must be larger than every id
-  /// processed so far (std::invalid_argument otherwise, nothing changed).
+  /// processed so far, and kf.t and kf.travelled_m not smaller (std::invalid_argument
+  /// otherwise, nothing changed).
   std::vector<PlaceCandidate> process(const LoopKeyframe& kf);
   /// Adds kf without querying (rebuilding from a loaded map, in id order).
   void insert(const LoopKeyframe& kf);
@@ -110,6 +111,8 @@ class PlaceRecognizer {
   };
   std::size_t slotOf(std::uint64_t id) const;  // size() when absent
   bool eligible(std::size_t slot, const LoopKeyframe& kf) const;
+  /// Slots [0, end) are eligible as candidates for kf.
+  std::size_t eligibleEnd(const LoopKeyframe& kf) const;
   void checkNewer(const LoopKeyframe& kf, const char* who) const;
   void add(const LoopKeyframe& kf);
 
