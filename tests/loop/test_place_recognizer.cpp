@@ -314,3 +314,31 @@ TEST(PlaceRecognizer, InsertRebuildsWithoutQueryingAndIdsMustIncrease) {
   EXPECT_EQ(a.size(), 0u);
   EXPECT_EQ(a.stats().queried, 0u);
 }
+
+TEST(PlaceRecognizer, TheSameInputGivesTheSameCandidates) {
+  const auto run = [] {
+    PlaceRecognizer rec(PlaceRecognitionOptions{});
+    std::vector<std::vector<PlaceCandidate>> all;
+    std::uint64_t id = 0;
+    // Two laps of a 12 m loop of the corridor (the view wraps around).
+    for (int k = 0; k < 80; ++k, ++id) {
+      const double s = std::fmod(0.3 * k, 12.0);
+      all.push_back(rec.process(keyframe(id, 0.5 * k, 0.3 * k, s, {s, 0, 0})));
+    }
+    return all;
+  };
+  const auto a = run(), b = run();
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].size(), b[i].size()) << "keyframe " << i;
+    total += a[i].size();
+    for (std::size_t j = 0; j < a[i].size(); ++j) {
+      EXPECT_EQ(a[i][j].id, b[i][j].id);
+      EXPECT_EQ(a[i][j].score, b[i][j].score);
+      EXPECT_EQ(a[i][j].normalised_score, b[i][j].normalised_score);
+      EXPECT_EQ(a[i][j].by_proximity, b[i][j].by_proximity);
+    }
+  }
+  EXPECT_GT(total, 20u);  // the second lap found the first
+}
