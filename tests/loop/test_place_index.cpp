@@ -85,6 +85,12 @@ TEST(PlaceIndex, ScoresAHandMadeCaseExactly) {
       (std::log(1.0 + 4.0 / 3.0) + 2.0 * std::log(1.0 + 4.0 / 2.0) + std::log(1.0 + 4.0 / 1.0)) /
       4.0;
   EXPECT_DOUBLE_EQ(index.selfSimilarity(q), self);
+  // Keys computed once give the same answers.
+  const rgbdi::loop::PlaceKeys qk = index.keys(q);
+  EXPECT_EQ(qk.sorted(), index.keysOf(q));
+  EXPECT_EQ(index.query(qk, 10).at(1).score, s10);
+  EXPECT_EQ(index.similarity(qk, 11), index.similarity(q, 11));
+  EXPECT_EQ(index.selfSimilarity(qk), index.selfSimilarity(q));
   // top_k cuts the list after the best.
   const std::vector<PlaceMatch> best = index.query(q, 1);
   ASSERT_EQ(best.size(), 1u);

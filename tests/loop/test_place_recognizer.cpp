@@ -122,7 +122,10 @@ TEST(PlaceRecognizer, NormalisesScoresByTheScoreWithThePredecessor) {
   PlaceRecognizer rec(o);
   // Stored views at 0, 1 and 2 m, then a query at 2.4 m whose predecessor was at 2.2 m.
   std::uint64_t id = 0;
-  for (double s = 0.0; s < 2.1; s += 1.0) rec.process(keyframe(id++, id, id, s));
+  for (double s = 0.0; s < 2.1; s += 1.0, ++id) {
+    const double t = static_cast<double>(id);
+    rec.process(keyframe(id, t, t, s));
+  }
   rec.process(keyframe(id++, 10.0, 10.0, 2.2));
   const LoopKeyframe q = keyframe(id, 20.0, 20.0, 2.4);
   const double reference = rec.index().similarity(q.descriptors, id - 1);
@@ -247,8 +250,10 @@ TEST(PlaceRecognizer, ProximityCandidatesAreNotRepeatedWhenAppearanceFoundThem) 
   o.top_k = 2;  // appearance finds two of the five stored keyframes within 1 m
   PlaceRecognizer rec(o);
   std::uint64_t id = 0;
-  for (double s = 0.0; s <= 6.0; s += 0.3) rec.process(keyframe(id++, id, s, s, {s, 0, 0}));
-  for (double s = 40.0; s <= 46.0; s += 0.3) rec.process(keyframe(id++, id, s, s, {s, 0, 0}));
+  for (double s = 0.0; s <= 6.0; s += 0.3, ++id)
+    rec.process(keyframe(id, static_cast<double>(id), s, s, {s, 0, 0}));
+  for (double s = 40.0; s <= 46.0; s += 0.3, ++id)
+    rec.process(keyframe(id, static_cast<double>(id), s, s, {s, 0, 0}));
   // Back at the start, with a position estimate there too (the first keyframe back has no
   // reference: its predecessor shows another place).
   rec.process(keyframe(id, id, 50.0, 0.0, {0.0, 0, 0}));
@@ -266,9 +271,12 @@ TEST(PlaceRecognizer, ProximityCandidatesAreNotRepeatedWhenAppearanceFoundThem) 
   EXPECT_EQ(c.size(), 5u);  // each of the five once
   // Appearance first (best normalised first), proximity after.
   for (std::size_t i = 1; i < c.size(); ++i) {
-    if (c[i - 1].by_proximity) EXPECT_TRUE(c[i].by_proximity);
-    if (!c[i - 1].by_proximity && !c[i].by_proximity)
+    if (c[i - 1].by_proximity) {
+      EXPECT_TRUE(c[i].by_proximity);
+    }
+    if (!c[i - 1].by_proximity && !c[i].by_proximity) {
       EXPECT_GE(c[i - 1].normalised_score, c[i].normalised_score);
+    }
   }
 }
 
@@ -305,4 +313,32 @@ TEST(PlaceRecognizer, InsertRebuildsWithoutQueryingAndIdsMustIncrease) {
   a.clear();
   EXPECT_EQ(a.size(), 0u);
   EXPECT_EQ(a.stats().queried, 0u);
+}
+
+TEST(PlaceRecognizer, TheSameInputGivesTheSameCandidates) {
+  const auto run = [] {
+    PlaceRecognizer rec(PlaceRecognitionOptions{});
+    std::vector<std::vector<PlaceCandidate>> all;
+    std::uint64_t id = 0;
+    // Two laps of a 12 m loop of the corridor (the view wraps around).
+    for (int k = 0; k < 80; ++k, ++id) {
+      const double s = std::fmod(0.3 * k, 12.0);
+      all.push_back(rec.process(keyframe(id, 0.5 * k, 0.3 * k, s, {s, 0, 0})));
+    }
+    return all;
+  };
+  const auto a = run(), b = run();
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].size(), b[i].size()) << "keyframe " << i;
+    total += a[i].size();
+    for (std::size_t j = 0; j < a[i].size(); ++j) {
+      EXPECT_EQ(a[i][j].id, b[i][j].id);
+      EXPECT_EQ(a[i][j].score, b[i][j].score);
+      EXPECT_EQ(a[i][j].normalised_score, b[i][j].normalised_score);
+      EXPECT_EQ(a[i][j].by_proximity, b[i][j].by_proximity);
+    }
+  }
+  EXPECT_GT(total, 20u);  // the second lap found the first
 }

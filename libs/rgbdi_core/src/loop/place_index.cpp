@@ -93,22 +93,45 @@ std::size_t PlaceIndex::slotOf(std::uint64_t id) const {
 
 bool PlaceIndex::contains(std::uint64_t id) const { return slotOf(id) < ids_.size(); }
 
+PlaceKeys PlaceIndex::keys(const mapping::DescriptorSet& descriptors) const {
+  PlaceKeys k;
+  k.keys_ = keysOf(descriptors);
+  return k;
+}
+
 void PlaceIndex::add(std::uint64_t id, const mapping::DescriptorSet& descriptors) {
+  add(id, keys(descriptors));
+}
+
+std::vector<PlaceMatch> PlaceIndex::query(const mapping::DescriptorSet& descriptors,
+                                          std::size_t top_k,
+                                          const std::function<bool(std::uint64_t)>& allowed) const {
+  return query(keys(descriptors), top_k, allowed);
+}
+
+double PlaceIndex::similarity(const mapping::DescriptorSet& descriptors, std::uint64_t id) const {
+  return similarity(keys(descriptors), id);
+}
+
+double PlaceIndex::selfSimilarity(const mapping::DescriptorSet& descriptors) const {
+  return selfSimilarity(keys(descriptors));
+}
+
+void PlaceIndex::add(std::uint64_t id, const PlaceKeys& place_keys) {
   if (!ids_.empty() && id <= ids_.back())
     throw std::invalid_argument("PlaceIndex::add: keyframe " + std::to_string(id) +
                                 " is not newer than keyframe " + std::to_string(ids_.back()) +
                                 " (ids must increase)");
-  const std::vector<std::uint32_t> keys = keysOf(descriptors);
+  const std::vector<std::uint32_t>& keys = place_keys.sorted();
   const auto slot = static_cast<std::uint32_t>(ids_.size());
   for (std::uint32_t w : keys) postings_[w].push_back(slot);
   ids_.push_back(id);
   key_counts_.push_back(static_cast<std::uint32_t>(keys.size()));
 }
 
-std::vector<PlaceMatch> PlaceIndex::query(const mapping::DescriptorSet& descriptors,
-                                          std::size_t top_k,
+std::vector<PlaceMatch> PlaceIndex::query(const PlaceKeys& place_keys, std::size_t top_k,
                                           const std::function<bool(std::uint64_t)>& allowed) const {
-  const std::vector<std::uint32_t> keys = keysOf(descriptors);
+  const std::vector<std::uint32_t>& keys = place_keys.sorted();
   std::vector<PlaceMatch> out;
   if (keys.empty() || ids_.empty() || top_k == 0) return out;
   std::vector<double> sum(ids_.size(), 0.0);
@@ -142,12 +165,12 @@ std::vector<PlaceMatch> PlaceIndex::query(const mapping::DescriptorSet& descript
   return out;
 }
 
-double PlaceIndex::similarity(const mapping::DescriptorSet& descriptors, std::uint64_t id) const {
+double PlaceIndex::similarity(const PlaceKeys& place_keys, std::uint64_t id) const {
   const std::size_t slot = slotOf(id);
   if (slot == ids_.size())
     throw std::out_of_range("PlaceIndex::similarity: keyframe " + std::to_string(id) +
                             " is not in the index");
-  const std::vector<std::uint32_t> keys = keysOf(descriptors);
+  const std::vector<std::uint32_t>& keys = place_keys.sorted();
   if (keys.empty() || key_counts_[slot] == 0) return 0.0;
   double sum = 0.0;
   for (std::uint32_t w : keys) {
@@ -159,8 +182,8 @@ double PlaceIndex::similarity(const mapping::DescriptorSet& descriptors, std::ui
   return sum / std::sqrt(static_cast<double>(keys.size()) * key_counts_[slot]);
 }
 
-double PlaceIndex::selfSimilarity(const mapping::DescriptorSet& descriptors) const {
-  const std::vector<std::uint32_t> keys = keysOf(descriptors);
+double PlaceIndex::selfSimilarity(const PlaceKeys& place_keys) const {
+  const std::vector<std::uint32_t>& keys = place_keys.sorted();
   if (keys.empty()) return 0.0;
   const double n = static_cast<double>(ids_.size() + 1);
   double sum = 0.0;

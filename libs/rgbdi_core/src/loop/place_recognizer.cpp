@@ -48,27 +48,28 @@ void PlaceRecognizer::checkNewer(const LoopKeyframe& kf, const char* who) const 
                                 "than keyframe " + std::to_string(last.id));
 }
 
-void PlaceRecognizer::add(const LoopKeyframe& kf) {
-  index_.add(kf.id, kf.descriptors);  // validates the descriptors before anything is kept
+void PlaceRecognizer::add(const LoopKeyframe& kf, const PlaceKeys& keys) {
+  index_.add(kf.id, keys);
   records_.push_back({kf.id, kf.segment, kf.t, kf.travelled_m, kf.T_world_body.translation()});
 }
 
 void PlaceRecognizer::insert(const LoopKeyframe& kf) {
   checkNewer(kf, "PlaceRecognizer::insert");
-  add(kf);
-  previous_streaks_.clear();  // a rebuilt map has no query history
+  add(kf, index_.keys(kf.descriptors));  // validates the descriptors before anything is kept
+  previous_streaks_.clear();             // a rebuilt map has no query history
 }
 
 std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
   checkNewer(kf, "PlaceRecognizer::process");
+  const PlaceKeys keys = index_.keys(kf.descriptors);  // validates before anything changes
   const std::size_t end = eligibleEnd(kf);
   std::vector<PlaceCandidate> out;
   std::vector<Streak> streaks;
   double reference = 0.0;
   if (!records_.empty()) {
     // The predecessor shows nearly the same view: its score is what "same place" scores now.
-    reference = index_.similarity(kf.descriptors, records_.back().id);
-    const double self = index_.selfSimilarity(kf.descriptors);
+    reference = index_.similarity(keys, records_.back().id);
+    const double self = index_.selfSimilarity(keys);
     ++stats_.queried;
     if (!(reference > 0.0) || reference < options_.min_reference_ratio * self) {
       ++stats_.no_reference;
@@ -77,7 +78,7 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
       const std::uint64_t last_id = end > 0 ? records_[end - 1].id : 0;
       const std::vector<PlaceMatch> matches =
           end == 0 ? std::vector<PlaceMatch>()
-                   : index_.query(kf.descriptors, static_cast<std::size_t>(options_.top_k),
+                   : index_.query(keys, static_cast<std::size_t>(options_.top_k),
                                   [last_id](std::uint64_t id) { return id <= last_id; });
       for (const PlaceMatch& m : matches) {
         const double normalised = m.score / reference;
@@ -115,14 +116,14 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
       const std::uint64_t id = records_[s].id;
       if (std::any_of(out.begin(), out.end(), [&](const PlaceCandidate& c) { return c.id == id; }))
         continue;
-      const double score = index_.similarity(kf.descriptors, id);
+      const double score = index_.similarity(keys, id);
       out.push_back({id, score, reference > 0.0 ? score / reference : 0.0, true});
       ++added;
     }
     stats_.proximity += added;
   }
 
-  add(kf);
+  add(kf, keys);
   return out;
 }
 

@@ -41,6 +41,17 @@ struct PlaceMatch {
   double score = 0.0;  ///< s(Q, K), see the file comment
 };
 
+/// The keys of one descriptor set (PlaceIndex::keys), computed once for several calls on the
+/// index that made them.
+class PlaceKeys {
+ public:
+  const std::vector<std::uint32_t>& sorted() const { return keys_; }
+
+ private:
+  friend class PlaceIndex;
+  std::vector<std::uint32_t> keys_;
+};
+
 class PlaceIndex {
  public:
   /// Throws ConfigError on invalid options.
@@ -60,6 +71,14 @@ class PlaceIndex {
   /// s(Q, Q) as if Q were one more keyframe of the index (N + 1 keyframes, df(w) + 1): the
   /// score of a perfect match, the scale against which other scores of Q can be read.
   double selfSimilarity(const mapping::DescriptorSet& descriptors) const;
+
+  /// The same four operations on keys computed once by keys() (throws like keysOf).
+  PlaceKeys keys(const mapping::DescriptorSet& descriptors) const;
+  void add(std::uint64_t id, const PlaceKeys& keys);
+  std::vector<PlaceMatch> query(const PlaceKeys& keys, std::size_t top_k,
+                                const std::function<bool(std::uint64_t)>& allowed = {}) const;
+  double similarity(const PlaceKeys& keys, std::uint64_t id) const;
+  double selfSimilarity(const PlaceKeys& keys) const;
 
   bool contains(std::uint64_t id) const;
   std::size_t size() const { return ids_.size(); }

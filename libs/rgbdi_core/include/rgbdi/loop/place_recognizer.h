@@ -114,7 +114,7 @@ class PlaceRecognizer {
   /// Slots [0, end) are eligible as candidates for kf.
   std::size_t eligibleEnd(const LoopKeyframe& kf) const;
   void checkNewer(const LoopKeyframe& kf, const char* who) const;
-  void add(const LoopKeyframe& kf);
+  void add(const LoopKeyframe& kf, const PlaceKeys& keys);
 
   PlaceRecognitionOptions options_;
   PlaceIndex index_;
