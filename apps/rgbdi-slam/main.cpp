@@ -1,4 +1,4 @@
-// rgbdi-slam: RGB-D-inertial odometry and mapping on an MRPT rawlog.
+// rgbdi-slam: RGB-D-inertial SLAM (odometry, loop closure, mapping) on an MRPT rawlog.
 #include <atomic>
 #include <csignal>
 #include <cstring>
@@ -15,7 +15,8 @@ void onSignal(int) { g_stop.store(true); }
 
 void usage(std::ostream& os) {
   os << "Usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
-        "                  [--no-depth] [--save-simplemap] [--sequential] [--quiet]\n"
+        "                  [--no-depth] [--no-loop] [--save-simplemap] [--sequential]\n"
+        "                  [--quiet]\n"
         "  --input FILE   MRPT rawlog with CObservation3DRangeScan (colour+depth) and "
         "CObservationIMU\n"
         "  --out DIR      output directory (created): trajectory.tum (best estimate), "
@@ -25,6 +26,7 @@ void usage(std::ostream& os) {
         "  --gt FILE      ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval "
         "figures\n"
         "  --no-depth     monocular-inertial baseline: ignore depth\n"
+        "  --no-loop      no loop closure (odometry and mapping only; [loop] enable = false)\n"
         "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
         "  --sequential   run every stage on one thread (same outputs, for debugging)\n"
         "  --quiet        no progress line\n"
@@ -54,6 +56,8 @@ int main(int argc, char** argv) {
       opt.gt_path = value("--gt");
     else if (a == "--no-depth")
       opt.no_depth = true;
+    else if (a == "--no-loop")
+      opt.no_loop = true;
     else if (a == "--save-simplemap")
       opt.save_simplemap = true;
     else if (a == "--sequential")

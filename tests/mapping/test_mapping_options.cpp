@@ -41,6 +41,8 @@ TEST(MappingOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.view_update_distance_m, d.view_update_distance_m);
   EXPECT_EQ(f.view_update_angle_deg, d.view_update_angle_deg);
   EXPECT_EQ(f.min_points_per_leaf_rebuild, d.min_points_per_leaf_rebuild);
+  EXPECT_EQ(f.correction_min_shift_m, d.correction_min_shift_m);
+  EXPECT_EQ(f.correction_min_rotation_deg, d.correction_min_rotation_deg);
   EXPECT_EQ(f.occupancy_resolution_m, d.occupancy_resolution_m);
   EXPECT_EQ(f.occupancy_grid_stride, d.occupancy_grid_stride);
   EXPECT_EQ(f.occupancy_prob_hit, d.occupancy_prob_hit);

@@ -1,6 +1,7 @@
 #include "rgbdi/mapping/mapper.h"
 
 #include <chrono>
+#include <cmath>
 
 namespace rgbdi::mapping {
 namespace {
@@ -40,9 +41,16 @@ MapCorrection Mapper::correct(
     const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses) {
   const auto t0 = Clock::now();
   MapCorrection c;
+  // Corrections below the thresholds leave a keyframe where it is: re-inserting every point
+  // for a millimetre would cost a rebuild and change nothing the map resolves.
+  const double min_cos_half = std::cos(0.5 * options_.correction_min_rotation_deg * M_PI / 180.0);
   for (const auto& [id, T] : poses) {
     if (!store_.contains(id)) continue;
-    if (store_.get(id).T_world_cam.isApprox(T, 1e-12)) continue;
+    const Eigen::Isometry3d& old = store_.get(id).T_world_cam;
+    const double shift = (T.translation() - old.translation()).norm();
+    const double cos_half =
+        std::abs(Eigen::Quaterniond(old.rotation()).dot(Eigen::Quaterniond(T.rotation())));
+    if (shift < options_.correction_min_shift_m && cos_half > min_cos_half) continue;
     store_.setPose(id, T);
     ++c.keyframes_moved;
   }

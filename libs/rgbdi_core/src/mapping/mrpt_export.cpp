@@ -92,7 +92,7 @@ void writePointsMap(const std::string& path, const PointMap& map) {
 
 void writeScene(const std::string& path, const PointMap& map, const Trajectory& trajectory,
                 const KeyframeStore& keyframes, const SceneOptions& options,
-                const Trajectory* ground_truth) {
+                const Trajectory* ground_truth, const std::vector<SceneSegment>* loop_edges) {
   checkFinite(trajectory, path, "trajectory");
   if (ground_truth) checkFinite(*ground_truth, path, "ground-truth");
   mrpt::opengl::COpenGLScene scene;
@@ -128,6 +128,17 @@ void writeScene(const std::string& path, const PointMap& map, const Trajectory& 
     frames->insert(axes);
   }
   scene.insert(frames);
+
+  if (loop_edges && !loop_edges->empty()) {
+    auto lines = mrpt::opengl::CSetOfLines::Create();
+    lines->setName("loop_edges");
+    lines->setColor(1.0f, 0.1f, 0.1f);
+    lines->setLineWidth(2.0f);
+    for (const SceneSegment& e : *loop_edges)
+      lines->appendLine(e.first.x(), e.first.y(), e.first.z(), e.second.x(), e.second.y(),
+                        e.second.z());
+    scene.insert(lines);
+  }
 
   if (!(lo.allFinite() && hi.allFinite())) {
     lo = Eigen::Vector3d::Constant(-1.0);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 #include "mapping/depth_grid_sampler.h"
 #include "mapping/point_octree.h"
@@ -66,13 +67,33 @@ struct PointMap::Impl {
     point_leaf.clear();
   }
 
-  /// Removes the leaves with fewer than `min_count` points; returns the surviving-point mask
-  /// (indexed like `points` before the call) and compacts points, leaves and node payloads.
+  /// Removes isolated leaves: those whose neighbourhood (the 3 x 3 x 3 cells of twice the leaf
+  /// size around the leaf's cell, a cube of 6 leaves) holds fewer than `min_count` points.
+  /// Returns the surviving-point mask (indexed like `points` before the call) and compacts
+  /// points, leaves and node payloads. The neighbourhood is wider than one leaf because a single
+  /// keyframe samples a surface more sparsely than the leaf size beyond about 1 m.
   std::vector<char> dropSparseLeaves(std::uint32_t min_count, RebuildReport& report) {
+    auto pack = [](int x, int y, int z) {  // cell keys are 3 x 15 bits
+      return (static_cast<std::uint64_t>(static_cast<std::uint16_t>(x)) << 32) |
+             (static_cast<std::uint64_t>(static_cast<std::uint16_t>(y)) << 16) |
+             static_cast<std::uint64_t>(static_cast<std::uint16_t>(z));
+    };
+    std::unordered_map<std::uint64_t, std::uint32_t> count_in_cell;
+    count_in_cell.reserve(leaves.size());
+    for (const LeafRecord& l : leaves)
+      count_in_cell[pack(l.key[0] >> 1, l.key[1] >> 1, l.key[2] >> 1)] += l.count;
     std::vector<std::uint32_t> new_index(leaves.size(), detail::kNoLeaf);
     std::uint32_t next = 0;
     for (std::size_t i = 0; i < leaves.size(); ++i) {
-      if (leaves[i].count < min_count) {
+      const int cx = leaves[i].key[0] >> 1, cy = leaves[i].key[1] >> 1, cz = leaves[i].key[2] >> 1;
+      std::uint32_t n = 0;
+      for (int dx = -1; dx <= 1 && n < min_count; ++dx)
+        for (int dy = -1; dy <= 1 && n < min_count; ++dy)
+          for (int dz = -1; dz <= 1 && n < min_count; ++dz) {
+            const auto it = count_in_cell.find(pack(cx + dx, cy + dy, cz + dz));
+            if (it != count_in_cell.end()) n += it->second;
+          }
+      if (n < min_count) {
         ++report.sparse_leaves_removed;
         report.sparse_points_removed += leaves[i].count;
         tree.eraseLeaf(leaves[i].key);
@@ -134,7 +155,8 @@ std::vector<MapPoint> PointMap::insertKeyframe(const RgbdFrame& frame,
 std::vector<MapPoint> PointMap::insertPoints(const std::vector<MapPoint>& points_cam,
                                              const Eigen::Isometry3d& T_world_cam) {
   if (!detail::isRigid(T_world_cam))
-    throw std::invalid_argument("PointMap::insertPoints: T_world_cam is not a finite rigid transform");
+    throw std::invalid_argument(
+        "PointMap::insertPoints: T_world_cam is not a finite rigid transform");
   Impl& m = *impl_;
   ++m.stats.keyframes;
   std::vector<MapPoint> kept;
@@ -208,8 +230,7 @@ RebuildReport PointMap::rebuild(KeyframeStore& store) {
   }
 
   report.kept_points = m.points.size();
-  report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   m.last_rebuild = report;
   m.built_pose_revision = store.poseRevision();
   return report;

@@ -1,5 +1,7 @@
 #include "rgbdi/system/slam_outputs.h"
 
+#include <cmath>
+
 #include "rgbdi/mapping/map_export.h"
 #include "rgbdi/mapping/trajectory_plot.h"
 #include "rgbdi/output/pose_graph.h"
@@ -25,6 +27,27 @@ output::PoseGraph slamPoseGraph(const SlamSystem& sys) {
     e.information = info_diag.asDiagonal();
     e.kind = "odometry";
     g.edges.push_back(e);
+  }
+  // Verified loops that survived every solve, with the pose graph's loop-edge uncertainty (roll
+  // and pitch, which the 4-DOF graph keeps from the odometry, take the odometry edges' value).
+  if (const loop::LoopCloser* lc = sys.loopCloser()) {
+    const auto& go = lc->graph().options();
+    const double deg = M_PI / 180.0;
+    Eigen::Matrix<double, 6, 1> loop_info;
+    loop_info << Eigen::Vector3d::Constant(1.0 / (go.loop_sigma_pos_m * go.loop_sigma_pos_m)),
+        1.0 / (oo.graph_rotation_sigma_rad * oo.graph_rotation_sigma_rad),
+        1.0 / (oo.graph_rotation_sigma_rad * oo.graph_rotation_sigma_rad),
+        1.0 / (go.loop_sigma_yaw_deg * deg * go.loop_sigma_yaw_deg * deg);
+    for (const loop::LoopRecord& l : lc->loops()) {
+      if (l.rolled_back) continue;
+      output::PoseGraphEdge e;
+      e.from = l.constraint.from_id;
+      e.to = l.constraint.to_id;
+      e.T_from_to = l.constraint.T_from_to;
+      e.information = loop_info.asDiagonal();
+      e.kind = "loop";
+      g.edges.push_back(e);
+    }
   }
   if (!g.nodes.empty()) g.root = g.nodes.front().id;
   return g;
@@ -79,9 +102,15 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
     mapping::writeSimpleMap(out["keyframes_simplemap"], entries);
   }
   if (cfg.output.write_scene) {
+    std::vector<mapping::SceneSegment> loop_lines;
+    for (const output::PoseGraphEdge& e : graph.edges) {
+      if (e.kind != "loop") continue;
+      loop_lines.emplace_back(sys.keyframePose(e.from).translation(),
+                              sys.keyframePose(e.to).translation());
+    }
     out["scene"] = dir + "/scene.3Dscene";
     mapping::writeScene(out["scene"], map.pointMap(), final_body, map.store(), cfg.mapping.scene,
-                        gt_in_est);
+                        gt_in_est, &loop_lines);
   }
   if (cfg.output.write_plot && final_body.size() >= 2) {
     out["plot"] = dir + "/trajectory.png";

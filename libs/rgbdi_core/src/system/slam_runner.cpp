@@ -61,7 +61,8 @@ Trajectory groundTruthInEstimateFrame(const Trajectory& gt, const RunEvaluation&
 nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   if (opt.input.empty()) throw UserError("no input given (--input SEQ.rawlog)");
   if (!fs::exists(opt.input)) throw UserError(opt.input + ": input file does not exist");
-  const SystemConfig cfg = loadConfig(opt.config_path);
+  SystemConfig cfg = loadConfig(opt.config_path);
+  if (opt.no_loop) cfg.loop.enable = false;
   const Trajectory gt = readGroundTruth(opt.gt_path);  // before the run: bad files fail fast
   prepareOutputDir(opt.out_dir);
 

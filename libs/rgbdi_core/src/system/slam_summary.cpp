@@ -22,6 +22,53 @@ RunEvaluation evaluateRun(const SlamSystem& sys, const Trajectory& gt) {
   return ev;
 }
 
+nlohmann::json loopSummary(const SlamSystem& sys) {
+  nlohmann::json j;
+  j["enabled"] = sys.config().loop.enable;
+  const loop::LoopCloser* lc = sys.loopCloser();
+  if (!lc) return j;
+  const loop::LoopStats& st = lc->stats();
+  const loop::PlaceRecognitionStats& ps = lc->placeStats();
+  nlohmann::json rejected = nlohmann::json::object();
+  for (loop::LoopRejection r : loop::kAllLoopRejections)
+    if (r != loop::LoopRejection::Accepted)
+      rejected[loop::toString(r)] = st.rejected[static_cast<std::size_t>(r)];
+  const double n_kf = std::max<double>(1.0, static_cast<double>(st.keyframes));
+  const double n_ver = std::max<double>(1.0, static_cast<double>(st.verified));
+  j["keyframes_queried"] = st.keyframes;
+  j["place_recognition"] = {{"above_threshold", ps.above_threshold},
+                            {"temporally_consistent", ps.temporally_consistent},
+                            {"proximity", ps.proximity},
+                            {"no_reference", ps.no_reference}};
+  j["candidates"] = st.candidates;
+  j["candidates_by_proximity"] = st.candidates_by_proximity;
+  j["verified"] = st.verified;
+  j["rejected"] = rejected;
+  j["accepted"] = st.accepted;
+  j["rolled_back"] = st.rolled_back;
+  j["active_loops"] = st.accepted - st.rolled_back;
+  j["solves"] = st.solves;
+  j["timing_ms"] = {{"features_per_keyframe", st.features_ms_total / n_kf},
+                    {"recognition_per_keyframe", st.recognition_ms_total / n_kf},
+                    {"verification_per_candidate", st.verification_ms_total / n_ver},
+                    {"solve_total", st.solve_ms_total},
+                    {"solve_max", st.solve_ms_max}};
+  j["solver_iterations_total"] = st.solver_iterations_total;
+  j["memory_bytes"] = lc->memoryBytes();
+  nlohmann::json segs = nlohmann::json::array();
+  for (const loop::SegmentState& seg : lc->graph().segments()) {
+    const Eigen::Isometry3d D = lc->graph().drift(seg.segment);
+    segs.push_back({{"segment", seg.segment},
+                    {"keyframes", seg.nodes},
+                    {"connected_to_first_segment", seg.connected_to_origin},
+                    {"final_drift_correction_m", D.translation().norm()},
+                    {"final_drift_correction_yaw_deg",
+                     std::atan2(D.linear()(1, 0), D.linear()(0, 0)) * 180.0 / M_PI}});
+  }
+  j["segments"] = segs;
+  return j;
+}
+
 nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunEvaluation& ev,
                            const nlohmann::json& outputs) {
   const VioSystem& vio = sys.odometry();
@@ -77,6 +124,7 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
   for (const auto& k : sys.keyframeStates()) segments = std::max(segments, k.state.segment + 1);
   s["keyframes"] = sys.keyframeStates().size();
   s["segments"] = segments;
+  s["loop"] = loopSummary(sys);
   s["stream_diagnostics"] = run.stream_diagnostics;
   s["outputs"] = outputs;
   if (ev.final_posyaw && ev.final_sim3 && ev.online && ev.odometry) {
@@ -108,8 +156,9 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
   os << "Processed " << s["frames"].get<std::size_t>() << " frames in " << std::setprecision(3)
      << s["wall_time_s"].get<double>() << " s (" << s["frames_per_s"].get<double>()
      << " frames/s), " << s["poses"].get<std::size_t>() << " poses, "
-     << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets"
-     << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
+     << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets, "
+     << (s["loop"].contains("active_loops") ? s["loop"]["active_loops"].get<std::uint64_t>() : 0)
+     << " loops" << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
   if (!s["read_error"].is_null())
     os << "Input ended early: " << s["read_error"].get<std::string>() << "\n";
   os << "Outputs:\n";

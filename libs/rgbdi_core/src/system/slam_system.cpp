@@ -1,6 +1,8 @@
 #include "rgbdi/system/slam_system.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 
 #include "rgbdi/io/mrpt_conversions.h"
 
@@ -49,11 +51,73 @@ void SlamSystem::endOfStream() {
   odometry_stage_->finish();
   vio_.endOfStream();  // flushes the window: its keyframes go to loop closing
   loop_stage_->finish();
+  if (closer_) closer_->finish();  // solves for loops accepted since the last solve
+  computeFinalKeyframePoses();
+  // The map follows the final poses (keyframes outside the graph included).
+  MapPacket c;
+  c.is_correction = true;
+  for (std::size_t i = 0; i < keyframe_states_.size(); ++i)
+    c.corrected_poses.emplace_back(keyframe_states_[i].id,
+                                   final_keyframe_poses_[i] * cfg_.extrinsic.T_body_cam);
+  if (closer_) map_stage_->submit(std::move(c));
   map_stage_->finish();
   mapper_->finish();
-  final_keyframe_poses_.clear();
-  for (const KeyframePacket& k : keyframe_states_)
-    final_keyframe_poses_.push_back(k.state.T_world_body);
+}
+
+void SlamSystem::computeFinalKeyframePoses() {
+  const std::size_t n = keyframe_states_.size();
+  final_keyframe_poses_.assign(n, Eigen::Isometry3d::Identity());
+  // Correction of the graph node nearest in time of the same segment (none: odometry).
+  std::vector<long> node_of(n, -1);
+  long last = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (last >= 0 && keyframe_states_[static_cast<std::size_t>(last)].state.segment !=
+                         keyframe_states_[i].state.segment)
+      last = -1;
+    if (closer_ && i < in_loop_graph_.size() && in_loop_graph_[i]) last = static_cast<long>(i);
+    node_of[i] = last;
+  }
+  long next = -1;
+  for (std::size_t j = n; j-- > 0;) {
+    if (next >= 0 && keyframe_states_[static_cast<std::size_t>(next)].state.segment !=
+                         keyframe_states_[j].state.segment)
+      next = -1;
+    if (closer_ && j < in_loop_graph_.size() && in_loop_graph_[j]) next = static_cast<long>(j);
+    if (node_of[j] < 0) node_of[j] = next;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Isometry3d& odom = keyframe_states_[i].state.T_world_body;
+    if (node_of[i] < 0) {
+      final_keyframe_poses_[i] = odom;
+      continue;
+    }
+    const auto g = static_cast<std::size_t>(node_of[i]);
+    const Eigen::Isometry3d T_g = closer_->pose(keyframe_states_[g].id);
+    if (g == i) {
+      final_keyframe_poses_[i] = T_g;
+    } else {
+      const Eigen::Isometry3d& odom_g = keyframe_states_[g].state.T_world_body;
+      final_keyframe_poses_[i] =
+          T_g.matrix() == odom_g.matrix() ? odom : T_g * odom_g.inverse() * odom;
+    }
+  }
+}
+
+bool SlamSystem::joinsLoopClosing(const KeyframePacket& p) {
+  const Eigen::Isometry3d& T = p.state.T_world_body;
+  const bool joins = [&] {
+    if (p.state.segment != last_loop_segment_) return true;
+    const double d = (T.translation() - last_loop_keyframe_.translation()).norm();
+    const double angle =
+        Eigen::AngleAxisd(last_loop_keyframe_.rotation().transpose() * T.rotation()).angle();
+    return d >= cfg_.loop.min_keyframe_distance_m ||
+           angle >= cfg_.loop.min_keyframe_angle_deg * M_PI / 180.0;
+  }();
+  if (joins) {
+    last_loop_keyframe_ = T;
+    last_loop_segment_ = p.state.segment;
+  }
+  return joins;
 }
 
 void SlamSystem::handleMeasurement(io::Measurement& m) {
@@ -79,7 +143,7 @@ void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) 
 }
 
 Eigen::Isometry3d SlamSystem::onlineDrift(int segment) {
-  const std::size_t lag = 1;
+  const std::size_t lag = static_cast<std::size_t>(cfg_.loop.offline_lag_keyframes);
   const std::size_t emitted = keyframe_states_.size();
   std::size_t entry;  // drift entry to use: after keyframe `entry - 1` was handled
   if (options_.live) {
@@ -120,15 +184,39 @@ void SlamSystem::onKeyframe(const estimator::KeyframeState& kf, const RgbdFrame&
 }
 
 void SlamSystem::handleKeyframe(KeyframePacket& p) {
-  const std::size_t n_segments = static_cast<std::size_t>(p.state.segment) + 1;
-  std::vector<Eigen::Isometry3d> drift(n_segments, Eigen::Isometry3d::Identity());
-  const Eigen::Isometry3d T_world_body =
-      drift[static_cast<std::size_t>(p.state.segment)] * p.state.T_world_body;
+  const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
+  Eigen::Isometry3d T_world_body = p.state.T_world_body;
+  bool solved = false;
+  const bool joins = cfg_.loop.enable && joinsLoopClosing(p);
+  in_loop_graph_.push_back(joins ? 1 : 0);
+  if (cfg_.loop.enable && !joins && closer_) {
+    T_world_body = closer_->drift(p.state.segment) * p.state.T_world_body;
+  } else if (joins) {
+    if (!closer_) {
+      loop_camera_ = vio_.cameraFor(p.frame);
+      closer_ = std::make_unique<loop::LoopCloser>(cfg_.loop, loop_camera_, T_bc);
+      extractor_ = std::make_unique<loop::LoopFeatureExtractor>(cfg_.loop.features, cfg_.frontend);
+    }
+    loop::LoopKeyframe lk;
+    lk.id = p.id;
+    lk.segment = p.state.segment;
+    lk.t = p.state.t_imu;
+    lk.T_world_body_odom = p.state.T_world_body;
+    lk.travelled_m = p.travelled_m;
+    const auto t0 = std::chrono::steady_clock::now();
+    lk.descriptors = extractor_->extract(p.frame, loop_camera_);
+    closer_->mutableStats().features_ms_total +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    solved = closer_->process(std::move(lk)).solved;
+    T_world_body = closer_->pose(p.id);
+    progress_loops_.store(closer_->stats().accepted - closer_->stats().rolled_back);
+  }
+
   MapPacket m;
   m.keyframe.id = p.id;
   m.keyframe.frame_index = p.state.frame_index;
   m.keyframe.t = p.frame.t;
-  m.keyframe.T_world_cam = T_world_body * cfg_.extrinsic.T_body_cam;
+  m.keyframe.T_world_cam = T_world_body * T_bc;
   for (const auto& f : p.features.features) {
     mapping::KeyframeFeature kfe;
     kfe.id = f.id;
@@ -139,10 +227,20 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
   }
   m.frame = std::move(p.frame);
   map_stage_->submit(std::move(m));
-  {
-    std::lock_guard<std::mutex> lock(drift_mutex_);
-    drift_after_keyframe_.push_back(std::move(drift));
+  if (solved) {
+    // The map follows the corrected keyframes (paper 4.5).
+    MapPacket c;
+    c.is_correction = true;
+    for (const auto& [id, T] : closer_->correctedPoses())
+      c.corrected_poses.emplace_back(id, T * T_bc);
+    map_stage_->submit(std::move(c));
   }
+  std::vector<Eigen::Isometry3d> drift(static_cast<std::size_t>(p.state.segment) + 1,
+                                       Eigen::Isometry3d::Identity());
+  if (closer_)
+    for (std::size_t s = 0; s < drift.size(); ++s) drift[s] = closer_->drift(static_cast<int>(s));
+  std::lock_guard<std::mutex> lock(drift_mutex_);
+  drift_after_keyframe_.push_back(std::move(drift));
 }
 
 void SlamSystem::handleMap(MapPacket& p) {
@@ -208,8 +306,12 @@ Trajectory SlamSystem::finalTrajectory() const {
         best = c;
       }
     }
-    if (best < nk && best < final_keyframe_poses_.size())
-      D = final_keyframe_poses_[best] * keyframe_states_[best].state.T_world_body.inverse();
+    if (best < nk && best < final_keyframe_poses_.size()) {
+      const Eigen::Isometry3d& T_final = final_keyframe_poses_[best];
+      const Eigen::Isometry3d& T_odom = keyframe_states_[best].state.T_world_body;
+      // Exactly the odometry where the keyframe was not corrected (no loop in its segment).
+      if (T_final.matrix() != T_odom.matrix()) D = T_final * T_odom.inverse();
+    }
     t.push_back(StampedPose::fromIsometry(r.t_imu, D * r.T_world_body_odom));
   }
   return t;

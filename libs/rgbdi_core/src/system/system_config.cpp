@@ -18,9 +18,9 @@ SystemConfig SystemConfig::load(IniReader& ini) {
   c.estimator = estimator::EstimatorOptions::load(ini);
   c.output = output::OutputOptions::load(ini);
   c.mapping = mapping::MappingOptions::load(ini);
-  // Sections read by other tools or by modules that are not part of this program yet.
+  c.loop = loop::LoopOptions::load(ini);
+  // Sections read by other tools.
   ini.acceptSection("sim");
-  ini.acceptSection("loop");
   ini.acceptSection("convert");  // rawlog-convert
   ini.checkNoUnknownKeys();
   return c;

@@ -19,7 +19,7 @@ VioSystem::VioSystem(const SystemConfig& cfg, bool use_depth)
 
 VioSystem::~VioSystem() = default;
 
-PinholeCamera VioSystem::chooseCamera(const RgbdFrame& frame) const {
+PinholeCamera VioSystem::cameraFor(const RgbdFrame& frame) const {
   if (cfg_.camera.intrinsics_source == "stream" && frame.cam_color.valid()) return frame.cam_color;
   return cfg_.camera.camera;
 }
@@ -36,7 +36,7 @@ void VioSystem::feedRgbd(const RgbdFrame& in) {
     return;
   }
   if (!tracker_)
-    tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, chooseCamera(in));
+    tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, cameraFor(in));
   Pending p;
   p.frame = in;
   if (!use_depth_) p.frame.depth.release();
@@ -89,11 +89,10 @@ void VioSystem::processReady(bool flush) {
     // every frame since the oldest slot would grow memory with time).
     std::unordered_set<std::uint64_t> slots;
     for (const auto& w : estimator_->windowKeyframes()) slots.insert(w.frame_index);
-    recent_frames_.erase(std::remove_if(recent_frames_.begin(), recent_frames_.end(),
-                                        [&](const Pending& f) {
-                                          return !slots.count(f.frame.index);
-                                        }),
-                         recent_frames_.end());
+    recent_frames_.erase(
+        std::remove_if(recent_frames_.begin(), recent_frames_.end(),
+                       [&](const Pending& f) { return !slots.count(f.frame.index); }),
+        recent_frames_.end());
   }
 }
 

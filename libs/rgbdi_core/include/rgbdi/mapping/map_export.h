@@ -5,6 +5,8 @@
 // the path.
 #pragma once
 
+#include <utility>
+
 #include <Eigen/Geometry>
 
 #include <mrpt/obs/CObservation.h>
@@ -28,12 +30,17 @@ void writePly(const std::string& path, const PointMap& map);
 /// read with mrpt::io::CFileGZInputStream + archiveFrom(...) >> map.
 void writePointsMap(const std::string& path, const PointMap& map);
 
+/// A segment drawn in the scene, e.g. a loop edge between two keyframe positions [m, world].
+using SceneSegment = std::pair<Eigen::Vector3d, Eigen::Vector3d>;
+
 /// scene.3Dscene: the map points ("map_points", CPointCloudColoured), the trajectory
 /// ("trajectory", CSetOfLines), the ground truth when given ("ground_truth"), an axes frame per
-/// keyframe ("keyframes", CSetOfObjects) and a ground grid ("ground_grid").
+/// keyframe ("keyframes", CSetOfObjects), the loop edges when given ("loop_edges", red
+/// CSetOfLines) and a ground grid ("ground_grid").
 void writeScene(const std::string& path, const PointMap& map, const Trajectory& trajectory,
                 const KeyframeStore& keyframes, const SceneOptions& options,
-                const Trajectory* ground_truth = nullptr);
+                const Trajectory* ground_truth = nullptr,
+                const std::vector<SceneSegment>* loop_edges = nullptr);
 
 /// One entry of keyframes.simplemap: the body pose and the observation taken there (e.g. a
 /// CObservation3DRangeScan whose sensorPose places the camera on the body).

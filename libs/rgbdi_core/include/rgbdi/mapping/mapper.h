@@ -52,8 +52,9 @@ class Mapper {
   void addKeyframe(Keyframe keyframe, const RgbdFrame& frame);
 
   /// Moves keyframes to corrected camera poses (id, T_world_cam); ids not in the store are
-  /// ignored (keyframes the mapper has not received yet). Rebuilds the point map when any pose
-  /// changed, dropping leaves with fewer than min_points_per_leaf_rebuild points.
+  /// ignored (keyframes the mapper has not received yet), and so are corrections smaller than
+  /// correction_min_shift_m / correction_min_rotation_deg. Rebuilds the point map when any
+  /// keyframe moved (isolated leaves are dropped, see PointMap::rebuild).
   MapCorrection correct(const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses);
 
   /// Brings the occupancy map up to the corrected poses (once, at the end of a run).

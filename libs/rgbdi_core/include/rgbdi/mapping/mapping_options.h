@@ -33,8 +33,14 @@ struct MappingOptions {
   // --- point octree ---
   double octree_resolution_m = 0.02;  ///< [m] leaf size
   int max_points_per_leaf = 5;  ///< [count] later points falling into a full leaf are rejected
-  int min_points_per_leaf_rebuild =
-      3;  ///< [count] leaves with fewer points are dropped by rebuild()
+  /// [count] rebuild() drops a leaf when fewer points than this lie within about three leaves of
+  /// it (see PointMap::rebuild): isolated points go, surfaces seen by a single keyframe (whose
+  /// grid spacing exceeds the leaf size beyond about 1 m) stay
+  int min_points_per_leaf_rebuild = 3;
+  /// A map correction moves a keyframe (and rebuilds the map) only when the correction shifts it
+  /// by at least this much or turns it by at least correction_min_rotation_deg.
+  double correction_min_shift_m = 0.01;       ///< [m]
+  double correction_min_rotation_deg = 0.5;   ///< [deg]
 
   // --- redundant keyframes (see viewpoint_index.h) ---
   /// [m] a keyframe adds points only when no keyframe already in the map is closer than this

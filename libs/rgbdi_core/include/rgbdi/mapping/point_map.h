@@ -6,8 +6,8 @@
 // points. Points arriving at a full leaf are rejected and are not returned, so the keyframe keeps
 // only the points the map holds. After keyframe poses change (pose-graph update, loop closure,
 // reload), rebuild() re-inserts every keyframe's kept points at the corrected poses and discards
-// the leaves with fewer than min_points_per_leaf_rebuild points, from the map and from the
-// keyframes. Memory is bounded by the scene: points <= leaves x max_points_per_leaf.
+// the isolated leaves: fewer than min_points_per_leaf_rebuild points within the 3 x 3 x 3 cells
+// of twice the leaf size around the leaf, from the map and from the keyframes. Memory is bounded by the scene: points <= leaves x max_points_per_leaf.
 //
 // Typical use:
 //   PointMap map(options);
@@ -48,7 +48,7 @@ struct RebuildReport {
   std::size_t input_points = 0;          ///< kept points of all keyframes before the rebuild
   std::size_t rejected_full_leaf = 0;    ///< no longer fit at the corrected poses
   std::size_t outside_extent = 0;
-  std::size_t sparse_leaves_removed = 0; ///< leaves with < min_points_per_leaf_rebuild points
+  std::size_t sparse_leaves_removed = 0; ///< isolated leaves (see rebuild())
   std::size_t sparse_points_removed = 0;
   std::size_t kept_points = 0;           ///< map size after the rebuild
   double seconds = 0.0;                  ///< wall-clock time of the rebuild
@@ -77,8 +77,9 @@ class PointMap {
                                      const Eigen::Isometry3d& T_world_cam);
 
   /// Rebuilds the map from the keyframes' kept points at their current poses (in id order),
-  /// drops points that no longer fit and leaves with fewer than min_points_per_leaf_rebuild
-  /// points, and removes the dropped points from the keyframes too.
+  /// drops points that no longer fit and isolated leaves (fewer than min_points_per_leaf_rebuild
+  /// points in the 3 x 3 x 3 cells of twice the leaf size around the leaf), and removes the dropped points from the
+  /// keyframes too.
   RebuildReport rebuild(KeyframeStore& store);
   /// True when setPose() was called on the store since this map was last rebuilt from it (or
   /// since construction). A store just read by KeyframeStore::load always needs rebuild().

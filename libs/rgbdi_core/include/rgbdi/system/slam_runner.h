@@ -16,6 +16,7 @@ struct SlamRunOptions {
   std::string config_path;  ///< empty = built-in defaults (share/config.ini values)
   std::string gt_path;      ///< optional ground truth (TUM); body frame unless gt_frame = "camera"
   bool no_depth = false;    ///< monocular baseline
+  bool no_loop = false;     ///< loop closure off (overrides [loop] enable)
   bool quiet = false;       ///< no progress line
   bool save_simplemap = false;  ///< also write keyframes.simplemap (keyframe observations + poses)
   bool threaded = true;  ///< stages on their own threads (false: sequential, identical outputs)

@@ -32,6 +32,10 @@ struct RunEvaluation {
 /// Evaluates final, online and odometry trajectories; failures go into `error`.
 RunEvaluation evaluateRun(const SlamSystem& system, const Trajectory& gt);
 
+/// The "loop" object of summary.json: counts (queried, candidates, rejected per reason,
+/// accepted, rolled back), timings, segments and their final drift correction.
+nlohmann::json loopSummary(const SlamSystem& system);
+
 nlohmann::json slamSummary(const SlamSystem& system, const RunInfo& run,
                            const RunEvaluation& evaluation, const nlohmann::json& outputs);
 

@@ -22,6 +22,8 @@
 #include "rgbdi/common/measurement_sink.h"
 #include "rgbdi/common/stage_worker.h"
 #include "rgbdi/io/measurement_source.h"
+#include "rgbdi/loop/loop_closer.h"
+#include "rgbdi/loop/loop_features.h"
 #include "rgbdi/mapping/mapper.h"
 #include "rgbdi/system/keyframe_packet.h"
 #include "rgbdi/system/system_config.h"
@@ -73,6 +75,8 @@ class SlamSystem : public MeasurementSink {
   /// Keyframes as the odometry handed them out (body poses, segments), in id order.
   const std::vector<KeyframePacket>& keyframeStates() const { return keyframe_states_; }
   const mapping::Mapper& mapper() const { return *mapper_; }
+  /// nullptr when loop closure is off ([loop] enable = false) or no keyframe was made.
+  const loop::LoopCloser* loopCloser() const { return closer_.get(); }
   const VioSystem& odometry() const { return vio_; }
   /// Final body pose of keyframe `slot` (loop-corrected when loops closed).
   Eigen::Isometry3d keyframePose(std::size_t slot) const;
@@ -103,6 +107,17 @@ class SlamSystem : public MeasurementSink {
   SlamSystemOptions options_;
   VioSystem vio_;
   std::unique_ptr<mapping::Mapper> mapper_;
+  // Loop-closing-thread state (created at the first keyframe: the camera may come from the stream).
+  std::unique_ptr<loop::LoopCloser> closer_;
+  std::unique_ptr<loop::LoopFeatureExtractor> extractor_;
+  PinholeCamera loop_camera_;
+  std::vector<char> in_loop_graph_;  ///< by keyframe slot: joined loop closing (a graph node)
+  Eigen::Isometry3d last_loop_keyframe_ = Eigen::Isometry3d::Identity();
+  int last_loop_segment_ = -1;
+  /// Whether keyframe `p` joins loop closing (distance/angle from the last one that joined).
+  bool joinsLoopClosing(const KeyframePacket& p);
+  /// Final body poses of every keyframe once loop closing has finished.
+  void computeFinalKeyframePoses();
 
   // Odometry-thread state.
   std::vector<FrameRecord> frames_;

@@ -8,6 +8,7 @@
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/frontend/frontend_options.h"
 #include "rgbdi/io/stream_options.h"
+#include "rgbdi/loop/loop_options.h"
 #include "rgbdi/mapping/mapping_options.h"
 #include "rgbdi/output/output_options.h"
 
@@ -23,6 +24,7 @@ struct SystemConfig {
   estimator::EstimatorOptions estimator;
   output::OutputOptions output;
   mapping::MappingOptions mapping;
+  loop::LoopOptions loop;
 
   /// Loads and validates `path` (empty = built-in defaults). Throws ConfigError naming file,
   /// section, key and accepted range.

@@ -60,6 +60,8 @@ class VioSystem : public MeasurementSink {
   const Eigen::Isometry3d& T_body_cam() const { return cfg_.extrinsic.T_body_cam; }
   estimator::SlidingWindowEstimator& estimator() { return *estimator_; }
   double timeOffset() const { return estimator_->timeOffset(); }
+  /// The colour camera used for `frame` ([camera] intrinsics_source: config or stream).
+  PinholeCamera cameraFor(const RgbdFrame& frame) const;
 
  private:
   struct Pending {
@@ -68,7 +70,6 @@ class VioSystem : public MeasurementSink {
   };
   void processReady(bool flush);
   void emitKeyframes(std::vector<estimator::KeyframeState> kfs);
-  PinholeCamera chooseCamera(const RgbdFrame& frame) const;
 
   SystemConfig cfg_;
   bool use_depth_;

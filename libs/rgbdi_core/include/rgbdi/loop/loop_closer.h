@@ -1,0 +1,96 @@
+// Loop closing for one keyframe at a time (paper sections 3.4, 4.4): place recognition proposes
+// stored keyframes, geometric verification with metric depth accepts or rejects each (counted by
+// reason), accepted loops become edges of the live 4-DOF pose graph, which is solved to
+// convergence with wrong loops rolled back. Owned by one thread (the loop-closing stage).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "rgbdi/common/camera.h"
+#include "rgbdi/loop/loop_keyframe.h"
+#include "rgbdi/loop/loop_options.h"
+#include "rgbdi/loop/loop_verifier.h"
+#include "rgbdi/loop/place_recognizer.h"
+#include "rgbdi/loop/pose_graph.h"
+
+namespace rgbdi::loop {
+
+/// One accepted loop.
+struct LoopRecord {
+  LoopConstraint constraint;  ///< from = older (candidate), to = newer (query)
+  int edge_id = -1;           ///< edge of the pose graph
+  bool by_proximity = false;  ///< proposed by the pose search, not by appearance
+  double t_query = 0.0;       ///< [s] stamp of the query keyframe
+  bool rolled_back = false;   ///< removed by a later solve (its residual exceeded the gate)
+};
+
+struct LoopStats {
+  std::uint64_t keyframes = 0;   ///< keyframes processed (all queried)
+  std::uint64_t candidates = 0;  ///< proposed by place recognition
+  std::uint64_t candidates_by_proximity = 0;
+  std::uint64_t verified = 0;                                       ///< geometric verifications run
+  std::array<std::uint64_t, kAllLoopRejections.size()> rejected{};  ///< by LoopRejection
+  std::uint64_t accepted = 0;
+  std::uint64_t rolled_back = 0;
+  std::uint64_t solves = 0;
+  double features_ms_total = 0.0;     ///< ORB extraction (done by the caller, added by it)
+  double recognition_ms_total = 0.0;  ///< index query + insertion
+  double verification_ms_total = 0.0;
+  double solve_ms_total = 0.0, solve_ms_max = 0.0;
+  int solver_iterations_total = 0;
+};
+
+/// What processing one keyframe changed.
+struct LoopUpdate {
+  int accepted = 0;
+  int rolled_back = 0;
+  bool solved = false;  ///< the pose graph was solved: every corrected pose may have moved
+};
+
+class LoopCloser {
+ public:
+  LoopCloser(const LoopOptions& options, const PinholeCamera& colour_cam,
+             const Eigen::Isometry3d& T_body_cam);
+
+  /// kf.descriptors must hold its ORB keypoints; kf.T_world_body is set here from the drift of
+  /// its segment (the best estimate before this keyframe's own loops).
+  LoopUpdate process(LoopKeyframe kf);
+  /// Solves the graph if loops were accepted since the last solve (end of the run).
+  LoopUpdate finish();
+
+  /// Correction of `segment` (T_corrected * T_odom^-1); identity for a segment not seen yet.
+  Eigen::Isometry3d drift(int segment) const;
+  /// Corrected body pose of a processed keyframe (throws std::out_of_range naming the id).
+  Eigen::Isometry3d pose(std::uint64_t id) const { return graph_.pose(id); }
+  /// Corrected body poses of every processed keyframe, in id order.
+  std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>> correctedPoses() const;
+
+  const PoseGraph4Dof& graph() const { return graph_; }
+  const std::vector<LoopRecord>& loops() const { return loops_; }
+  const LoopStats& stats() const { return stats_; }
+  LoopStats& mutableStats() { return stats_; }
+  const PlaceRecognitionStats& placeStats() const { return recognizer_.stats(); }
+  /// Bytes held for the stored keyframes (descriptors, keypoints, points) and the index.
+  std::size_t memoryBytes() const;
+
+ private:
+  LoopOptions options_;
+  LoopVerifier verifier_;
+  PlaceRecognizer recognizer_;
+  PoseGraph4Dof graph_;
+  std::vector<LoopKeyframe> keyframes_;  ///< every processed keyframe, by id order
+  std::unordered_map<std::uint64_t, std::size_t> slot_of_;
+  std::vector<LoopRecord> loops_;
+  LoopStats stats_;
+  bool solve_pending_ = false;
+  std::uint64_t keyframes_since_solve_ = 0;
+
+  void solve(LoopUpdate& update);
+};
+
+}  // namespace rgbdi::loop

@@ -1,0 +1,38 @@
+// Options of loop closure: the [loop] section (doc/loop.md lists every key with its unit).
+#pragma once
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/loop/loop_features.h"
+#include "rgbdi/loop/loop_verifier.h"
+#include "rgbdi/loop/place_recognizer.h"
+#include "rgbdi/loop/pose_graph_options.h"
+
+namespace rgbdi::loop {
+
+struct LoopOptions {
+  bool enable = true;  ///< loop closure on (rgbdi-slam --no-loop turns it off)
+  /// [count] offline runs: a frame's online pose takes the drift correction known once keyframe
+  /// k - lag has been through loop closing (k = keyframes handed out so far). A defined point,
+  /// so threaded and sequential runs agree; live runs take what is ready.
+  int offline_lag_keyframes = 1;
+  int max_verified_candidates = 4;  ///< [count] candidates geometrically verified per keyframe
+  int max_loops_per_keyframe = 1;   ///< [count] accepted loop edges per keyframe at most
+  /// A keyframe joins loop closing (ORB features, place index, pose-graph node) only when it is
+  /// at least this far from, or turned this much from, the previous one that joined (same
+  /// segment); the others follow the correction of their neighbours. Bounds the cost per metre.
+  double min_keyframe_distance_m = 0.2;  ///< [m]
+  double min_keyframe_angle_deg = 10.0;  ///< [deg]
+  /// [count] after a loop is accepted the graph is solved once this many loop keyframes have
+  /// passed since the last solve (and at the end of the run): bounds the solver's share.
+  int solve_interval_keyframes = 5;
+
+  LoopFeatureOptions features;
+  PlaceRecognitionOptions place;
+  LoopVerificationOptions verify;
+  PoseGraphOptions graph;
+
+  /// Reads and validates every [loop] key (ConfigError names file, key and range).
+  static LoopOptions load(IniReader& ini);
+};
+
+}  // namespace rgbdi::loop

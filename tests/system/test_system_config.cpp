@@ -1,0 +1,47 @@
+// The whole configuration: the shipped file loads, the [loop] keys are validated like every other
+// section (a bad value or an unknown key is an error naming it), and the loop defaults equal the
+// shipped file.
+#include <gtest/gtest.h>
+
+#include "rgbdi/system/system_config.h"
+#include "testing/fixtures.h"
+
+using namespace rgbdi;
+
+namespace {
+std::string loadError(const std::string& text) {
+  try {
+    IniReader ini = IniReader::fromText(text, "test.ini");
+    system::SystemConfig::load(ini);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(SystemConfig, LoopDefaultsEqualTheShippedConfig) {
+  const system::SystemConfig shipped =
+      system::SystemConfig::load(test::sourceDir() + "/share/config.ini");
+  const loop::LoopOptions d;
+  const loop::LoopOptions& f = shipped.loop;
+  EXPECT_EQ(f.enable, d.enable);
+  EXPECT_TRUE(f.enable);  // on by default
+  EXPECT_EQ(f.offline_lag_keyframes, d.offline_lag_keyframes);
+  EXPECT_EQ(f.max_verified_candidates, d.max_verified_candidates);
+  EXPECT_EQ(f.max_loops_per_keyframe, d.max_loops_per_keyframe);
+  EXPECT_EQ(f.min_keyframe_distance_m, d.min_keyframe_distance_m);
+  EXPECT_EQ(f.min_keyframe_angle_deg, d.min_keyframe_angle_deg);
+  EXPECT_EQ(f.solve_interval_keyframes, d.solve_interval_keyframes);
+}
+
+TEST(SystemConfig, LoopKeysAreValidatedLikeEveryOtherSection) {
+  const std::string bad_bool = loadError("[loop]\nenable = banana\n");
+  EXPECT_NE(bad_bool.find("test.ini"), std::string::npos) << bad_bool;
+  EXPECT_NE(bad_bool.find("[loop] enable"), std::string::npos) << bad_bool;
+  const std::string unknown = loadError("[loop]\nno_such_key = 1\n");
+  EXPECT_NE(unknown.find("no_such_key"), std::string::npos) << unknown;
+  const std::string range = loadError("[loop]\nsolve_interval_keyframes = 0\n");
+  EXPECT_NE(range.find("solve_interval_keyframes"), std::string::npos) << range;
+  EXPECT_EQ(loadError("[loop]\nenable = false\n"), "");
+}
