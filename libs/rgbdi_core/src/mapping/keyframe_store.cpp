@@ -41,6 +41,13 @@ void KeyframeStore::add(Keyframe keyframe) {
                                 " bytes, expected " +
                                 std::to_string(keyframe.descriptors.keypoints_uv.size()) + " x " +
                                 std::to_string(keyframe.descriptors.bytes_per_descriptor));
+  // Stored keyframes never grow again: drop the slack of vectors filled by push_back (up to
+  // half of the store on long runs; the store holds every keyframe of the session).
+  keyframe.features.shrink_to_fit();
+  keyframe.points.shrink_to_fit();
+  keyframe.descriptors.keypoints_uv.shrink_to_fit();
+  keyframe.descriptors.keypoints_p_cam.shrink_to_fit();
+  keyframe.descriptors.data.shrink_to_fit();
   // Keyframes normally arrive with increasing ids: appending is the common, O(1) case.
   if (keyframes_.empty() || keyframes_.back().id < keyframe.id) {
     keyframes_.push_back(std::move(keyframe));
