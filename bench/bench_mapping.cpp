@@ -104,7 +104,15 @@ class Bench {
       o.min_points_per_leaf_rebuild = 0;  // as in the paper's table: no filter after the update
       variants_.push_back(std::make_unique<Variant>("capacity " + std::to_string(capacity), o));
     }
-    if (a.occupancy) occupancy_ = std::make_unique<mapping::OccupancyMap>(base);
+    if (a.occupancy) {
+      occupancy_ = std::make_unique<mapping::OccupancyMap>(base);
+      // rgbdi-slam's path: the keyframe's kept points (capacity 5), once with a ray through
+      // every point and once with the configured share of rays.
+      mapping::MappingOptions every_ray = base;
+      every_ray.occupancy_grid_stride = 1;
+      kept_all_rays_ = std::make_unique<mapping::OccupancyMap>(every_ray);
+      kept_strided_ = std::make_unique<mapping::OccupancyMap>(base);
+    }
   }
 
   void addKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam) {
@@ -119,7 +127,16 @@ class Bench {
       v->insert_ms.push_back(ms(std::chrono::steady_clock::now() - t0));
       v->store.add(std::move(kf));
     }
-    if (occupancy_) occupancy_->insert(frame, T_world_cam);
+    if (occupancy_) {
+      occupancy_->insert(frame, T_world_cam);
+      const auto& kept = variants_[1]->store.keyframes().back().points;
+      double t0 = threadCpuSeconds();
+      kept_all_rays_->insertPoints(kept, T_world_cam);
+      kept_all_rays_cpu_s_ += threadCpuSeconds() - t0;
+      t0 = threadCpuSeconds();
+      kept_strided_->insertPoints(kept, T_world_cam);
+      kept_strided_cpu_s_ += threadCpuSeconds() - t0;
+    }
     ++next_id_;
   }
 
@@ -199,6 +216,14 @@ class Bench {
                 << base_.occupancy_grid_stride << "): " << occupancy_->stats().rays / n << " rays, "
                 << 1e3 * occupancy_->stats().seconds / static_cast<double>(n) << " ms per keyframe, "
                 << occupancy_->leafCount() << " leaves\n";
+    if (occupancy_)
+      std::cout << "occupancy from kept points (rgbdi-slam), CPU per keyframe: every point "
+                << kept_all_rays_->stats().rays / n << " rays "
+                << 1e3 * kept_all_rays_cpu_s_ / static_cast<double>(n) << " ms, "
+                << kept_all_rays_->leafCount() << " leaves; every stride^2-th point "
+                << kept_strided_->stats().rays / n << " rays "
+                << 1e3 * kept_strided_cpu_s_ / static_cast<double>(n) << " ms, "
+                << kept_strided_->leafCount() << " leaves\n";
     std::cout << std::setprecision(1);
     std::cout << "memory: map capacity 5 " << variants_[1]->map.memoryBytes() / 1048576.0 << " MiB ("
               << variants_[1]->map.leafCount() << " leaves), keyframe store "
@@ -213,7 +238,8 @@ class Bench {
   const Args& args_;
   mapping::MappingOptions base_;
   std::vector<std::unique_ptr<Variant>> variants_;
-  std::unique_ptr<mapping::OccupancyMap> occupancy_;
+  std::unique_ptr<mapping::OccupancyMap> occupancy_, kept_all_rays_, kept_strided_;
+  double kept_all_rays_cpu_s_ = 0.0, kept_strided_cpu_s_ = 0.0;
   std::uint64_t next_id_ = 0;
 };
 

@@ -104,6 +104,9 @@ int main(int argc, char** argv) {
   std::cout << "resets " << st.resets << ", first pose at "
             << (st.first_pose_t_image - seq.frameStamp(0)) << " s, time offset "
             << 1000.0 * vio.estimator().timeOffset() << " ms\n";
+  std::cout << "estimator updates " << st.optimisations << ", solver iterations per update "
+            << (st.optimisations > 0 ? double(st.solver_iterations) / st.optimisations : 0.0)
+            << ", stopped at max_iterations " << st.solver_iterations_capped << "\n";
   double used = 0, verified = 0;
   int updates = 0;
   for (const auto& e : vio.estimates())

@@ -365,6 +365,34 @@ TEST(FeatureTracker, SameInputGivesIdenticalOutput) {
   }
 }
 
+TEST(FeatureTracker, OpenCvThreadCountIsAppliedAndDoesNotChangeTheResult) {
+  const PinholeCamera cam = simpleCamera();
+  const HomographySequence seq(4);
+  auto run = [&](int threads) {
+    FrontendOptions o;
+    o.opencv_threads = threads;
+    FeatureTracker tracker(o, cam);
+    const int applied = cv::getNumThreads();
+    std::vector<FeatureFrame> out;
+    for (int k = 0; k < 4; ++k)
+      out.push_back(
+          tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam)));
+    return std::make_pair(applied, out);
+  };
+  const auto pooled = run(2);
+  const auto single = run(1);  // the default: OpenCV runs on the calling thread
+  EXPECT_EQ(pooled.first, 2);
+  EXPECT_EQ(single.first, 1);
+  cv::setNumThreads(-1);  // back to OpenCV's default for the other tests
+  for (size_t k = 0; k < single.second.size(); ++k) {
+    ASSERT_EQ(single.second[k].features.size(), pooled.second[k].features.size());
+    for (size_t i = 0; i < single.second[k].features.size(); ++i) {
+      EXPECT_EQ(single.second[k].features[i].id, pooled.second[k].features[i].id);
+      EXPECT_EQ(single.second[k].features[i].uv, pooled.second[k].features[i].uv);  // bit-identical
+    }
+  }
+}
+
 TEST(FeatureTracker, ResetStartsNewTracksWithFreshIds) {
   const PinholeCamera cam = simpleCamera();
   const HomographySequence seq(3);

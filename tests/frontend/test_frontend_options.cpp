@@ -36,6 +36,8 @@ TEST(FrontendOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.depth_neighbourhood_px, d.depth_neighbourhood_px);
   EXPECT_DOUBLE_EQ(f.depth_max_relative_spread, d.depth_max_relative_spread);
   EXPECT_DOUBLE_EQ(f.registration_fill_max_relative_diff, d.registration_fill_max_relative_diff);
+  EXPECT_EQ(f.opencv_threads, d.opencv_threads);
+  EXPECT_EQ(f.opencv_threads, 1);
 }
 
 TEST(FrontendOptions, EveryFrontendKeyOfTheShippedConfigIsRead) {

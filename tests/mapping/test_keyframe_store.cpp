@@ -311,6 +311,21 @@ TEST(KeyframeStore, MemoryHoldsPointsAndFeaturesButNoImages) {
   EXPECT_EQ(store.pointCount(), 100u);
 }
 
+TEST(KeyframeStore, StoredKeyframesKeepNoSpareCapacity) {
+  Keyframe kf;
+  kf.id = 3;
+  for (int i = 0; i < 150; ++i) kf.features.push_back(KeyframeFeature{});  // capacity 256
+  for (int i = 0; i < 300; ++i) kf.points.push_back(MapPoint{});           // capacity 512
+  ASSERT_GT(kf.features.capacity(), 150u);
+  KeyframeStore store;
+  store.add(kf);
+  EXPECT_EQ(store.at(0).features.capacity(), 150u);
+  EXPECT_EQ(store.at(0).points.capacity(), 300u);
+  EXPECT_EQ(store.memoryBytes() - KeyframeStore().memoryBytes() - sizeof(Keyframe) -
+                store.at(0).descriptors.type.capacity(),  // the empty string's inline buffer
+            150 * sizeof(KeyframeFeature) + 300 * sizeof(MapPoint));
+}
+
 TEST(KeyframeStore, SaveIntoAMissingDirectoryFailsWithThePath) {
   KeyframeStore store;
   try {

@@ -119,13 +119,62 @@ TEST(OccupancyMap, RebuildRayCastsTheKeyframesKeptPointsAtTheirPoses) {
   rebuilt.insert(planeFrame(3000), Eigen::Isometry3d::Identity());  // discarded by rebuild()
   rebuilt.rebuild(store);
   for (const Keyframe& kf : store.keyframes()) expected.insertPoints(kf.points, kf.T_world_cam);
-  EXPECT_EQ(rebuilt.stats().rays, 2 * 2576u);
+  EXPECT_EQ(rebuilt.stats().rays, 2 * 644u);  // every 4th of the 2576 kept points (stride 2)
   EXPECT_EQ(rebuilt.leafCount(), expected.leafCount());
   for (auto it = expected.tree().begin_leafs(); it != expected.tree().end_leafs(); ++it) {
     const octomap::OcTreeNode* n = rebuilt.tree().search(it.getKey());
     ASSERT_NE(n, nullptr);
     ASSERT_EQ(n->getLogOdds(), it->getLogOdds());
   }
+}
+
+TEST(OccupancyMap, KeptPointsCastEveryStrideSquaredRayAndAllMarkTheirCellsOccupied) {
+  MappingOptions every_ray;
+  every_ray.occupancy_grid_stride = 1;
+  PointMap points(every_ray);
+  const Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  // A slanted surface, so that neighbouring points end in different cells.
+  rgbdi::RgbdFrame f = planeFrame(2000);
+  for (int v = 0; v < f.depth.rows; ++v)
+    for (int u = 0; u < f.depth.cols; ++u)
+      f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(1500 + 2 * u + v);
+  const std::vector<MapPoint> kept = points.insertKeyframe(f, T);
+  ASSERT_EQ(kept.size(), 2576u);
+  OccupancyMap full(every_ray), decimated{MappingOptions{}};  // stride 1 vs the default 2
+  full.insertPoints(kept, T);
+  decimated.insertPoints(kept, T);
+  EXPECT_EQ(full.stats().rays, 2576u);
+  EXPECT_EQ(decimated.stats().rays, 644u);
+  // The same occupied cells (every point marks its cell); free cells are a subset of the full
+  // casting's (47 % of them for this single view: near the camera neighbouring rays cross the
+  // same cells, far away they do not; later keyframes carve more).
+  std::size_t occupied_full = 0, free_full = 0, free_decimated = 0;
+  for (auto it = full.tree().begin_leafs(); it != full.tree().end_leafs(); ++it) {
+    const octomap::OcTreeNode* n = decimated.tree().search(it.getKey());
+    if (full.tree().isNodeOccupied(*it)) {
+      ++occupied_full;
+      ASSERT_NE(n, nullptr);
+      ASSERT_TRUE(decimated.tree().isNodeOccupied(n));
+    } else {
+      ++free_full;
+      if (n != nullptr) {
+        ASSERT_FALSE(decimated.tree().isNodeOccupied(n));
+        ++free_decimated;
+      }
+    }
+  }
+  std::size_t occupied_decimated = 0, leaves_decimated = 0;
+  for (auto it = decimated.tree().begin_leafs(); it != decimated.tree().end_leafs(); ++it) {
+    ++leaves_decimated;
+    occupied_decimated += decimated.tree().isNodeOccupied(*it);
+  }
+  EXPECT_EQ(occupied_decimated, occupied_full);
+  EXPECT_EQ(leaves_decimated, occupied_decimated + free_decimated);  // nothing outside the full map
+  EXPECT_GT(occupied_full, 100u);
+  EXPECT_GT(free_decimated * 5, free_full * 2);
+  // A point that casts no ray still marks its cell: the second kept point.
+  const Eigen::Vector3d second = kept[1].p_cam.cast<double>();
+  EXPECT_EQ(cellAt(decimated.tree(), second), Cell::Occupied);
 }
 
 TEST(OccupancyMap, RayCastingTimePerKeyframe) {

@@ -37,6 +37,8 @@ FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCame
                                 std::to_string(cam_.width) + "x" + std::to_string(cam_.height) +
                                 ", fx " + std::to_string(cam_.fx) + ", fy " + std::to_string(cam_.fy) + ")");
   if (options_.clahe_clip_limit > 0.0) clahe_ = cv::createCLAHE(options_.clahe_clip_limit, kClaheTiles);
+  // Results do not depend on it (the parallel loops split work over independent pixels/points).
+  if (options_.opencv_threads > 0) cv::setNumThreads(options_.opencv_threads);
 }
 
 FeatureTracker::~FeatureTracker() = default;

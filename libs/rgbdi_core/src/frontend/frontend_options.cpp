@@ -29,6 +29,7 @@ const IntKey kIntKeys[] = {
     {"klt_pyramid_levels", &FrontendOptions::klt_pyramid_levels, 0, 8},
     {"klt_max_iterations", &FrontendOptions::klt_max_iterations, 1, 1000},
     {"depth_neighbourhood_px", &FrontendOptions::depth_neighbourhood_px, 0, 20},
+    {"opencv_threads", &FrontendOptions::opencv_threads, 0, 256},
 };
 
 const DoubleKey kDoubleKeys[] = {

@@ -1,23 +1,24 @@
-// Milliseconds since construction or the last lap, for the per-step front-end timings.
+// Thread CPU milliseconds since construction or the last lap, for the per-step front-end
+// timings (CPU time: on a shared machine wall time mostly measures the other processes).
 #pragma once
 
-#include <chrono>
+#include "rgbdi/common/cpu_clock.h"
 
 namespace rgbdi::frontend {
 
 class Stopwatch {
  public:
-  Stopwatch() : last_(std::chrono::steady_clock::now()) {}
-  /// Milliseconds since the previous lap (or construction); starts the next lap.
+  Stopwatch() : last_s_(threadCpuSeconds()) {}
+  /// CPU milliseconds of this thread since the previous lap (or construction); starts the next.
   double lapMs() {
-    const auto now = std::chrono::steady_clock::now();
-    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
-    last_ = now;
+    const double now = threadCpuSeconds();
+    const double ms = 1e3 * (now - last_s_);
+    last_s_ = now;
     return ms;
   }
 
  private:
-  std::chrono::steady_clock::time_point last_;
+  double last_s_;
 };
 
 }  // namespace rgbdi::frontend

@@ -2,20 +2,20 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
-
-#include <algorithm>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <optional>
 
 #include "io/counting_input_stream.h"
 #include "io/rawlog_naming.h"
+#include "rgbdi/common/cpu_clock.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/stream_checker.h"
 #include "rgbdi/io/time_ordering_buffer.h"
@@ -72,6 +72,7 @@ struct RawlogSource::Impl {
 
   /// Reads one top-level record and offers its measurements to the buffer.
   void readRecord() {
+    ScopedCpuTimer timer(checker.counters().read_cpu_s);
     // Process-wide MRPT setting: make lazy-loaded images of THIS rawlog resolve correctly.
     mrpt::img::CImage::setImagesPathBase(images_dir);
     const uint64_t before = counting->bytes();
@@ -120,7 +121,12 @@ struct RawlogSource::Impl {
     ++checker.counters().observations;
     if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) {
       try {
-        offer(Measurement(fromMrpt(*scan, checker.at(rec))), rec);
+        std::optional<Measurement> m;
+        {
+          ScopedCpuTimer timer(checker.counters().rgbd_decode_cpu_s);
+          m.emplace(fromMrpt(*scan, checker.at(rec)));
+        }
+        offer(std::move(*m), rec);
       } catch (const ConversionError& e) {
         checker.onUnusable(rec, std::string(e.what()) + "; skipped");
       }

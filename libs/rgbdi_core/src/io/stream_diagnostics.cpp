@@ -104,6 +104,8 @@ std::string StreamDiagnostics::toJson(int indent) const {
   j["extrinsic_mismatch"] = extrinsic_mismatch;
   j["mean_acc_norm_m_s2"] = mean_acc_norm_m_s2;
   j["acc_looks_like_g_units"] = acc_looks_like_g_units;
+  j["read_cpu_s"] = read_cpu_s;
+  j["rgbd_decode_cpu_s"] = rgbd_decode_cpu_s;
   j["warnings"] = warnings;
   j["error"] = error;
   j["ok"] = ok();

@@ -36,26 +36,57 @@ struct OccupancyMap::Impl {
     return tree;
   }
 
-  void castRays(const std::vector<MapPoint>& points_cam, const Eigen::Isometry3d& T_world_cam) {
+  /// Ray casts every `ray_every`-th point (in the given order) from the camera centre; the
+  /// other points only mark their endpoint cells occupied. A keyframe's kept points are the
+  /// whole sampling grid less full leaves, so casting all of them carves the same free space
+  /// several times over (neighbouring rays cross the same cells near the camera): a fraction of
+  /// the rays carves nearly the same space at a fraction of the cost, and every point still
+  /// marks its surface cell.
+  void castRays(const std::vector<MapPoint>& points_cam, const Eigen::Isometry3d& T_world_cam,
+                std::size_t ray_every) {
     const auto start = std::chrono::steady_clock::now();
-    octomap::Pointcloud cloud;
-    cloud.reserve(points_cam.size());
-    for (const MapPoint& p : points_cam) {
-      const Eigen::Vector3d w = T_world_cam * p.p_cam.cast<double>();
-      cloud.push_back(static_cast<float>(w.x()), static_cast<float>(w.y()),
-                      static_cast<float>(w.z()));
-    }
     const Eigen::Vector3d o = T_world_cam.translation();
-    // Max range: far readings only clear space up to the trusted depth. Discretize: rays
-    // ending in the same voxel are cast once. Lazy evaluation: inner nodes are refreshed once
-    // before the tree is read (finish()), not after every cell update (about 5x faster).
-    tree.insertPointCloud(cloud, octomap::point3d(static_cast<float>(o.x()), static_cast<float>(o.y()),
-                                                  static_cast<float>(o.z())),
-                          options.depth_max_m, /*lazy_eval=*/true, /*discretize=*/true);
+    const octomap::point3d origin(static_cast<float>(o.x()), static_cast<float>(o.y()),
+                                  static_cast<float>(o.z()));
+    octomap::Pointcloud rays;
+    rays.reserve(points_cam.size() / ray_every + 1);
+    std::vector<octomap::point3d> hits_only;
+    hits_only.reserve(points_cam.size());
+    for (std::size_t i = 0; i < points_cam.size(); ++i) {
+      const Eigen::Vector3d w = T_world_cam * points_cam[i].p_cam.cast<double>();
+      const octomap::point3d pw(static_cast<float>(w.x()), static_cast<float>(w.y()),
+                                static_cast<float>(w.z()));
+      if (i % ray_every == 0) {
+        rays.push_back(pw);
+      } else {
+        hits_only.push_back(pw);
+      }
+    }
+    // As OcTree::insertPointCloud: discretised endpoints (rays ending in the same voxel are cast
+    // once), max range (farther readings only clear space up to the trusted depth), occupied
+    // wins over free within one scan, lazy inner-node updates (refreshed once by finish()).
+    const double max_range = options.depth_max_m;
+    octomap::KeySet free_cells, occupied_cells;
+    tree.computeDiscreteUpdate(rays, origin, free_cells, occupied_cells, max_range);
+    for (const octomap::point3d& p : hits_only) {
+      octomap::OcTreeKey key;
+      if ((p - origin).norm() <= max_range && tree.coordToKeyChecked(p, key)) {
+        occupied_cells.insert(key);
+        free_cells.erase(key);
+      }
+    }
+    for (const octomap::OcTreeKey& k : free_cells) tree.updateNode(k, false, /*lazy_eval=*/true);
+    for (const octomap::OcTreeKey& k : occupied_cells) tree.updateNode(k, true, /*lazy_eval=*/true);
     inner_nodes_stale = true;
     ++stats.scans;
-    stats.rays += points_cam.size();
+    stats.rays += rays.size();
     stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  /// Every how many kept points a ray is cast: occupancy_grid_stride in both image directions.
+  std::size_t keptPointRayStep() const {
+    return static_cast<std::size_t>(options.occupancy_grid_stride) *
+           static_cast<std::size_t>(options.occupancy_grid_stride);
   }
 };
 
@@ -77,19 +108,20 @@ void OccupancyMap::insert(const RgbdFrame& frame, const Eigen::Isometry3d& T_wor
   m.scratch.clear();
   m.sampler.sample(frame, m.options.occupancy_grid_stride, m.options.depth_min_m,
                    std::numeric_limits<double>::infinity(), m.scratch, counts);
-  m.castRays(m.scratch, T_world_cam);
+  m.castRays(m.scratch, T_world_cam, 1);  // the sampler already applied the stride
 }
 
 void OccupancyMap::insertPoints(const std::vector<MapPoint>& points_cam,
                                 const Eigen::Isometry3d& T_world_cam) {
   if (!detail::isRigid(T_world_cam))
     throw std::invalid_argument("OccupancyMap::insertPoints: T_world_cam is not a finite rigid transform");
-  impl_->castRays(points_cam, T_world_cam);
+  impl_->castRays(points_cam, T_world_cam, impl_->keptPointRayStep());
 }
 
 void OccupancyMap::rebuild(const KeyframeStore& store) {
   clear();
-  for (const Keyframe& kf : store.keyframes()) impl_->castRays(kf.points, kf.T_world_cam);
+  for (const Keyframe& kf : store.keyframes())
+    impl_->castRays(kf.points, kf.T_world_cam, impl_->keptPointRayStep());
 }
 
 void OccupancyMap::clear() {

@@ -70,7 +70,11 @@ struct EstimatorStats {
   int moving_initialisations = 0;  ///< from motion (depth-aided PnP or visual SfM)
   int visual_initialisations = 0;  ///< of which visual SfM (no depth)
   double first_pose_t_image = -1.0;
+  /// [ms] thread CPU time of the stages, summed over all frames
   double sum_ms_optimisation = 0.0, sum_ms_marginalisation = 0.0, sum_ms_preintegration = 0.0;
+  int optimisations = 0;             ///< solver runs (window updates)
+  int solver_iterations = 0;         ///< Ceres iterations summed over those runs
+  int solver_iterations_capped = 0;  ///< runs that stopped at max_iterations
 };
 
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {
@@ -152,6 +156,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
+  double last_preintegration_ms_ = 0.0;  ///< [ms] CPU time of the newest slot's pre-integration
   std::vector<KeyframeState> finished_keyframes_;
   /// States of the window's keyframes after the last successful update: handed out at a reset,
   /// so keyframes still in the window are not lost (the failed update's states are not used).

@@ -20,7 +20,7 @@ struct FeatureObservation {
   int track_length = 1;  ///< number of images this feature has been seen in, including this one
 };
 
-/// Wall-clock time of each front-end step for one image [ms] (diagnostics only).
+/// Thread CPU time of each front-end step for one image [ms] (diagnostics only).
 struct FrontendTimings {
   double grey_ms = 0.0;      ///< colour -> grey conversion (and CLAHE when enabled)
   double pyramid_ms = 0.0;   ///< image pyramid with derivatives

@@ -44,6 +44,12 @@ struct FrontendOptions {
   /// agree within this fraction of their depth.
   double registration_fill_max_relative_diff = 0.02;
 
+  /// [count] threads OpenCV may use for the image operations (a process-wide OpenCV setting,
+  /// applied when a FeatureTracker is built). 1 = on the calling thread: OpenCV's worker pool
+  /// spins between the short calls of each frame and burns a second core for no gain
+  /// (doc/performance.md); 0 = leave OpenCV's default (one thread per core).
+  int opencv_threads = 1;
+
   /// Throws ConfigError when fields are inconsistent with each other or out of their ranges.
   void validate() const;
   /// Reads [frontend]; missing keys keep the defaults above.

@@ -52,6 +52,13 @@ struct StreamDiagnostics {
   double mean_acc_norm_m_s2 = 0.0;            ///< mean |acc| over delivered IMU samples
   bool acc_looks_like_g_units = false;
 
+  /// [s] thread CPU time spent reading records (deserialisation, external-image loading and
+  /// decoding, conversion, checks); of which rgbd_decode_cpu_s turned RGB-D observations into
+  /// frames (PNG / compressed range-file decoding, colour-order and depth conversion). Timings
+  /// only: they vary from run to run.
+  double read_cpu_s = 0.0;
+  double rgbd_decode_cpu_s = 0.0;
+
   std::vector<std::string> warnings;          ///< each names the file and the record(s)
   std::string error;                          ///< why reading stopped early; empty when it did not
 

@@ -1,6 +1,7 @@
 // Occupancy OctoMap for path planning (map.bt, opens in octovis): free space is carved by ray
 // casting from the camera to each sampled depth point, endpoints are marked occupied. Rays use
-// every occupancy_grid_stride-th row and column of the point map's sampling grid; points beyond
+// every occupancy_grid_stride-th row and column of the point map's sampling grid (for kept point
+// sets: every occupancy_grid_stride^2-th point, the others only mark their cells); points beyond
 // depth_max_m still clear the free space up to depth_max_m.
 #pragma once
 
@@ -39,7 +40,9 @@ class OccupancyMap {
   /// Ray casts the frame's subsampled depth from the colour camera at T_world_cam. Throws
   /// std::invalid_argument naming the frame like PointMap::insertKeyframe.
   void insert(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam);
-  /// Ray casts points given in the camera frame (e.g. a keyframe's kept points).
+  /// Ray casts points given in the camera frame (e.g. a keyframe's kept points, a subset of the
+  /// full sampling grid): rays through every occupancy_grid_stride^2-th point in the given order
+  /// (the same share of rays as insert()), the other points only mark their cells occupied.
   void insertPoints(const std::vector<MapPoint>& points_cam, const Eigen::Isometry3d& T_world_cam);
   /// Clears the map and ray casts every keyframe's kept points at its current pose (after pose
   /// updates: the points a keyframe keeps are a subset of its grid, so the rebuilt map has less
