@@ -429,6 +429,7 @@ TEST_F(RawlogSourceTest, AccelerometerInGIsRefusedBeforeAnythingIsDelivered) {
     EXPECT_EQ(std::string(e.what()), expected);
     EXPECT_EQ(src.diagnostics().error, expected);
   }
+  EXPECT_TRUE(src.diagnostics().refused);
   EXPECT_EQ(src.diagnostics().imu.delivered, 0u);
   EXPECT_EQ(src.diagnostics().images.delivered, 0u);
   EXPECT_FALSE(src.next(m));
@@ -495,6 +496,7 @@ TEST_F(RawlogSourceTest, TimeJumpingBackStopsTheStreamAfterDeliveringWhatCameBef
   EXPECT_EQ(out.size(), 201u);
   expectTimeOrdered(out);
   EXPECT_EQ(measurementTime(out.back()), kT0 + 1.0);
+  EXPECT_FALSE(src.diagnostics().refused);  // damage: what came before was delivered
 }
 
 TEST_F(RawlogSourceTest, SmallBackwardStepsBelowTheJumpLimitAreStillOnlyDropped) {

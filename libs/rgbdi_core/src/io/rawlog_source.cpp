@@ -222,6 +222,7 @@ struct RawlogSource::Impl {
     buffer = TimeOrderingBuffer(cfg.stream.imu_reorder_window_s, cfg.stream.image_reorder_window_s);
     held.clear();
     refused = true;
+    checker.counters().refused = true;
     finished = true;  // the end-of-stream checks would describe data that was never delivered
     fail(message);
   }

@@ -119,6 +119,7 @@ std::string StreamDiagnostics::toJson(int indent) const {
   j["constant_color_s"] = constant_color_s;
   j["warnings"] = warnings;
   j["error"] = error;
+  j["refused"] = refused;
   j["ok"] = ok();
   return j.dump(indent);
 }

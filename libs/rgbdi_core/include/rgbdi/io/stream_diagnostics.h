@@ -58,6 +58,10 @@ struct StreamDiagnostics {
   std::vector<std::string> warnings;  ///< each names the file and the record(s)
   std::string error;                  ///< why reading stopped early; empty when it did not
 
+  /// The whole stream was refused (e.g. accelerometer in g): nothing was delivered, `error` says
+  /// why. Otherwise a non-empty `error` means damage: everything before it was delivered.
+  bool refused = false;
+
   bool ok() const { return error.empty(); }
   /// Multi-line human-readable summary (counts, rates, durations, gaps, checks, warnings).
   std::string report() const;
