@@ -1,6 +1,8 @@
 // Fuzz target: MRPT rawlog records read by io::RawlogSource (both layouts, gzip, ordering and
 // data checks). Documented refusal: RawlogError (at open or at the damaged record).
+#include <cstdlib>
 #include <filesystem>
+#include <iostream>
 
 #include "fuzz_target.h"
 #include "rgbdi/io/rawlog_source.h"
@@ -18,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     while (src.next(m)) {
     }
     (void)src.diagnostics().report();
-  } catch (const RawlogError&) {
+  } catch (const RawlogError& e) {
+    if (std::getenv("RGBDI_FUZZ_TRACE")) std::cerr << "  refused: " << e.what() << "\n";
   }
   return 0;
 }

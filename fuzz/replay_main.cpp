@@ -4,7 +4,11 @@
 //   fuzz_replay_X FILE|DIR...         every given input (a libFuzzer corpus, a crash file)
 //   fuzz_replay_X --write-seeds DIR   writes the seeds as a corpus for libFuzzer (scripts/fuzz.sh)
 // Prints the number of inputs run; an input that crashes the reader ends the process abnormally.
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -18,7 +22,32 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// RGBDI_FUZZ_TRACE=1: name every input on stderr before it runs (to find the one that fails);
+/// RGBDI_FUZZ_SAVE=N:FILE: write input number N to FILE instead of running anything.
+struct Trace {
+  bool on = std::getenv("RGBDI_FUZZ_TRACE") != nullptr;
+  long save_index = -1;
+  std::string save_path;
+  long index = 0;
+  Trace() {
+    if (const char* s = std::getenv("RGBDI_FUZZ_SAVE")) {
+      const std::string v = s;
+      const auto colon = v.find(':');
+      if (colon != std::string::npos) {
+        save_index = std::stol(v.substr(0, colon));
+        save_path = v.substr(colon + 1);
+      }
+    }
+  }
+} g_trace;
+
 void runOne(const std::string& bytes) {
+  const long n = g_trace.index++;
+  if (g_trace.save_index >= 0) {
+    if (n == g_trace.save_index) std::ofstream(g_trace.save_path, std::ios::binary) << bytes;
+    return;
+  }
+  if (g_trace.on) std::cerr << "input " << n << " (" << bytes.size() << " bytes)" << std::endl;
   LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
 }
 
@@ -60,7 +89,24 @@ std::size_t mutateAll(const std::vector<std::string>& seeds) {
 
 }  // namespace
 
+#if defined(__SANITIZE_ADDRESS__)
+#define RGBDI_REPLAY_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define RGBDI_REPLAY_ASAN 1
+#endif
+#endif
+
+/// [bytes] address-space limit of a replay, like libFuzzer's -rss_limit_mb: a corrupt size field
+/// that makes MRPT or ROS allocate gigabytes (doc/robustness.md, open findings) then fails as
+/// std::bad_alloc, which the readers turn into their refusal, instead of exhausting the machine.
+constexpr rlim_t kAddressSpaceLimit = 3ull << 29;  // 1.5 GiB
+
 int main(int argc, char** argv) {
+#ifndef RGBDI_REPLAY_ASAN  // ASan reserves terabytes of shadow memory: no limit there
+  const rlimit lim{kAddressSpaceLimit, kAddressSpaceLimit};
+  setrlimit(RLIMIT_AS, &lim);
+#endif
   try {
     const std::vector<std::string> args(argv + 1, argv + argc);
     if (!args.empty() && args[0] == "--write-seeds") {
