@@ -1,13 +1,13 @@
 // Keyframe store: ordering, pose updates, and the versioned binary file (bit-exact round trip,
 // clear errors for every kind of damage, never a crash).
-#include <gtest/gtest.h>
-
 #include <dirent.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -28,7 +28,8 @@ Keyframe randomKeyframe(std::mt19937_64& rng, std::uint64_t id) {
   k.frame_index = 1000 + 3 * id;
   k.t = 1.7e9 + 0.1 * static_cast<double>(id) + 1e-7;
   k.T_world_cam.linear() =
-      Eigen::AngleAxisd(3.0 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+      Eigen::AngleAxisd(3.0 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized())
+          .toRotationMatrix();
   k.T_world_cam.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 50.0;
   for (int i = 0; i < 40; ++i) {
     KeyframeFeature f;
@@ -40,9 +41,15 @@ Keyframe randomKeyframe(std::mt19937_64& rng, std::uint64_t id) {
   }
   k.descriptors.type = "BRIEF-256";
   k.descriptors.bytes_per_descriptor = 32;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int i = 0; i < 25; ++i) {
-    k.descriptors.keypoints_uv.emplace_back(static_cast<float>(320 + 300 * u(rng)), static_cast<float>(240 + 200 * u(rng)));
+    k.descriptors.keypoints_uv.emplace_back(static_cast<float>(320 + 300 * u(rng)),
+                                            static_cast<float>(240 + 200 * u(rng)));
     for (int b = 0; b < 32; ++b) k.descriptors.data.push_back(static_cast<std::uint8_t>(byte(rng)));
+    // Every fourth keypoint has no depth (NaN), the others a point.
+    k.descriptors.keypoints_p_cam.push_back(
+        i % 4 == 0 ? Eigen::Vector3f(nan, nan, nan)
+                   : Eigen::Vector3d(u(rng), u(rng), 2.0 + u(rng)).cast<float>());
   }
   for (int i = 0; i < 500; ++i) {
     MapPoint p;
@@ -70,6 +77,15 @@ void expectIdentical(const Keyframe& a, const Keyframe& b) {
   EXPECT_EQ(a.descriptors.bytes_per_descriptor, b.descriptors.bytes_per_descriptor);
   EXPECT_EQ(a.descriptors.keypoints_uv, b.descriptors.keypoints_uv);
   EXPECT_EQ(a.descriptors.data, b.descriptors.data);
+  ASSERT_EQ(a.descriptors.keypoints_p_cam.size(), b.descriptors.keypoints_p_cam.size());
+  for (std::size_t i = 0; i < a.descriptors.keypoints_p_cam.size(); ++i) {
+    // Bit-exact, NaN (no depth) included.
+    EXPECT_EQ(std::memcmp(a.descriptors.keypoints_p_cam[i].data(),
+                          b.descriptors.keypoints_p_cam[i].data(), sizeof(Eigen::Vector3f)),
+              0)
+        << "keypoint point " << i;
+    EXPECT_EQ(a.descriptors.hasPoint(i), b.descriptors.hasPoint(i));
+  }
   ASSERT_EQ(a.points.size(), b.points.size());
   for (std::size_t i = 0; i < a.points.size(); ++i) {
     EXPECT_EQ(a.points[i].p_cam, b.points[i].p_cam);
@@ -100,7 +116,8 @@ std::vector<std::string> filesIn(const std::string& dir) {
   std::vector<std::string> names;
   if (DIR* d = opendir(dir.c_str())) {
     while (dirent* e = readdir(d))
-      if (std::string(e->d_name) != "." && std::string(e->d_name) != "..") names.push_back(e->d_name);
+      if (std::string(e->d_name) != "." && std::string(e->d_name) != "..")
+        names.push_back(e->d_name);
     closedir(d);
   }
   return names;
@@ -171,6 +188,9 @@ TEST(KeyframeStore, SaveLoadRoundTripIsBitExact) {
   std::mt19937_64 rng(5);
   KeyframeStore store;
   for (std::uint64_t id = 0; id < 12; ++id) store.add(randomKeyframe(rng, id * 4 + 1));
+  Keyframe no_depth = randomKeyframe(rng, 900);  // descriptors without any 3-D information
+  no_depth.descriptors.keypoints_p_cam.clear();
+  store.add(no_depth);
   Keyframe empty;  // no features, descriptors or points
   empty.id = 1000;
   store.add(empty);
@@ -181,6 +201,9 @@ TEST(KeyframeStore, SaveLoadRoundTripIsBitExact) {
   const KeyframeStore loaded = KeyframeStore::load(path);
   ASSERT_EQ(loaded.size(), store.size());
   for (std::size_t s = 0; s < store.size(); ++s) expectIdentical(store.at(s), loaded.at(s));
+  EXPECT_FALSE(loaded.at(0).descriptors.hasPoint(0));  // the NaN marks survived
+  EXPECT_TRUE(loaded.at(0).descriptors.hasPoint(1));
+  EXPECT_TRUE(loaded.get(900).descriptors.keypoints_p_cam.empty());
   EXPECT_EQ(loaded.pointCount(), store.pointCount());
   // An empty store round-trips too.
   KeyframeStore().save(path);
@@ -203,10 +226,13 @@ TEST(KeyframeStore, DamagedFilesAreReportedWithFileRecordAndReason) {
   writeBytes(bad, b);
   EXPECT_NE(loadError(bad).find("signature"), std::string::npos) << loadError(bad);
 
+  // A version-1 file (no keypoint points) is refused with the version this build reads.
   b = bytes;
-  b[8] = 2;  // version field
+  b[8] = 1;  // version field
   writeBytes(bad, b);
-  EXPECT_NE(loadError(bad).find("unsupported format version 2"), std::string::npos) << loadError(bad);
+  EXPECT_NE(loadError(bad).find("unsupported format version 1 (this build reads version 2)"),
+            std::string::npos)
+      << loadError(bad);
 
   b = bytes;
   b.push_back('x');
@@ -221,7 +247,8 @@ TEST(KeyframeStore, DamagedFilesAreReportedWithFileRecordAndReason) {
     const std::string e = loadError(bad);
     ASSERT_NE(e.find(bad), std::string::npos) << "cut at " << n << ": " << e;
   }
-  writeBytes(bad, std::vector<char>(bytes.begin(), bytes.begin() + static_cast<long>(20 + record_bytes + 200)));
+  writeBytes(bad, std::vector<char>(bytes.begin(),
+                                    bytes.begin() + static_cast<long>(20 + record_bytes + 200)));
   const std::string cut = loadError(bad);
   EXPECT_NE(cut.find("keyframe record 1 (id 1)"), std::string::npos) << cut;
   EXPECT_NE(cut.find("truncated"), std::string::npos) << cut;
@@ -232,6 +259,30 @@ TEST(KeyframeStore, DamagedFilesAreReportedWithFileRecordAndReason) {
   for (int i = 0; i < 4; ++i) b[nf_offset + static_cast<std::size_t>(i)] = static_cast<char>(0xFF);
   writeBytes(bad, b);
   EXPECT_NE(loadError(bad).find("features announced"), std::string::npos) << loadError(bad);
+
+  // The keypoint point count must be 0 or the keypoint count; a point must be finite or all
+  // NaN. Offsets of keyframe 0's descriptor section: type "BRIEF-256" (9 bytes), 25 keypoints.
+  const std::size_t n3_offset =
+      nf_offset + 4 + 40 * (8 + 16 + 1 + 24) + 4 + 9 + 4 + 4 + 25 * 8 + 25 * 32;
+  std::uint32_t n3;
+  std::memcpy(&n3, &bytes[n3_offset], 4);
+  ASSERT_EQ(n3, 25u);  // the layout assumed above
+  b = bytes;
+  b[n3_offset] = 7;
+  writeBytes(bad, b);
+  EXPECT_NE(loadError(bad).find("keyframe record 0 (id 0): 7 keypoint points for 25 keypoints"),
+            std::string::npos)
+      << loadError(bad);
+  b = bytes;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::memcpy(&b[n3_offset + 4 + 12 + 4], &inf, 4);  // keypoint 1's y
+  writeBytes(bad, b);
+  EXPECT_NE(loadError(bad).find("neither finite nor absent"), std::string::npos) << loadError(bad);
+  b = bytes;
+  const float half_nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&b[n3_offset + 4 + 12], &half_nan, 4);  // keypoint 1's x only
+  writeBytes(bad, b);
+  EXPECT_NE(loadError(bad).find("neither finite nor absent"), std::string::npos) << loadError(bad);
 
   // A non-rigid pose (scaled rotation) is refused with the record's id.
   b = bytes;

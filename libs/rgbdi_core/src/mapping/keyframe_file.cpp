@@ -6,8 +6,10 @@
 //           | u32 nf | nf x (u64 id, f64 u, f64 v, u8 has_position, 3 x f64 p_cam)
 //           | u32 type length, type bytes | u32 bytes per descriptor | u32 nk
 //           | nk x (f32 u, f32 v) | nk x bytes-per-descriptor bytes
+//           | u32 n3 (0 or nk) | n3 x (3 x f32 keypoint p_cam, all NaN = no depth)
 //           | u32 np | np x (3 x f32 p_cam, 3 x u8 rgb)
 // The pose is stored as the full matrix so that a save/load round trip is bit-exact.
+// Version 2 added the keypoints' 3-D points (n3); version 1 files are refused.
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -28,6 +30,7 @@ constexpr std::uint32_t kRecordTag = 0x4D52464Bu;  // "KFRM" in file byte order
 constexpr std::size_t kFeatureBytes = 8 + 2 * 8 + 1 + 3 * 8;
 constexpr std::size_t kPointBytes = 3 * 4 + 3;
 constexpr std::size_t kKeypointBytes = 2 * 4;
+constexpr std::size_t kKeypointPointBytes = 3 * 4;
 /// Longest accepted descriptor type name (a corrupt length must not allocate gigabytes).
 constexpr std::uint32_t kMaxTypeLength = 256;
 
@@ -58,6 +61,9 @@ void writeKeyframe(detail::ByteWriter& w, const Keyframe& k) {
     w.f32(uv.y());
   }
   w.raw(d.data.data(), d.data.size());
+  w.u32(static_cast<std::uint32_t>(d.keypoints_p_cam.size()));
+  for (const Eigen::Vector3f& p : d.keypoints_p_cam)
+    for (int i = 0; i < 3; ++i) w.f32(p[i]);
 
   w.u32(static_cast<std::uint32_t>(k.points.size()));
   for (const MapPoint& p : k.points) {
@@ -119,7 +125,7 @@ KeyframeStore KeyframeStore::load(const std::string& path) {
     fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
          std::to_string(kFileVersion) + ")");
   const std::uint64_t count = r.u64("the keyframe count");
-  r.needRecords(count, 4 + 8 + 8 + 8 + 12 * 8 + 4 + 4 + 4 + 4 + 4, "keyframes");
+  r.needRecords(count, 4 + 8 + 8 + 8 + 12 * 8 + 4 + 4 + 4 + 4 + 4 + 4, "keyframes");
 
   KeyframeStore store;
   store.keyframes_.reserve(static_cast<std::size_t>(count));
@@ -171,6 +177,18 @@ KeyframeStore KeyframeStore::load(const std::string& path) {
     }
     d.data.resize(static_cast<std::size_t>(nk) * d.bytes_per_descriptor);
     r.raw(d.data.data(), d.data.size(), "the descriptors");
+    const std::uint32_t n3 = r.u32("the keypoint point count");
+    if (n3 != 0 && n3 != nk)
+      fail(std::to_string(n3) + " keypoint points for " + std::to_string(nk) +
+           " keypoints (must be 0 or equal)");
+    r.needRecords(n3, kKeypointPointBytes, "keypoint points");
+    d.keypoints_p_cam.resize(n3);
+    for (Eigen::Vector3f& p : d.keypoints_p_cam) {
+      for (int i = 0; i < 3; ++i) p[i] = r.f32("a keypoint point");
+      // A point is either known (finite) or marked absent (all NaN); anything else is damage.
+      if (!p.allFinite() && !(std::isnan(p.x()) && std::isnan(p.y()) && std::isnan(p.z())))
+        fail("a keypoint point is neither finite nor absent (all NaN)");
+    }
 
     const std::uint32_t np = r.u32("the point count");
     r.needRecords(np, kPointBytes, "points");

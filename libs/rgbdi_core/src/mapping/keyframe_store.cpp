@@ -9,7 +9,9 @@ namespace rgbdi::mapping {
 
 std::size_t Keyframe::memoryBytes() const {
   return sizeof(Keyframe) + features.capacity() * sizeof(KeyframeFeature) +
-         descriptors.type.capacity() + descriptors.keypoints_uv.capacity() * sizeof(Eigen::Vector2f) +
+         descriptors.type.capacity() +
+         descriptors.keypoints_uv.capacity() * sizeof(Eigen::Vector2f) +
+         descriptors.keypoints_p_cam.capacity() * sizeof(Eigen::Vector3f) +
          descriptors.data.capacity() + points.capacity() * sizeof(MapPoint);
 }
 
@@ -36,19 +38,17 @@ void KeyframeStore::add(Keyframe keyframe) {
     throw std::invalid_argument(who + ": T_world_cam is not a finite rigid transform");
   if (!std::isfinite(keyframe.t)) throw std::invalid_argument(who + ": stamp is not finite");
   if (!keyframe.descriptors.consistent())
-    throw std::invalid_argument(who + ": descriptor data holds " +
-                                std::to_string(keyframe.descriptors.data.size()) +
-                                " bytes, expected " +
-                                std::to_string(keyframe.descriptors.keypoints_uv.size()) + " x " +
-                                std::to_string(keyframe.descriptors.bytes_per_descriptor));
+    throw std::invalid_argument(
+        who + ": descriptor data holds " + std::to_string(keyframe.descriptors.data.size()) +
+        " bytes, expected " + std::to_string(keyframe.descriptors.keypoints_uv.size()) + " x " +
+        std::to_string(keyframe.descriptors.bytes_per_descriptor));
   // Keyframes normally arrive with increasing ids: appending is the common, O(1) case.
   if (keyframes_.empty() || keyframes_.back().id < keyframe.id) {
     keyframes_.push_back(std::move(keyframe));
     return;
   }
-  const auto it =
-      std::lower_bound(keyframes_.begin(), keyframes_.end(), keyframe.id,
-                       [](const Keyframe& k, std::uint64_t v) { return k.id < v; });
+  const auto it = std::lower_bound(keyframes_.begin(), keyframes_.end(), keyframe.id,
+                                   [](const Keyframe& k, std::uint64_t v) { return k.id < v; });
   keyframes_.insert(it, std::move(keyframe));
 }
 
@@ -74,7 +74,8 @@ std::size_t KeyframeStore::pointCount() const {
 }
 
 std::size_t KeyframeStore::memoryBytes() const {
-  std::size_t bytes = sizeof(*this) + (keyframes_.capacity() - keyframes_.size()) * sizeof(Keyframe);
+  std::size_t bytes =
+      sizeof(*this) + (keyframes_.capacity() - keyframes_.size()) * sizeof(Keyframe);
   for (const Keyframe& k : keyframes_) bytes += k.memoryBytes();
   return bytes;
 }

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -23,8 +22,9 @@ class KeyframeFileError : public std::runtime_error {
 
 class KeyframeStore {
  public:
-  /// Version of the file format written by save() (load() reads this version only).
-  static constexpr std::uint32_t kFileVersion = 1;
+  /// Version of the file format written by save() (load() reads this version only). Version 2
+  /// added the depth-backed keypoint points of the descriptor sets.
+  static constexpr std::uint32_t kFileVersion = 2;
 
   /// Adds a keyframe (kept ordered by id). Throws std::invalid_argument when the id is already
   /// present, the pose is not a finite rigid transform, or the descriptors are inconsistent.
