@@ -1,6 +1,7 @@
 // Replay driver of a fuzz target for the normal build (no libFuzzer needed):
 //   fuzz_replay_X                     seeds plus deterministic mutations of them (truncations,
 //                                     byte flips, seeded): the bounded run of the test suite
+//   fuzz_replay_X --truncations-only  seeds and their truncations only
 //   fuzz_replay_X FILE|DIR...         every given input (a libFuzzer corpus, a crash file)
 //   fuzz_replay_X --write-seeds DIR   writes the seeds as a corpus for libFuzzer (scripts/fuzz.sh)
 // Prints the number of inputs run; an input that crashes the reader ends the process abnormally.
@@ -55,7 +56,7 @@ constexpr int kTruncations = 24;  ///< cut points per seed, spread over its leng
 constexpr int kFlips = 48;        ///< single-byte mutations per seed
 constexpr int kBursts = 8;        ///< 16-byte random overwrites per seed
 
-std::size_t mutateAll(const std::vector<std::string>& seeds) {
+std::size_t mutateAll(const std::vector<std::string>& seeds, bool truncations_only) {
   std::size_t runs = 0;
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const std::string& seed = seeds[s];
@@ -67,6 +68,7 @@ std::size_t mutateAll(const std::vector<std::string>& seeds) {
       runOne(seed.substr(0, seed.size() * static_cast<std::size_t>(k) / (kTruncations + 1)));
       ++runs;
     }
+    if (truncations_only) continue;
     std::uniform_int_distribution<std::size_t> pos(0, seed.size() - 1);
     std::uniform_int_distribution<int> byte(0, 255);
     for (int k = 0; k < kFlips; ++k) {
@@ -121,8 +123,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     std::size_t runs = 0;
-    if (args.empty()) {
-      runs = mutateAll(rgbdi::fuzz::rgbdiFuzzSeeds());
+    if (args.empty() || args[0] == "--truncations-only") {
+      runs = mutateAll(rgbdi::fuzz::rgbdiFuzzSeeds(), !args.empty());
     } else {
       for (const auto& a : args) {
         std::vector<fs::path> files;

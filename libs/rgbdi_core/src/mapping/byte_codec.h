@@ -82,6 +82,7 @@ class ByteReader {
   }
   void raw(void* out, std::size_t n, const char* what) {
     need(n, what);
+    if (n == 0) return;  // `out` may be the null data() of an empty container (memcpy: UB)
     std::memcpy(out, data_.data() + offset_, n);
     offset_ += n;
   }
