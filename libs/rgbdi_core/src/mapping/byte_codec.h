@@ -30,9 +30,7 @@ class ByteWriter {
     std::memcpy(&bits, &v, sizeof bits);
     u64(bits);
   }
-  void raw(const void* data, std::size_t n) {
-    bytes_.append(static_cast<const char*>(data), n);
-  }
+  void raw(const void* data, std::size_t n) { bytes_.append(static_cast<const char*>(data), n); }
   const std::string& bytes() const { return bytes_; }
 
  private:
