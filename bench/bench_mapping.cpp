@@ -7,6 +7,8 @@
 //   bench_mapping --rawlog FILE --trajectory TUM [--trajectory-frame camera|body] [--config INI]
 //   common: [--keyframe-distance M] [--keyframe-angle DEG] [--resolution M]
 //           [--correction-m M] [--correction-deg DEG] [--no-occupancy]
+//   bench_mapping --fixed-inputs   the per-keyframe figures on the fixed synthetic frames that the
+//                                  unit tests use (they asserted wall time until issue 14)
 //
 // Keyframes are taken whenever the camera moved --keyframe-distance or turned --keyframe-angle
 // since the last one. The pose update applied before the rebuild is a loop-closure-like
@@ -22,9 +24,11 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "../tests/mapping/synthetic_frames.h"
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/eval/tum_reader.h"
@@ -183,33 +187,39 @@ class Bench {
       return x[x.size() / 2];
     };
     std::cout << std::fixed << std::setprecision(1);
-    std::cout << "\n" << scene << ": " << n << " keyframes, " << st.grid_points << " grid points, "
+    std::cout << "\n"
+              << scene << ": " << n << " keyframes, " << st.grid_points << " grid points, "
               << st.no_depth << " without depth, " << st.out_of_range << " outside ("
               << base_.depth_min_m << ", " << base_.depth_max_m << ") m\n\n";
     std::cout << std::setprecision(3) << "Table 2 | resolution " << base_.octree_resolution_m
-              << " m, keyframe every " << args_.keyframe_distance << " m / " << args_.keyframe_angle_deg
-              << " deg, pose update " << args_.correction_m << " m / " << args_.correction_deg
-              << " deg\n" << std::setprecision(1);
+              << " m, keyframe every " << args_.keyframe_distance << " m / "
+              << args_.keyframe_angle_deg << " deg, pose update " << args_.correction_m << " m / "
+              << args_.correction_deg << " deg\n"
+              << std::setprecision(1);
     std::cout << "  origin points        " << origin << "\n";
     for (std::size_t i = 1; i < variants_.size(); ++i)
-      std::cout << "  octree " << variants_[i]->name << std::string(12 - variants_[i]->name.size(), ' ')
-                << " " << variants_[i]->map.pointCount() << "  ("
+      std::cout << "  octree " << variants_[i]->name
+                << std::string(12 - variants_[i]->name.size(), ' ') << " "
+                << variants_[i]->map.pointCount() << "  ("
                 << 100.0 * variants_[i]->map.pointCount() / std::max<std::size_t>(origin, 1)
                 << " % of origin)\n";
     const double speedup = 100.0 * (1.0 - static_cast<double>(variants_[1]->map.pointCount()) /
                                               std::max<std::size_t>(origin, 1));
     std::cout << std::setprecision(2);
     std::cout << "  loop cost 5 pts      " << rebuild_cpu_ms[1] << " ms CPU, " << rebuild_ms[1]
-              << " ms wall  (no filter: " << rebuild_cpu_ms[0] << " ms CPU; capacity 3: "
-              << rebuild_cpu_ms[2] << "; capacity 1: " << rebuild_cpu_ms[3] << ")\n";
+              << " ms wall  (no filter: " << rebuild_cpu_ms[0]
+              << " ms CPU; capacity 3: " << rebuild_cpu_ms[2]
+              << "; capacity 1: " << rebuild_cpu_ms[3] << ")\n";
     std::cout << std::setprecision(1);
     std::cout << "  speed up (5 pts)     " << speedup << " % by point count, "
-              << 100.0 * (1.0 - rebuild_cpu_ms[1] / std::max(rebuild_cpu_ms[0], 1e-9)) << " % by measured CPU time\n";
-    std::cout << "  after update, capacity 5 + drop leaves < 3: " << clean.kept_points << " points ("
-              << clean.sparse_leaves_removed << " sparse leaves removed)\n\n";
+              << 100.0 * (1.0 - rebuild_cpu_ms[1] / std::max(rebuild_cpu_ms[0], 1e-9))
+              << " % by measured CPU time\n";
+    std::cout << "  after update, capacity 5 + drop leaves < 3: " << clean.kept_points
+              << " points (" << clean.sparse_leaves_removed << " sparse leaves removed)\n\n";
     std::cout << std::setprecision(3);
     std::cout << "per keyframe: insert (capacity 5) median " << median(variants_[1]->insert_ms)
-              << " ms, max " << *std::max_element(variants_[1]->insert_ms.begin(), variants_[1]->insert_ms.end())
+              << " ms, max "
+              << *std::max_element(variants_[1]->insert_ms.begin(), variants_[1]->insert_ms.end())
               << " ms; no filter median " << median(variants_[0]->insert_ms) << " ms\n";
     if (occupancy_)
       std::cout << "occupancy (" << base_.occupancy_resolution_m << " m, grid stride "
@@ -225,8 +235,8 @@ class Bench {
                 << 1e3 * kept_strided_cpu_s_ / static_cast<double>(n) << " ms, "
                 << kept_strided_->leafCount() << " leaves\n";
     std::cout << std::setprecision(1);
-    std::cout << "memory: map capacity 5 " << variants_[1]->map.memoryBytes() / 1048576.0 << " MiB ("
-              << variants_[1]->map.leafCount() << " leaves), keyframe store "
+    std::cout << "memory: map capacity 5 " << variants_[1]->map.memoryBytes() / 1048576.0
+              << " MiB (" << variants_[1]->map.leafCount() << " leaves), keyframe store "
               << variants_[1]->store.memoryBytes() / 1048576.0 << " MiB; no filter map "
               << variants_[0]->map.memoryBytes() / 1048576.0 << " MiB, store "
               << variants_[0]->store.memoryBytes() / 1048576.0 << " MiB";
@@ -259,7 +269,8 @@ void runSimulated(const Args& a, const mapping::MappingOptions& options) {
     if (selector.accept(T)) bench.addKeyframe(seq.renderFrame(i), T);
   }
   bench.report("simulated " + a.profile + " (" + std::to_string(seq.duration()) + " s, " +
-               std::to_string(seq.profile().path_length_m) + " m, seed " + std::to_string(a.seed) + ")");
+               std::to_string(seq.profile().path_length_m) + " m, seed " + std::to_string(a.seed) +
+               ")");
 }
 
 /// Feeds the frames of a rawlog whose stamp has a trajectory pose (within 20 ms) to the bench.
@@ -305,6 +316,52 @@ void runRawlog(const Args& a, IniReader& ini, const mapping::MappingOptions& opt
 
 }  // namespace
 
+/// Insertion and ray-casting time on fixed synthetic frames (a 640x480 plane with varied depth):
+/// the figures tests/mapping once asserted (median insertKeyframe < 5 ms, ray casting < 100 ms).
+void runFixedInputs() {
+  using mapping::test::planeFrame;
+  {
+    mapping::PointMap map{mapping::MappingOptions{}};
+    std::mt19937_64 rng(11);
+    RgbdFrame f = planeFrame(2000);
+    std::uniform_int_distribution<int> depth(500, 5000);
+    for (int v = 0; v < f.depth.rows; ++v)
+      for (int u = 0; u < f.depth.cols; ++u)
+        f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(depth(rng));
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    std::vector<double> ms;
+    for (int k = 0; k < 40; ++k) {
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      const Eigen::Vector3d axis = Eigen::Vector3d(uni(rng), uni(rng), uni(rng)).normalized();
+      T.linear() = Eigen::AngleAxisd(3.0 * uni(rng), axis).toRotationMatrix();
+      T.translation() = 2.0 * Eigen::Vector3d(uni(rng), uni(rng), uni(rng));
+      const double t0 = threadCpuSeconds();
+      map.insertKeyframe(f, T);
+      ms.push_back(1e3 * (threadCpuSeconds() - t0));
+    }
+    std::sort(ms.begin(), ms.end());
+    std::cout << "fixed input: PointMap::insertKeyframe, 40 random poses: median " << ms[20]
+              << " ms, max " << ms.back() << " ms (CPU time)\n";
+  }
+  {
+    mapping::OccupancyMap map{mapping::MappingOptions{}};
+    RgbdFrame f = planeFrame(3000);
+    for (int v = 0; v < f.depth.rows; ++v)
+      for (int u = 0; u < f.depth.cols; ++u)
+        f.depth.at<std::uint16_t>(v, u) =
+            static_cast<std::uint16_t>(1500 + (u * 7 + v * 13) % 3000);
+    const int n = 10;
+    for (int k = 0; k < n; ++k) {
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.translation() = Eigen::Vector3d(0.05 * k, 0.0, 0.0);
+      map.insert(f, T);
+    }
+    std::cout << "fixed input: OccupancyMap::insert, " << n
+              << " keyframes: " << map.stats().rays / n << " rays/keyframe, "
+              << 1e3 * map.stats().seconds / n << " ms/keyframe\n";
+  }
+}
+
 int main(int argc, char** argv) {
   Args a;
   try {
@@ -314,21 +371,39 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
         return argv[++i];
       };
-      if (arg == "--profile") a.profile = next();
-      else if (arg == "--duration") a.duration = std::stod(next());
-      else if (arg == "--fps") a.fps = std::stod(next());
-      else if (arg == "--seed") a.seed = std::stoull(next());
-      else if (arg == "--rawlog") a.rawlog = next();
-      else if (arg == "--trajectory") a.trajectory = next();
-      else if (arg == "--trajectory-frame") a.trajectory_frame = next();
-      else if (arg == "--config") a.config = next();
-      else if (arg == "--keyframe-distance") a.keyframe_distance = std::stod(next());
-      else if (arg == "--keyframe-angle") a.keyframe_angle_deg = std::stod(next());
-      else if (arg == "--resolution") a.resolution = std::stod(next());
-      else if (arg == "--correction-m") a.correction_m = std::stod(next());
-      else if (arg == "--correction-deg") a.correction_deg = std::stod(next());
-      else if (arg == "--no-occupancy") a.occupancy = false;
-      else throw std::invalid_argument("unknown argument " + arg);
+      if (arg == "--profile")
+        a.profile = next();
+      else if (arg == "--duration")
+        a.duration = std::stod(next());
+      else if (arg == "--fps")
+        a.fps = std::stod(next());
+      else if (arg == "--seed")
+        a.seed = std::stoull(next());
+      else if (arg == "--rawlog")
+        a.rawlog = next();
+      else if (arg == "--trajectory")
+        a.trajectory = next();
+      else if (arg == "--trajectory-frame")
+        a.trajectory_frame = next();
+      else if (arg == "--config")
+        a.config = next();
+      else if (arg == "--keyframe-distance")
+        a.keyframe_distance = std::stod(next());
+      else if (arg == "--keyframe-angle")
+        a.keyframe_angle_deg = std::stod(next());
+      else if (arg == "--resolution")
+        a.resolution = std::stod(next());
+      else if (arg == "--correction-m")
+        a.correction_m = std::stod(next());
+      else if (arg == "--correction-deg")
+        a.correction_deg = std::stod(next());
+      else if (arg == "--no-occupancy")
+        a.occupancy = false;
+      else if (arg == "--fixed-inputs") {
+        runFixedInputs();
+        return 0;
+      } else
+        throw std::invalid_argument("unknown argument " + arg);
     }
     if (a.rawlog.empty() != a.trajectory.empty())
       throw std::invalid_argument("--rawlog and --trajectory go together");
@@ -337,8 +412,10 @@ int main(int argc, char** argv) {
     IniReader ini = a.config.empty() ? IniReader::empty() : IniReader::fromFile(a.config);
     mapping::MappingOptions options = mapping::MappingOptions::load(ini);
     if (a.resolution > 0.0) options.octree_resolution_m = a.resolution;
-    if (a.rawlog.empty()) runSimulated(a, options);
-    else runRawlog(a, ini, options);
+    if (a.rawlog.empty())
+      runSimulated(a, options);
+    else
+      runRawlog(a, ini, options);
   } catch (const std::exception& e) {
     std::cerr << "bench_mapping: " << e.what() << "\n";
     return 1;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/common/command_line.h"
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/convert/dataset_conversion.h"
 #include "rgbdi/convert/input_description.h"
@@ -21,7 +22,8 @@
 
 namespace {
 
-constexpr int kOk = 0, kDataError = 1, kUsageError = 2, kInterrupted = 130;
+constexpr int kOk = rgbdi::kExitOk, kDataError = rgbdi::kExitError, kUsageError = rgbdi::kExitUsage,
+              kDamaged = rgbdi::kExitDamaged, kInterrupted = rgbdi::kExitInterrupted;
 
 const char* const kUsage =
     "Usage: rawlog-convert INPUT -o OUT.rawlog [options]   convert a ROS1 bag or a TUM RGB-D "
@@ -82,16 +84,20 @@ const char* const kUsage =
     "                        folders: the lists and the camera.\n"
     "  --json            With --info: print the result as one JSON object.\n"
     "  --verbose         With --info on rawlogs: also log every warning on stderr as it is found.\n"
+    "  --version         Print the version.\n"
     "  -h, --help        Show this help.\n"
+    "Options take their value as '--opt VALUE' or '--opt=VALUE'.\n"
     "\n"
-    "Exit status: 0 success (warnings included), 1 unreadable, corrupt or damaged data (a damaged\n"
-    "input still leaves a valid rawlog of everything before the damage), 2 usage error, 130\n"
-    "interrupted (Ctrl-C; the output holds what was converted).\n";
+    "Exit status: 0 success (warnings included); 1 unreadable or unusable input, output not\n"
+    "written; 2 usage or configuration error; 3 damaged input (truncated, corrupt record or "
+    "chunk,\n"
+    "time going backwards): converted or inspected up to the damage, the output rawlog holds\n"
+    "everything before it; 130 interrupted (Ctrl-C; the output holds what was converted).\n";
 
 struct Args {
   std::optional<std::string> info;
   std::string input, output, config, camera_yaml, tum_camera;
-  bool json = false, verbose = false, help = false, quiet = false, external_images = false;
+  bool json = false, verbose = false, quiet = false, external_images = false;
   bool require_colour = false;
   std::optional<double> pair_tolerance, depth_unit;
   std::optional<bool> depth_aligned;
@@ -99,84 +105,55 @@ struct Args {
 };
 
 double number(const std::string& option, const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v >= 0.0) || v > 1e9)
-    throw std::invalid_argument(option + " needs a non-negative number, got '" + text + "'");
+  const double v = rgbdi::parseNumber(option, text);
+  if (v > 1e9) throw rgbdi::UsageError(option + " needs a non-negative number, got '" + text + "'");
   return v;
 }
 
-/// Throws std::invalid_argument with a message for the user.
-Args parse(int argc, char** argv) {
-  Args a;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&](const char* opt) {
-      if (i + 1 >= argc) throw std::invalid_argument(std::string(opt) + " needs a value");
-      return std::string(argv[++i]);
-    };
-    if (arg == "-h" || arg == "--help") {
-      a.help = true;
-    } else if (arg == "--info") {
-      a.info = value("--info");
-    } else if (arg == "--config") {
-      a.config = value("--config");
-    } else if (arg == "--json") {
-      a.json = true;
-    } else if (arg == "--verbose") {
-      a.verbose = true;
-    } else if (arg == "-o" || arg == "--out") {
-      a.output = value("--out");
-    } else if (arg == "-i" || arg == "--input") {
-      positional.push_back(value("--input"));
-    } else if (arg == "--camera-yaml") {
-      a.camera_yaml = value("--camera-yaml");
-    } else if (arg == "--external-images") {
-      a.external_images = true;
-    } else if (arg == "--require-colour" || arg == "--require-color") {
-      a.require_colour = true;
-    } else if (arg == "--pair-tolerance") {
-      a.pair_tolerance = number(arg, value("--pair-tolerance"));
-    } else if (arg == "--depth-unit") {
-      a.depth_unit = number(arg, value("--depth-unit"));
-      if (!(*a.depth_unit > 0.0) || *a.depth_unit > 1.0)
-        throw std::invalid_argument("--depth-unit must be in (0, 1] metres per unit");
-    } else if (arg == "--depth-aligned") {
-      const std::string v = value("--depth-aligned");
-      if (v != "yes" && v != "no")
-        throw std::invalid_argument("--depth-aligned takes yes or no, got '" + v + "'");
-      a.depth_aligned = v == "yes";
-    } else if (arg == "--color-topic" || arg == "--colour-topic") {
-      a.topics.color = value("--color-topic");
-    } else if (arg == "--depth-topic") {
-      a.topics.depth = value("--depth-topic");
-    } else if (arg == "--imu-topic") {
-      a.topics.imu = value("--imu-topic");
-    } else if (arg == "--accel-topic") {
-      a.topics.accel = value("--accel-topic");
-    } else if (arg == "--gyro-topic") {
-      a.topics.gyro = value("--gyro-topic");
-    } else if (arg == "--groundtruth-topic") {
-      a.topics.groundtruth = value("--groundtruth-topic");
-    } else if (arg == "--color-info-topic" || arg == "--colour-info-topic") {
-      a.topics.color_info = value("--color-info-topic");
-    } else if (arg == "--depth-info-topic") {
-      a.topics.depth_info = value("--depth-info-topic");
-    } else if (arg == "--tum-camera") {
-      a.tum_camera = value("--tum-camera");
-    } else if (arg == "--quiet") {
-      a.quiet = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw std::invalid_argument("unknown option '" + arg + "'");
-    } else {
-      positional.push_back(arg);
-    }
-  }
+/// Throws rgbdi::UsageError with a message for the user.
+rgbdi::CommandLine::Outcome parse(int argc, char** argv, Args& a) {
+  rgbdi::CommandLine cl;
+  std::vector<std::string> inputs;
+  cl.value("--info", [&](const std::string& v) { a.info = v; });
+  cl.value("--config", &a.config);
+  cl.flag("--json", &a.json);
+  cl.flag("--verbose", &a.verbose);
+  cl.value("-o,--out", &a.output);
+  cl.value("-i,--input", [&](const std::string& v) { inputs.push_back(v); });
+  cl.value("--camera-yaml", &a.camera_yaml);
+  cl.flag("--external-images", &a.external_images);
+  cl.flag("--require-colour,--require-color", &a.require_colour);
+  cl.value("--pair-tolerance",
+           [&](const std::string& v) { a.pair_tolerance = number("--pair-tolerance", v); });
+  cl.value("--depth-unit", [&](const std::string& v) {
+    a.depth_unit = number("--depth-unit", v);
+    if (!(*a.depth_unit > 0.0) || *a.depth_unit > 1.0)
+      throw rgbdi::UsageError("--depth-unit must be in (0, 1] metres per unit");
+  });
+  cl.value("--depth-aligned", [&](const std::string& v) {
+    if (v != "yes" && v != "no")
+      throw rgbdi::UsageError("--depth-aligned takes yes or no, got '" + v + "'");
+    a.depth_aligned = v == "yes";
+  });
+  cl.value("--color-topic,--colour-topic", &a.topics.color);
+  cl.value("--depth-topic", &a.topics.depth);
+  cl.value("--imu-topic", &a.topics.imu);
+  cl.value("--accel-topic", &a.topics.accel);
+  cl.value("--gyro-topic", &a.topics.gyro);
+  cl.value("--groundtruth-topic", &a.topics.groundtruth);
+  cl.value("--color-info-topic,--colour-info-topic", &a.topics.color_info);
+  cl.value("--depth-info-topic", &a.topics.depth_info);
+  cl.value("--tum-camera", &a.tum_camera);
+  cl.flag("--quiet", &a.quiet);
+  const auto outcome = cl.parse(argc, argv);
+  if (outcome != rgbdi::CommandLine::Outcome::Run) return outcome;
+  // -i values and positionals in command-line order are the same thing.
+  std::vector<std::string> positional = inputs;
+  positional.insert(positional.end(), cl.positional().begin(), cl.positional().end());
   if (positional.size() > 1)
-    throw std::invalid_argument("more than one input given ('" + positional[1] + "')");
+    throw rgbdi::UsageError("more than one input given ('" + positional[1] + "')");
   if (!positional.empty()) a.input = positional.front();
-  return a;
+  return outcome;
 }
 
 int infoRawlog(const Args& a, const std::string& path) {
@@ -200,7 +177,7 @@ int infoRawlog(const Args& a, const std::string& path) {
   std::cout << (a.json ? d.toJson() + "\n" : d.report());
   if (!d.ok()) {
     std::cerr << "rawlog-convert: " << d.error << "\n";
-    return kDataError;
+    return kDamaged;
   }
   return kOk;
 }
@@ -240,7 +217,7 @@ int runInfo(const Args& a) {
   std::cout << (a.json ? d.json + "\n" : d.text);
   if (!d.error.empty()) {
     std::cerr << "rawlog-convert: " << d.error << "\n";
-    return kDataError;
+    return kDamaged;
   }
   return kOk;
 }
@@ -290,7 +267,7 @@ int runConversion(const Args& a) {
   std::cout << report.text();
   if (!report.ok()) {
     std::cerr << "rawlog-convert: " << report.error << "\n";
-    return kDataError;
+    return kDamaged;
   }
   return g_stop.load() ? kInterrupted : kOk;
 }
@@ -299,14 +276,19 @@ int runConversion(const Args& a) {
 
 int main(int argc, char** argv) {
   Args a;
+  rgbdi::CommandLine::Outcome outcome;
   try {
-    a = parse(argc, argv);
-  } catch (const std::invalid_argument& e) {
+    outcome = parse(argc, argv, a);
+  } catch (const rgbdi::UsageError& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n\n" << kUsage;
     return kUsageError;
   }
-  if (a.help) {
+  if (outcome == rgbdi::CommandLine::Outcome::Help) {
     std::cout << kUsage;
+    return kOk;
+  }
+  if (outcome == rgbdi::CommandLine::Outcome::Version) {
+    std::cout << rgbdi::versionLine("rawlog-convert") << "\n";
     return kOk;
   }
   if (a.info) {

@@ -2,7 +2,8 @@
 //           [--seed N] [--config FILE] [--time-offset S] [--aliased-walls]
 //           [--bag [--bag-compression none|bz2|lz4]]
 // Simulates an RGB-D-inertial sequence (doc/simulator.md) and writes it to DIR. Exit codes:
-// 0 ok, 1 error (configuration, files), 2 bad usage, 130 interrupted (Ctrl-C).
+// 0 ok, 1 error (files, a sequence that cannot be made), 2 bad usage or configuration,
+// 130 interrupted (Ctrl-C). Options are parsed by rgbdi::CommandLine.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -15,14 +16,15 @@
 #include <string>
 
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/common/command_line.h"
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/sim/sequence_writer.h"
 
 namespace {
 
-constexpr int kExitError = 1;
-constexpr int kExitUsage = 2;
-constexpr int kExitInterrupted = 130;
+using rgbdi::kExitError;
+using rgbdi::kExitInterrupted;
+using rgbdi::kExitUsage;
 
 const char* const kUsage =
     "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
@@ -40,11 +42,13 @@ const char* const kUsage =
     "  --time-offset      camera-IMU time offset [s]: images stamped t_imu - offset\n"
     "  --aliased-walls    the room's +x wall repeats the -x wall (perceptual aliasing)\n"
     "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
-    "  --bag-compression  chunk compression of the bag (default none)\n";
+    "  --bag-compression  chunk compression of the bag (default none)\n"
+    "  --version          print the version\n"
+    "  -h, --help         this help\n"
+    "Options take their value as '--opt VALUE' or '--opt=VALUE'. Status 3 is not used by this "
+    "tool.\n";
 
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+using rgbdi::UsageError;
 
 // Set from the SIGINT handler; a lock-free atomic is the one thing a handler may touch.
 std::atomic<bool> g_stop{false};
@@ -62,65 +66,45 @@ struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
   long long seed = -1;
-  bool has_time_offset = false, bag = false, help = false, aliased_walls = false;
+  bool has_time_offset = false, bag = false, aliased_walls = false;
 };
 
-Arguments parse(int argc, char** argv) {
-  Arguments a;
-  for (int k = 1; k < argc; ++k) {
-    std::string arg = argv[k], value;
-    bool inline_value = false;
-    if (arg.rfind("--", 0) == 0 && arg.find('=') != std::string::npos) {
-      value = arg.substr(arg.find('=') + 1);
-      arg = arg.substr(0, arg.find('='));
-      inline_value = true;
-    }
-    const auto take = [&]() -> std::string {
-      if (inline_value) return value;
-      if (k + 1 >= argc) throw UsageError(arg + " needs a value");
-      return argv[++k];
-    };
-    if (arg == "--help" || arg == "-h") {
-      a.help = true;
-    } else if (arg == "--profile") {
-      a.profile = take();
-    } else if (arg == "--out") {
-      a.out = take();
-    } else if (arg == "--config") {
-      a.config = take();
-    } else if (arg == "--speed") {
-      a.speed = take();
-    } else if (arg == "--duration") {
-      a.duration = number(arg, take());
-      if (a.duration <= 0.0) throw UsageError("--duration must be positive");
-    } else if (arg == "--fps") {
-      a.fps = number(arg, take());
-      if (a.fps <= 0.0 || a.fps > 1000.0) throw UsageError("--fps must be in (0, 1000]");
-    } else if (arg == "--seed") {
-      const double s = number(arg, take());
-      if (s < 0 || s > std::numeric_limits<int>::max() || s != std::floor(s))
-        throw UsageError("--seed must be an integer in [0, 2147483647]");
-      a.seed = static_cast<long long>(s);
-    } else if (arg == "--time-offset") {
-      a.time_offset = number(arg, take());
-      if (std::abs(a.time_offset) > 0.5) throw UsageError("--time-offset must be within +-0.5 s");
-      a.has_time_offset = true;
-    } else if (arg == "--aliased-walls") {
-      if (inline_value) throw UsageError("--aliased-walls takes no value");
-      a.aliased_walls = true;
-    } else if (arg == "--bag") {
-      if (inline_value) throw UsageError("--bag takes no value");
-      a.bag = true;
-    } else if (arg == "--bag-compression") {
-      a.bag_compression = take();
-    } else {
-      throw UsageError("unknown argument '" + arg + "'");
-    }
-  }
-  if (a.help) return a;
+/// Throws UsageError.
+rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
+  rgbdi::CommandLine cl;
+  cl.value("--profile", &a.profile);
+  cl.value("--out", &a.out);
+  cl.value("--config", &a.config);
+  cl.value("--speed", &a.speed);
+  cl.value("--duration", [&](const std::string& v) {
+    a.duration = number("--duration", v);
+    if (a.duration <= 0.0) throw UsageError("--duration must be positive");
+  });
+  cl.value("--fps", [&](const std::string& v) {
+    a.fps = number("--fps", v);
+    if (a.fps <= 0.0 || a.fps > 1000.0) throw UsageError("--fps must be in (0, 1000]");
+  });
+  cl.value("--seed", [&](const std::string& v) {
+    const double s = number("--seed", v);
+    if (s < 0 || s > std::numeric_limits<int>::max() || s != std::floor(s))
+      throw UsageError("--seed must be an integer in [0, 2147483647]");
+    a.seed = static_cast<long long>(s);
+  });
+  cl.value("--time-offset", [&](const std::string& v) {
+    a.time_offset = number("--time-offset", v);
+    if (std::abs(a.time_offset) > 0.5) throw UsageError("--time-offset must be within +-0.5 s");
+    a.has_time_offset = true;
+  });
+  cl.flag("--aliased-walls", &a.aliased_walls);
+  cl.flag("--bag", &a.bag);
+  cl.value("--bag-compression", &a.bag_compression);
+  const auto outcome = cl.parse(argc, argv);
+  if (outcome != rgbdi::CommandLine::Outcome::Run) return outcome;
+  if (!cl.positional().empty())
+    throw UsageError("unexpected argument '" + cl.positional().front() + "'");
   if (a.profile.empty()) throw UsageError("--profile is required");
   if (a.out.empty()) throw UsageError("--out is required");
-  return a;
+  return outcome;
 }
 
 rgbdi::sim::SimOptions options(const Arguments& a) {
@@ -154,9 +138,13 @@ int main(int argc, char** argv) {
   rgbdi::sim::SimOptions opt;
   rgbdi::sim::SequenceWriterOptions wo;
   try {
-    args = parse(argc, argv);
-    if (args.help) {
-      std::cout << kUsage;
+    const auto outcome = parse(argc, argv, args);
+    if (outcome == rgbdi::CommandLine::Outcome::Help) {
+      std::cout << kUsage << rgbdi::exitStatusHelp();
+      return 0;
+    }
+    if (outcome == rgbdi::CommandLine::Outcome::Version) {
+      std::cout << rgbdi::versionLine("rgbdi-sim") << "\n";
       return 0;
     }
     try {
@@ -167,6 +155,9 @@ int main(int argc, char** argv) {
     opt = options(args);
   } catch (const UsageError& e) {
     std::cerr << "rgbdi-sim: " << e.what() << "\n" << kUsage;
+    return kExitUsage;
+  } catch (const rgbdi::ConfigError& e) {
+    std::cerr << "rgbdi-sim: " << e.what() << "\n";
     return kExitUsage;
   } catch (const std::exception& e) {
     std::cerr << "rgbdi-sim: error: " << e.what() << "\n";

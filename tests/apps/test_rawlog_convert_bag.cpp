@@ -204,7 +204,7 @@ TEST_F(RawlogConvertBag, TruncatedBagLeavesAValidRawlogOfWhatCameBefore) {
   EXPECT_EQ(runCommand(app("rawlog-convert") + " " + cut + " -o " + dir + "/cut.rawlog --config " +
                            dir + "/config.ini --quiet",
                        &out),
-            1);
+            3);  // damaged input, converted up to the damage
   EXPECT_NE(
       out.find("rawlog-convert: " + cut + ": truncated: the file ends inside the chunk at byte "),
       std::string::npos)
@@ -218,8 +218,8 @@ TEST_F(RawlogConvertBag, TruncatedBagLeavesAValidRawlogOfWhatCameBefore) {
   if (fs::exists("/usr/bin/rawlog-edit")) {
     EXPECT_EQ(runCommand("/usr/bin/rawlog-edit --info -i " + dir + "/cut.rawlog", &out), 0) << out;
   }
-  // --info on the damaged bag describes what is readable and exits with 1.
-  EXPECT_EQ(runCommand(app("rawlog-convert") + " --info " + cut, &out), 1);
+  // --info on the damaged bag describes what is readable and exits with 3.
+  EXPECT_EQ(runCommand(app("rawlog-convert") + " --info " + cut, &out), 3);
   EXPECT_NE(out.find("index unreadable"), std::string::npos) << out;
 }
 

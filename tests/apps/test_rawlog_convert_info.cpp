@@ -1,9 +1,8 @@
 // End-to-end: the rawlog-convert app on the real OpenNI2 rawlog and on generated rawlogs.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/io/stream_options.h"
@@ -76,12 +75,17 @@ TEST_F(RawlogConvertInfo, RealOpenNi2Rawlog) {
   RGBDI_REQUIRE_FIXTURE(path);
   std::string out;
   ASSERT_EQ(runCommand(app() + " --info '" + path + "'", &out), 0) << out;
-  EXPECT_NE(out.find("Records: 1 (observations 1, actions 0, unusable 0)"), std::string::npos) << out;
+  EXPECT_NE(out.find("Records: 1 (observations 1, actions 0, unusable 0)"), std::string::npos)
+      << out;
   EXPECT_NE(out.find("RGB-D: 1 frames"), std::string::npos) << out;
-  EXPECT_NE(out.find("with colour 1, with depth 1, depth aligned to colour 0; depth unit 0.001 m, median depth 2.040 m"),
-            std::string::npos) << out;
+  EXPECT_NE(out.find("with colour 1, with depth 1, depth aligned to colour 0; depth unit 0.001 m, "
+                     "median depth 2.040 m"),
+            std::string::npos)
+      << out;
   EXPECT_NE(out.find(path + " record 0: no IMU samples"), std::string::npos) << out;
-  EXPECT_NE(out.find(path + " record 0: the rawlog's sensorPose places the colour camera"), std::string::npos) << out;
+  EXPECT_NE(out.find(path + " record 0: the rawlog's sensorPose places the colour camera"),
+            std::string::npos)
+      << out;
 
   ASSERT_EQ(runCommand(app() + " --json --info '" + path + "' 2>/dev/null", &out), 0) << out;
   const auto j = nlohmann::json::parse(out);
@@ -100,9 +104,11 @@ TEST_F(RawlogConvertInfo, GeneratedRawlogWithProblems) {
   EXPECT_NE(out.find(", 200.00 Hz"), std::string::npos) << out;
   EXPECT_NE(out.find("RGB-D: 20 frames, 1.900 s"), std::string::npos) << out;
   EXPECT_NE(out.find("mean |acc| 1.000 m/s^2 (looks like g units!)"), std::string::npos) << out;
-  EXPECT_NE(out.find("order: non-monotonic 0, reordered 0, duplicates dropped 1, late dropped 0"), std::string::npos)
+  EXPECT_NE(out.find("order: non-monotonic 0, reordered 0, duplicates dropped 1, late dropped 0"),
+            std::string::npos)
       << out;
-  EXPECT_NE(out.find("IMU stamp t = 1700000000.500000 s duplicates an earlier IMU stamp; dropped"), std::string::npos)
+  EXPECT_NE(out.find("IMU stamp t = 1700000000.500000 s duplicates an earlier IMU stamp; dropped"),
+            std::string::npos)
       << out;
   EXPECT_NE(out.find("sensorPose vs [extrinsic] agree"), std::string::npos) << out;
 
@@ -110,18 +116,21 @@ TEST_F(RawlogConvertInfo, GeneratedRawlogWithProblems) {
   const std::string cfg = dir_ + "/c.ini";
   std::ofstream(cfg) << "[imu]\nrate_hz = 100\n";
   ASSERT_EQ(runCommand(app() + " --info " + path + " --config " + cfg, &out), 0) << out;
-  EXPECT_NE(out.find("measured IMU rate 200.0 Hz differs from [imu] rate_hz = 100 Hz"), std::string::npos) << out;
+  EXPECT_NE(out.find("measured IMU rate 200.0 Hz differs from [imu] rate_hz = 100 Hz"),
+            std::string::npos)
+      << out;
   std::ofstream(cfg) << "[stream]\nimu_gap_factor = -1\n";
   EXPECT_EQ(runCommand(app() + " --info " + path + " --config " + cfg, &out), 2);
-  EXPECT_NE(out.find(cfg + " [stream] imu_gap_factor: value -1 is out of the accepted range"), std::string::npos)
+  EXPECT_NE(out.find(cfg + " [stream] imu_gap_factor: value -1 is out of the accepted range"),
+            std::string::npos)
       << out;
 }
 
-TEST_F(RawlogConvertInfo, DataErrorsExitWithOne) {
+TEST_F(RawlogConvertInfo, DamagedInputExitsWithThreeUnreadableWithOne) {
   const std::string path = writeSequence("cut.rawlog");
   fs::resize_file(path, fs::file_size(path) / 2 + 7);  // inside a record (half is a boundary)
   std::string out;
-  EXPECT_EQ(runCommand(app() + " --info " + path, &out), 1);
+  EXPECT_EQ(runCommand(app() + " --info " + path, &out), 3);
   EXPECT_NE(out.find("ERROR: " + path + " record "), std::string::npos) << out;
   EXPECT_NE(out.find(": truncated: the file ends inside this record"), std::string::npos) << out;
   EXPECT_EQ(runCommand(app() + " --info " + dir_ + "/none.rawlog", &out), 1);
@@ -129,7 +138,8 @@ TEST_F(RawlogConvertInfo, DataErrorsExitWithOne) {
 }
 
 TEST_F(RawlogConvertInfo, BagInfoListsTopicsAndLayout) {
-  const std::string bag = rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+  const std::string bag =
+      rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
   RGBDI_REQUIRE_FIXTURE(bag);
   std::string out;
   EXPECT_EQ(runCommand(app() + " --info '" + bag + "'", &out), 0) << out;

@@ -22,7 +22,9 @@ TEST(RgbdiSim, WritesASequenceThatMrptToolsRead) {
   std::string out;
   const int rc = runCommand(sim() + " --profile tracked_slopes --out " + dir +
                                 " --duration 10 --fps 3 --seed 4 --time-offset 0.01 --speed normal"
-                                " --config " + rgbdi::test::sourceDir() + "/share/config.ini"
+                                " --config " +
+                                rgbdi::test::sourceDir() +
+                                "/share/config.ini"
                                 " --bag --bag-compression bz2",
                             &out);
   ASSERT_EQ(rc, 0) << out;
@@ -43,7 +45,8 @@ TEST(RgbdiSim, WritesASequenceThatMrptToolsRead) {
   EXPECT_DOUBLE_EQ(imu.acc_noise_density, 0.04);
   // The settings file records the command line's choices.
   std::ifstream settings(dir + "/simulation.ini");
-  const std::string text((std::istreambuf_iterator<char>(settings)), std::istreambuf_iterator<char>());
+  const std::string text((std::istreambuf_iterator<char>(settings)),
+                         std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("seed = 4 "), std::string::npos) << text;
   EXPECT_NE(text.find("time_offset_s = 0.01 "), std::string::npos) << text;
 
@@ -54,7 +57,8 @@ TEST(RgbdiSim, WritesASequenceThatMrptToolsRead) {
     GTEST_SKIP() << "rawlog-edit not installed";
   }
   std::string info;
-  ASSERT_EQ(runCommand("cd " + dir + " && rawlog-edit --info -i sequence.rawlog", &info), 0) << info;
+  ASSERT_EQ(runCommand("cd " + dir + " && rawlog-edit --info -i sequence.rawlog", &info), 0)
+      << info;
   EXPECT_NE(info.find("Observations format               : Yes"), std::string::npos) << info;
   EXPECT_TRUE(std::regex_search(info, std::regex("IMU /\\s+2001 /200\\.000"))) << info;
   EXPECT_TRUE(std::regex_search(info, std::regex("RGBD /\\s+31 /"))) << info;
@@ -74,29 +78,34 @@ TEST(RgbdiSim, UsageAndConfigurationErrors) {
   EXPECT_NE(out.find("--out is required"), std::string::npos) << out;
   EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --speed warp", &out), 2);
   EXPECT_NE(out.find("unknown speed 'warp'"), std::string::npos) << out;
-  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --bag-compression zip", &out), 2);
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --bag-compression zip", &out),
+            2);
   EXPECT_NE(out.find("unknown bag compression 'zip'"), std::string::npos) << out;
   EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --fps abc", &out), 2);
   EXPECT_NE(out.find("--fps needs a number, got 'abc'"), std::string::npos) << out;
   EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --duration 4", &out), 1);
   EXPECT_NE(out.find("duration 4 s is too short"), std::string::npos) << out;
 
-  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --config " + dir +
-                           "/missing.ini", &out),
-            1);
+  EXPECT_EQ(
+      runCommand(sim() + " --profile handheld --out " + dir + " --config " + dir + "/missing.ini",
+                 &out),
+      2);  // configuration errors are usage errors (doc/robustness.md)
   EXPECT_NE(out.find(dir + "/missing.ini"), std::string::npos) << out;
   const std::string bad = dir + "/bad.ini";
   std::ofstream(bad) << "[sim]\nacc_noise_densty = 0.02\n";
-  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --config " + bad, &out), 1);
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --config " + bad, &out), 2);
   EXPECT_NE(out.find("acc_noise_densty"), std::string::npos) << out;
   EXPECT_NE(out.find("bad.ini"), std::string::npos) << out;
   std::ofstream(bad) << "[sim]\ngyr_noise_density = -1\n";
-  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --config " + bad, &out), 1);
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --config " + bad, &out), 2);
   EXPECT_NE(out.find("[sim] gyr_noise_density"), std::string::npos) << out;
   // Nothing was written by the failed runs.
   EXPECT_FALSE(fs::exists(dir + "/sequence.rawlog"));
   EXPECT_EQ(runCommand(sim() + " --help", &out), 0);
   EXPECT_NE(out.find("usage: rgbdi-sim"), std::string::npos);
+  EXPECT_NE(out.find("Exit status: 0 success"), std::string::npos);
+  EXPECT_EQ(runCommand(sim() + " --version", &out), 0);
+  EXPECT_EQ(out.rfind("rgbdi-sim (rgbdi) ", 0), 0u) << out;
 }
 
 }  // namespace

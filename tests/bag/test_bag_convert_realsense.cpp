@@ -2,6 +2,7 @@
 // Intel's code, not ours): facts from ../shared/data/README.md.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <vector>
 
 #include "rgbdi/bag/bag_converter.h"
@@ -149,6 +150,34 @@ TEST(BagConvertRealSense, MissingTopicListsTheTopicsThatExist) {
         std::string::npos)
         << e.what();
   }
+}
+
+}  // namespace
+}  // namespace rgbdi::bag
+
+namespace rgbdi::bag {
+namespace {
+
+TEST(BagConvertRealSense, TruncatedRecordingIsReportedAsTruncated) {
+  RGBDI_REQUIRE_FIXTURE(fixture());
+  const std::string dir = test::makeTempDir("rgbdi_rs_cut");
+  const std::string cut = dir + "/cut.bag";
+  std::filesystem::copy_file(fixture(), cut);
+  std::filesystem::permissions(
+      cut, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  std::filesystem::resize_file(cut, 20000);  // the header and the start of the first chunk
+  try {
+    BagConverter conv(cut, ConvertOptions(), BagInputOptions(), FallbackCalibration::defaults());
+    FAIL() << "expected BagLayoutError";
+  } catch (const BagLayoutError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(cut + ": damaged bag: the bag index cannot be read", 0), 0u) << what;
+    EXPECT_NE(what.find("the file is truncated"), std::string::npos) << what;
+    EXPECT_NE(what.find("in the readable part: no colour or depth image topic found"),
+              std::string::npos)
+        << what;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -63,6 +63,49 @@ TEST(IniReader, EnumBoolAndVector) {
   EXPECT_THROW(ini.getEnum("s", "mode", "slow", {"slow", "normal"}), ConfigError);
 }
 
+namespace {
+/// The ConfigError message of parsing `text`, or "" when it parses.
+std::string lineError(const std::string& text) {
+  try {
+    IniReader::fromText(text, "bad.ini");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(IniReader, ALineThatIsNotAKeyValueIsAnErrorNamingFileAndLine) {
+  EXPECT_EQ(lineError("[imu]\nrate_hz = 200\nrate_hz 400\n"),
+            "bad.ini line 3: 'rate_hz 400' is not 'key = value', a [section] header, a comment or "
+            "blank");
+  EXPECT_EQ(lineError("[imu\nrate_hz = 200\n"),
+            "bad.ini line 1: '[imu' is not a valid [section] header");
+  EXPECT_EQ(lineError("[imu] rate_hz = 200\n"),
+            "bad.ini line 1: '[imu] rate_hz = 200' is not a valid [section] header");
+  EXPECT_EQ(lineError("[imu]\n= 200\n"),
+            "bad.ini line 2: '= 200' is not 'key = value', a [section] header, a comment or blank");
+}
+
+TEST(IniReader, PlainTextIsRejectedAtItsFirstLine) {
+  const std::string msg = lineError("This is a README, not a configuration.\nSecond line.\n");
+  EXPECT_EQ(msg.rfind("bad.ini line 1: ", 0), 0u) << msg;
+}
+
+TEST(IniReader, CommentsBlanksHeadersAndDirectivesAreAccepted) {
+  EXPECT_EQ(lineError("; comment\n# comment\n// comment\n\n   \n[imu]  ; trailing\n"
+                      "@define RATE 400\nrate_hz = ${RATE}\nempty_value =\n"),
+            "");
+  auto ini = IniReader::fromText("@define RATE 400\n[imu]\nrate_hz = ${RATE}\n", "d.ini");
+  EXPECT_DOUBLE_EQ(ini.getDouble("imu", "rate_hz", 200, 10, 1000), 400.0);
+}
+
+TEST(IniReader, ShippedConfigurationsPassTheLineCheck) {
+  for (const char* f : {"/share/config.ini", "/share/sensors/d435i.ini", "/share/sensors/replay.ini",
+                        "/share/sensors/simulator.ini"})
+    EXPECT_NO_THROW(IniReader::fromFile(rgbdi::test::sourceDir() + f)) << f;
+}
+
 TEST(SensorOptions, ShippedConfigLoadsWithoutUnknownKeysInSensorSections) {
   const std::string path = rgbdi::test::sourceDir() + "/share/config.ini";
   auto ini = IniReader::fromFile(path);

@@ -104,9 +104,13 @@ TEST(RawlogOutput, ReordersWithinTheWindowAndDropsBeyond) {
   EXPECT_DOUBLE_EQ(accel_only->get(mrpt::obs::IMU_Y_ACC), -9.7);
 
   std::ifstream gt(dir + "/out_groundtruth.tum");
-  std::string header, line;
+  std::string frame_and_clock, header, line;
+  std::getline(gt, frame_and_clock);
   std::getline(gt, header);
   std::getline(gt, line);
+  EXPECT_EQ(frame_and_clock.rfind("# ground truth as recorded in the input", 0), 0u)
+      << frame_and_clock;
+  EXPECT_EQ(header, "# timestamp tx ty tz qx qy qz qw");
   EXPECT_EQ(line.rfind("10.100000000 10.1 0 0 0 0 0 1", 0), 0u) << line;
 }
 

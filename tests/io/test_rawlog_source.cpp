@@ -1,7 +1,6 @@
 // RawlogSource on rawlogs written by the test: both layouts, plain and gzip, external images,
 // ordering problems, unit and size checks, skipped types, truncated and corrupt files.
 #include <gtest/gtest.h>
-
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -10,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/rawlog_source.h"
@@ -23,8 +23,8 @@ namespace fs = std::filesystem;
 using Layout = RawlogWriterOptions::Layout;
 
 constexpr double kT0 = 1700000000.0;
-constexpr double kImuDt = 0.005;   // 200 Hz
-constexpr double kFrameDt = 0.1;   // 10 Hz
+constexpr double kImuDt = 0.005;  // 200 Hz
+constexpr double kFrameDt = 0.1;  // 10 Hz
 
 std::string fmt6(double t) {
   char buf[64];
@@ -54,6 +54,7 @@ RgbdFrame frameAt(double t, std::uint16_t depth_raw = 1500, double unit = 1e-3) 
   RgbdFrame f;
   f.t = t;
   f.rgb = cv::Mat(24, 32, CV_8UC3, cv::Scalar(10, 200, 30));
+  f.rgb.at<cv::Vec3b>(0, 0) = cv::Vec3b(90, 20, 130);  // not a flat image (constant-image check)
   f.depth = cv::Mat(24, 32, CV_16UC1, cv::Scalar(depth_raw));
   f.depth.at<std::uint16_t>(0, 0) = 0;
   f.depth.at<std::uint16_t>(5, 7) = static_cast<std::uint16_t>(depth_raw + 1);
@@ -94,7 +95,8 @@ RawlogWriterOptions writerOptions(Layout layout = Layout::Observations, bool gzi
   return o;
 }
 
-void writeAll(const std::string& path, const RawlogWriterOptions& o, const std::vector<Measurement>& seq) {
+void writeAll(const std::string& path, const RawlogWriterOptions& o,
+              const std::vector<Measurement>& seq) {
   RawlogWriter w(path, o);
   for (const auto& m : seq) {
     if (const auto* s = std::get_if<ImuSample>(&m)) {
@@ -115,7 +117,8 @@ std::vector<Measurement> readAll(RawlogSource& src) {
 }
 
 size_t countImu(const std::vector<Measurement>& v) {
-  return static_cast<size_t>(std::count_if(v.begin(), v.end(), [](const Measurement& m) { return isImu(m); }));
+  return static_cast<size_t>(
+      std::count_if(v.begin(), v.end(), [](const Measurement& m) { return isImu(m); }));
 }
 
 std::string joined(const std::vector<std::string>& w) {
@@ -256,7 +259,8 @@ TEST_F(RawlogSourceTest, ExternalImagesAreLoadedFromTheImagesDirectory) {
     EXPECT_EQ(f.cam_depth.width, 32);
     EXPECT_EQ(f.cam_depth.height, 24);
   }
-  EXPECT_TRUE(src.diagnostics().warnings.size() == 1u) << joined(src.diagnostics().warnings);  // no IMU
+  EXPECT_TRUE(src.diagnostics().warnings.size() == 1u)
+      << joined(src.diagnostics().warnings);  // no IMU
   EXPECT_EQ(src.diagnostics().images_directory, dir + "/ext_Images");
 }
 
@@ -272,7 +276,11 @@ TEST_F(RawlogSourceTest, MissingExternalImageIsReportedAndSkipped) {
   const auto& d = src.diagnostics();
   EXPECT_EQ(d.unusable, 1u);
   ASSERT_FALSE(d.warnings.empty());
-  EXPECT_EQ(d.warnings[0].rfind(path + " record 1: cannot load the observation's images: ", 0), 0u)
+  EXPECT_EQ(d.warnings[0], path + " record 1: cannot load the observation's images: range image " +
+                               dir +
+                               "/m_Images/RGBD_1_depth.bin does not exist (external images "
+                               "folder " +
+                               dir + "/m_Images); skipped")
       << d.warnings[0];
   EXPECT_NE(d.warnings[0].find("; skipped"), std::string::npos);
 }
@@ -283,10 +291,10 @@ TEST_F(RawlogSourceTest, OutOfOrderDuplicatedAndLateImuSamples) {
   const auto t = [](int i) { return kT0 + i * kImuDt; };
   std::vector<Measurement> seq;
   for (int i = 0; i <= 200; ++i) {
-    if (i == 50) continue;                        // written after 51
+    if (i == 50) continue;  // written after 51
     seq.emplace_back(imuAt(t(i)));
-    if (i == 51) seq.emplace_back(imuAt(t(50)));  // record 51: reordered
-    if (i == 80) seq.emplace_back(imuAt(t(80)));  // record 81: duplicate
+    if (i == 51) seq.emplace_back(imuAt(t(50)));             // record 51: reordered
+    if (i == 80) seq.emplace_back(imuAt(t(80)));             // record 81: duplicate
     if (i == 119) seq.emplace_back(imuAt(t(100) + 0.0025));  // record 121: 0.0925 s late
   }
   writeAll(path, writerOptions(), seq);
@@ -303,8 +311,10 @@ TEST_F(RawlogSourceTest, OutOfOrderDuplicatedAndLateImuSamples) {
   EXPECT_EQ(d.imu.gaps, 0u);
   const std::vector<std::string> expected = {
       path + " record 51: IMU stamp t = " + fmt6(t(50)) + " s is older than the newest IMU stamp " +
-          fmt6(t(51)) + " s read before it (non-monotonic); reordered (within imu_reorder_window_s = 0.05 s)",
-      path + " record 81: IMU stamp t = " + fmt6(t(80)) + " s duplicates an earlier IMU stamp; dropped",
+          fmt6(t(51)) +
+          " s read before it (non-monotonic); reordered (within imu_reorder_window_s = 0.05 s)",
+      path + " record 81: IMU stamp t = " + fmt6(t(80)) +
+          " s duplicates an earlier IMU stamp; dropped",
       path + " record 121: IMU stamp t = " + fmt6(t(100) + 0.0025) +
           " s is 0.092500 s older than the newest IMU stamp " + fmt6(t(119)) +
           " s, beyond imu_reorder_window_s = 0.05 s; dropped",
@@ -320,7 +330,7 @@ TEST_F(RawlogSourceTest, FrameArrivingTooLateAfterImuIsDropped) {
   for (int i = 0; i <= 100; ++i) {
     seq.emplace_back(imuAt(kT0 + i * kImuDt));
     if (i == 40) seq.emplace_back(frameAt(kT0 + 0.18));  // 0.02 s early: fine
-    if (i == 50) {                                        // two frames swapped: reordered
+    if (i == 50) {                                       // two frames swapped: reordered
       seq.emplace_back(frameAt(kT0 + 0.26));
       seq.emplace_back(frameAt(kT0 + 0.22));
     }
@@ -341,8 +351,9 @@ TEST_F(RawlogSourceTest, FrameArrivingTooLateAfterImuIsDropped) {
   EXPECT_EQ(d.images.reordered, 1u);
   EXPECT_EQ(d.images.dropped_late, 1u);
   const std::vector<std::string> expected = {
-      path + " record 53: RGB-D stamp t = " + fmt6(kT0 + 0.22) + " s is older than the newest RGB-D stamp " +
-          fmt6(kT0 + 0.26) + " s read before it (non-monotonic); reordered (within image_reorder_window_s = 0.1 s)",
+      path + " record 53: RGB-D stamp t = " + fmt6(kT0 + 0.22) +
+          " s is older than the newest RGB-D stamp " + fmt6(kT0 + 0.26) +
+          " s read before it (non-monotonic); reordered (within image_reorder_window_s = 0.1 s)",
       path + " record 94: RGB-D stamp t = " + fmt6(kT0 + 0.25) +
           " s is older than measurements already delivered (it arrived more than 0.1 s after newer "
           "data of another sensor); dropped",
@@ -363,7 +374,9 @@ TEST_F(RawlogSourceTest, ImuInGUnitsGapsAndRate) {
     seq.emplace_back(frameAt(kT0 + 1.0 + k * kFrameDt));
   }
   writeAll(path, writerOptions(), seq);
-  RawlogSource src(path);
+  StreamConfig inspect;
+  inspect.report_only = true;  // as rawlog-convert --info: reported, not refused
+  RawlogSource src(path, inspect);
   readAll(src);
   const auto& d = src.diagnostics();
   EXPECT_TRUE(d.acc_looks_like_g_units);
@@ -378,11 +391,198 @@ TEST_F(RawlogSourceTest, ImuInGUnitsGapsAndRate) {
           " s (limit 0.0150 s = imu_gap_factor 3 / [imu] rate_hz 200 Hz)",
       path + " records 0-90: mean IMU acceleration magnitude " + mean_txt +
           " m/s^2 over 91 samples looks like g units (expected about 9.805 m/s^2): the "
-          "accelerometer must be given in m/s^2",
+          "accelerometer must be given in m/s^2 (set [stream] accel_scale = 9.80665 to read one "
+          "recorded in g)",
       path + " record 94: image gap of 0.3000 s between t = " + fmt6(kT0 + 1.2) + " s and t = " +
           fmt6(kT0 + 1.5) + " s (limit 0.2500 s = image_gap_factor 2.5 x median period 0.1000 s)",
   };
   EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
+}
+
+/// 1 s at 200 Hz with the accelerometer in g (|acc| about 1) and 10 frames.
+std::vector<Measurement> gUnitsSequence() {
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 200; ++i) {
+    if (i % 20 == 10) seq.emplace_back(frameAt(kT0 + i * kImuDt));
+    seq.emplace_back(imuAt(kT0 + i * kImuDt, 1.0));
+  }
+  return seq;
+}
+
+TEST_F(RawlogSourceTest, AccelerometerInGIsRefusedBeforeAnythingIsDelivered) {
+  const std::string dir = tempDir("rgbdi_io_grefuse");
+  const std::string path = dir + "/g.rawlog";
+  writeAll(path, writerOptions(), gUnitsSequence());
+  RawlogSource src(path);
+  src.logging_enable_console_output = false;
+  Measurement m;
+  try {
+    src.next(m);
+    FAIL() << "expected RawlogError";
+  } catch (const RawlogError& e) {
+    // 100 IMU samples arrive in records 0-104 (5 frames among them).
+    const std::string expected =
+        path +
+        " records 0-104: mean IMU acceleration magnitude 1.00025 m/s^2 over the first 100 "
+        "samples looks like g units (expected about 9.805 m/s^2); the stream is refused: set "
+        "[stream] accel_scale = 9.80665 to read an accelerometer recorded in g";
+    EXPECT_EQ(std::string(e.what()), expected);
+    EXPECT_EQ(src.diagnostics().error, expected);
+  }
+  EXPECT_TRUE(src.diagnostics().refused);
+  EXPECT_EQ(src.diagnostics().imu.delivered, 0u);
+  EXPECT_EQ(src.diagnostics().images.delivered, 0u);
+  EXPECT_FALSE(src.next(m));
+}
+
+TEST_F(RawlogSourceTest, AccelScaleReadsAnAccelerometerRecordedInG) {
+  const std::string dir = tempDir("rgbdi_io_gscale");
+  const std::string path = dir + "/g.rawlog";
+  writeAll(path, writerOptions(), gUnitsSequence());
+  StreamConfig cfg;
+  cfg.stream.accel_scale = 9.80665;
+  RawlogSource src(path, cfg);
+  const auto out = readAll(src);
+  ASSERT_EQ(countImu(out), 201u);
+  EXPECT_EQ(out.size(), 211u);
+  for (const auto& x : out)
+    if (const auto* s = std::get_if<ImuSample>(&x)) {
+      EXPECT_DOUBLE_EQ(s->acc.z(), 9.80665);
+      EXPECT_DOUBLE_EQ(s->acc.x(), 0.01 * 9.80665);
+      EXPECT_DOUBLE_EQ(s->gyr.z(), -0.003);  // the gyroscope is not scaled
+    }
+  EXPECT_FALSE(src.diagnostics().acc_looks_like_g_units);
+  EXPECT_TRUE(src.diagnostics().ok());
+}
+
+TEST_F(RawlogSourceTest, ShortStreamInGIsRefusedAtItsEnd) {
+  const std::string dir = tempDir("rgbdi_io_gshort");
+  const std::string path = dir + "/g.rawlog";
+  std::vector<Measurement> seq;
+  for (int i = 0; i < 20; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt, 1.0));
+  writeAll(path, writerOptions(), seq);
+  RawlogSource src(path);
+  EXPECT_THROW(readAll(src), RawlogError);
+  EXPECT_NE(src.diagnostics().error.find("records 0-19: mean IMU acceleration magnitude"),
+            std::string::npos)
+      << src.diagnostics().error;
+}
+
+TEST_F(RawlogSourceTest, TimeJumpingBackStopsTheStreamAfterDeliveringWhatCameBefore) {
+  const std::string dir = tempDir("rgbdi_io_jump");
+  const std::string path = dir + "/j.rawlog";
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 200; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt));  // records 0-200
+  for (int i = 0; i <= 200; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt - 0.0025));  // 1 s back
+  writeAll(path, writerOptions(), seq);
+  RawlogSource src(path);
+  src.logging_enable_console_output = false;
+  std::vector<Measurement> out;
+  Measurement m;
+  try {
+    while (src.next(m)) out.push_back(m);
+    FAIL() << "expected RawlogError";
+  } catch (const RawlogError& e) {
+    const std::string expected =
+        path + " record 201: IMU stamp t = " + fmt6(kT0 - 0.0025) +
+        " s is 1.002500 s older than "
+        "the newest one read before it (" +
+        fmt6(kT0 + 1.0) +
+        " s): time goes backwards (clock "
+        "reset or recordings joined?); reading stops at this record, the data before it is used "
+        "(limit [stream] time_jump_back_s = 0.5 s; split the rawlog here to use the rest)";
+    EXPECT_EQ(std::string(e.what()), expected);
+  }
+  EXPECT_EQ(out.size(), 201u);
+  expectTimeOrdered(out);
+  EXPECT_EQ(measurementTime(out.back()), kT0 + 1.0);
+  EXPECT_FALSE(src.diagnostics().refused);  // damage: what came before was delivered
+}
+
+TEST_F(RawlogSourceTest, SmallBackwardStepsBelowTheJumpLimitAreStillOnlyDropped) {
+  const std::string dir = tempDir("rgbdi_io_nojump");
+  const std::string path = dir + "/n.rawlog";
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 100; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt));
+  seq.emplace_back(imuAt(kT0 + 0.3 + 0.0025));  // 0.1975 s back: too late, dropped
+  for (int i = 101; i <= 200; ++i) seq.emplace_back(imuAt(kT0 + i * kImuDt));
+  writeAll(path, writerOptions(), seq);
+  RawlogSource src(path);
+  const auto out = readAll(src);
+  EXPECT_EQ(out.size(), 201u);
+  EXPECT_EQ(src.diagnostics().imu.dropped_late, 1u);
+  EXPECT_TRUE(src.diagnostics().ok());
+}
+
+TEST_F(RawlogSourceTest, NonFiniteImuValuesAreReportedCountedAndSkipped) {
+  const std::string dir = tempDir("rgbdi_io_nan");
+  const std::string path = dir + "/nan.rawlog";
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 200; ++i) {
+    ImuSample s = imuAt(kT0 + i * kImuDt);
+    if (i == 7) s.acc.y() = std::numeric_limits<double>::quiet_NaN();
+    if (i == 9) s.gyr.x() = std::numeric_limits<double>::infinity();
+    seq.emplace_back(s);
+  }
+  writeAll(path, writerOptions(), seq);
+  RawlogSource src(path);
+  const auto out = readAll(src);
+  EXPECT_EQ(out.size(), 199u);
+  const auto& d = src.diagnostics();
+  EXPECT_EQ(d.non_finite_imu, 2u);
+  EXPECT_EQ(d.unusable, 2u);
+  ASSERT_GE(d.warnings.size(), 2u);
+  EXPECT_EQ(d.warnings[0], path + " record 7: IMU sample at t = " + fmt6(kT0 + 7 * kImuDt) +
+                               " s has a non-finite value (acc = [0.01 nan 9.805], gyr = [0.001 "
+                               "0.002 -0.003]); skipped");
+  EXPECT_EQ(d.warnings[1], path + " record 9: IMU sample at t = " + fmt6(kT0 + 9 * kImuDt) +
+                               " s has a non-finite value (acc = [0.01 -0.02 9.805], gyr = [inf "
+                               "0.002 -0.003]); skipped");
+  EXPECT_NE(d.report().find("non-finite IMU samples 2"), std::string::npos) << d.report();
+}
+
+TEST_F(RawlogSourceTest, RunsOfBlackOrFlatColourImagesAreReportedWithTheirDuration) {
+  const std::string dir = tempDir("rgbdi_io_black");
+  const std::string path = dir + "/b.rawlog";
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 400; ++i) {
+    const double t = kT0 + i * kImuDt;
+    if (i % 20 == 0) {
+      RgbdFrame f = frameAt(t);
+      const int k = i / 20;                                    // frames 0..20 at 10 Hz
+      if (k >= 3 && k <= 7) f.rgb.setTo(cv::Scalar(0, 1, 0));  // black, 0.4 s
+      if (k == 12) f.rgb.setTo(cv::Scalar(90, 90, 90));        // one flat grey frame
+      seq.emplace_back(f);
+    }
+    seq.emplace_back(imuAt(t));
+  }
+  writeAll(path, writerOptions(), seq);
+  RawlogSource src(path);
+  readAll(src);
+  const auto& d = src.diagnostics();
+  EXPECT_EQ(d.constant_color_frames, 6u);
+  EXPECT_NEAR(d.constant_color_s, 0.4, 1e-6);
+  // Frame k is record 21 k (20 IMU records and the frame before each frame).
+  const std::vector<std::string> expected = {
+      path +
+          " records 63-147: 5 colour images are black (sampled values 0-1, "
+          "constant_image_max_range 2) for 0.400 s from t = " +
+          fmt6(kT0 + 0.3) + " s to t = " + fmt6(kT0 + 0.7) + " s: no visual tracking there",
+      path +
+          " record 252: 1 colour image is one flat colour (sampled values 90-90, "
+          "constant_image_max_range 2) for 0.000 s from t = " +
+          fmt6(kT0 + 1.2) + " s to t = " + fmt6(kT0 + 1.2) + " s: no visual tracking there",
+  };
+  EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
+}
+
+TEST_F(RawlogSourceTest, ProblemLinesListEachWarningOnceThenTheError) {
+  StreamDiagnostics d;
+  d.warnings = {"f record 1: a", "f record 2: b", "f record 1: a"};
+  d.error = "f record 9: truncated";
+  EXPECT_EQ(streamProblemLines(d), (std::vector<std::string>{"f record 1: a", "f record 2: b",
+                                                             "error: f record 9: truncated"}));
+  EXPECT_TRUE(streamProblemLines(StreamDiagnostics()).empty());
 }
 
 TEST_F(RawlogSourceTest, ImuRateDifferentFromConfiguration) {
@@ -400,8 +600,9 @@ TEST_F(RawlogSourceTest, ImuRateDifferentFromConfiguration) {
   EXPECT_NEAR(d.imu.rate_hz, 100.0, 1e-3);
   EXPECT_EQ(d.imu.gaps, 0u);  // 0.01 s < 3 / 200 Hz
   const std::vector<std::string> expected = {
-      path + " records 0-100: measured IMU rate 100.0 Hz differs from [imu] rate_hz = 200 Hz by "
-             "more than 20% (imu_rate_tolerance); the IMU gap limit is based on [imu] rate_hz",
+      path +
+          " records 0-100: measured IMU rate 100.0 Hz differs from [imu] rate_hz = 200 Hz by "
+          "more than 20% (imu_rate_tolerance); the IMU gap limit is based on [imu] rate_hz",
   };
   EXPECT_EQ(d.warnings, expected) << joined(d.warnings);
 }
@@ -425,14 +626,17 @@ TEST_F(RawlogSourceTest, DepthInWrongUnitsIsReportedAndSummarised) {
     readAll(src);
     const auto& d = src.diagnostics();
     EXPECT_EQ(d.depth_unit_suspects, 10u);
-    const std::string what =
-        metres_as_mm ? "median valid depth 0.002 m is below depth_median_min_m = 0.05 m (depth unit 0.001 m): metres stored as millimetres?"
-                     : "median valid depth 1500 m is above depth_median_max_m = 20 m (depth unit 1 m): millimetres stored as metres?";
+    const std::string what = metres_as_mm
+                                 ? "median valid depth 0.002 m is below depth_median_min_m = 0.05 "
+                                   "m (depth unit 0.001 m): metres stored as millimetres?"
+                                 : "median valid depth 1500 m is above depth_median_max_m = 20 m "
+                                   "(depth unit 1 m): millimetres stored as metres?";
     ASSERT_GE(d.warnings.size(), 3u) << joined(d.warnings);
     EXPECT_EQ(d.warnings[0], path + " record 1: " + what);
     EXPECT_EQ(d.warnings[1], path + " record 2: " + what);
-    EXPECT_EQ(d.warnings.back(),
-              path + " records 3-10: 8 more 'depth units' messages not listed (max_listed_issues = 2)");
+    EXPECT_EQ(
+        d.warnings.back(),
+        path + " records 3-10: 8 more 'depth units' messages not listed (max_listed_issues = 2)");
   }
 }
 
@@ -460,7 +664,9 @@ TEST_F(RawlogSourceTest, SizeMismatchAndMissingIntrinsics) {
   // (A depth image that does not match its intrinsics cannot be written: MRPT's deserialiser
   // resizes cameraParams to the range image.)
   const std::vector<std::string> expected = {
-      path + " record 1: colour image 32x24 and depth image 16x12 differ in size although depth is declared aligned to colour",
+      path +
+          " record 1: colour image 32x24 and depth image 16x12 differ in size although depth is "
+          "declared aligned to colour",
       path + " record 2: colour camera intrinsics missing (fx = 0)",
       path + " record 3: colour image 32x24 does not match its intrinsics 64x48",
   };
@@ -492,11 +698,19 @@ TEST_F(RawlogSourceTest, SensorPoseDisagreeingWithExtrinsicIsWarnedOnce) {
   for (const auto& w : d.warnings)
     if (w.find("sensorPose") != std::string::npos) extr.push_back(w);
   ASSERT_EQ(extr.size(), 1u) << joined(d.warnings);
-  EXPECT_EQ(extr[0].rfind(path + " record 1: the rawlog's sensorPose places the colour camera at t = [0.030013 0.0149225 -0.0396832] m, R = [", 0), 0u) << extr[0];
-  EXPECT_NE(extr[0].find(" in the body frame, but [extrinsic] T_body_cam is t = [1.30441e-05 0.0149225 0.000316835] m, R = [0.000874"),
-            std::string::npos) << extr[0];
-  EXPECT_NE(extr[0].find("; they differ by 0.0500 m and 0.00 deg (tolerances 0.01 m, 1 deg); [extrinsic] is the one used"),
-            std::string::npos) << extr[0];
+  EXPECT_EQ(extr[0].rfind(path + " record 1: the rawlog's sensorPose places the colour camera at t "
+                                 "= [0.030013 0.0149225 -0.0396832] m, R = [",
+                          0),
+            0u)
+      << extr[0];
+  EXPECT_NE(extr[0].find(" in the body frame, but [extrinsic] T_body_cam is t = [1.30441e-05 "
+                         "0.0149225 0.000316835] m, R = [0.000874"),
+            std::string::npos)
+      << extr[0];
+  EXPECT_NE(extr[0].find("; they differ by 0.0500 m and 0.00 deg (tolerances 0.01 m, 1 deg); "
+                         "[extrinsic] is the one used"),
+            std::string::npos)
+      << extr[0];
 }
 
 TEST_F(RawlogSourceTest, OtherTypesAreSkippedAndCountedAndBadImuIsReported) {
@@ -532,11 +746,12 @@ TEST_F(RawlogSourceTest, OtherTypesAreSkippedAndCountedAndBadImuIsReported) {
   EXPECT_EQ(d.observations, 7u);
   EXPECT_EQ(d.unusable, 1u);
   const std::map<std::string, std::size_t> skipped = {{"mrpt::obs::CObservation2DRangeScan", 1},
-                                                     {"mrpt::obs::CObservationOdometry", 3}};
+                                                      {"mrpt::obs::CObservationOdometry", 3}};
   EXPECT_EQ(d.skipped, skipped);
   ASSERT_FALSE(d.warnings.empty());
-  EXPECT_EQ(d.warnings[0], path + " record 11: IMU observation 'IMU' at t = " + fmt6(kT0 + 0.004) +
-                               " s lacks accelerometer/gyroscope data: IMU_WX IMU_WY IMU_WZ; skipped");
+  EXPECT_EQ(d.warnings[0],
+            path + " record 11: IMU observation 'IMU' at t = " + fmt6(kT0 + 0.004) +
+                " s lacks accelerometer/gyroscope data: IMU_WX IMU_WY IMU_WZ; skipped");
 }
 
 /// Byte size of one serialised IMU record (all IMU records have the same size).
@@ -560,9 +775,8 @@ TEST_F(RawlogSourceTest, TruncatedFileDeliversEverythingBeforeTheBadRecord) {
   src.logging_enable_console_output = false;
   Measurement m;
   size_t n = 0;
-  const std::string expected =
-      path + " record 49: truncated: the file ends inside this record (" + std::to_string(rec - 10) +
-      " bytes of it read)";
+  const std::string expected = path + " record 49: truncated: the file ends inside this record (" +
+                               std::to_string(rec - 10) + " bytes of it read)";
   try {
     while (src.next(m)) ++n;
     FAIL() << "expected RawlogError";
@@ -604,7 +818,8 @@ TEST_F(RawlogSourceTest, PumpDeliversThenEndsAndRethrowsOnTruncatedGzip) {
   } catch (const RawlogError& e) {
     const std::string what = e.what();
     EXPECT_EQ(what.rfind(path + " record ", 0), 0u) << what;
-    EXPECT_NE(what.find(": truncated: the file ends inside this record ("), std::string::npos) << what;
+    EXPECT_NE(what.find(": truncated: the file ends inside this record ("), std::string::npos)
+        << what;
     // Every complete record before the bad one has been delivered.
     const size_t bad_record = std::stoul(what.substr(path.size() + 8));
     EXPECT_EQ(sink.stamps.size(), bad_record);
@@ -642,7 +857,9 @@ TEST_F(RawlogSourceTest, StopFlagEndsTheStreamCleanly) {
   const std::string dir = tempDir("rgbdi_io_stop");
   const std::string path = dir + "/s.rawlog";
   writeAll(path, writerOptions(), normalSequence());
-  RawlogSource src(path);
+  StreamConfig cfg;
+  cfg.stream.accel_check_samples = 1;  // deliveries start at once (they wait for the unit check)
+  RawlogSource src(path, cfg);
   src.logging_enable_console_output = false;
   std::atomic<bool> stop{false};
   CountingSink sink;
@@ -692,8 +909,11 @@ TEST_F(RawlogSourceTest, RealOpenNi2Rawlog) {
   // Identity sensorPose vs the D435i extrinsic of the configuration, and no IMU.
   EXPECT_TRUE(d.extrinsic_mismatch);
   ASSERT_EQ(d.warnings.size(), 2u) << joined(d.warnings);
-  EXPECT_EQ(d.warnings[0].rfind(path + " record 0: the rawlog's sensorPose places the colour camera at", 0), 0u);
-  EXPECT_EQ(d.warnings[1], path + " record 0: no IMU samples (CObservationIMU with accelerometer and gyroscope)");
+  EXPECT_EQ(d.warnings[0].rfind(
+                path + " record 0: the rawlog's sensorPose places the colour camera at", 0),
+            0u);
+  EXPECT_EQ(d.warnings[1],
+            path + " record 0: no IMU samples (CObservationIMU with accelerometer and gyroscope)");
 }
 
 }  // namespace

@@ -23,6 +23,12 @@ TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.depth_median_max_m, d.depth_median_max_m);
   EXPECT_EQ(o.depth_check_step_px, d.depth_check_step_px);
   EXPECT_EQ(o.max_listed_issues, d.max_listed_issues);
+  EXPECT_EQ(o.accel_scale, d.accel_scale);
+  EXPECT_EQ(o.accel_check_samples, d.accel_check_samples);
+  EXPECT_EQ(o.accel_check_max_s, d.accel_check_max_s);
+  EXPECT_EQ(o.time_jump_back_s, d.time_jump_back_s);
+  EXPECT_EQ(o.constant_image_max_range, d.constant_image_max_range);
+  EXPECT_EQ(o.image_check_step_px, d.image_check_step_px);
   // Every key of [stream] is one that StreamOptions reads.
   for (const char* s : {"camera", "imu", "extrinsic", "frontend", "estimator", "loop", "mapping",
                         "output", "sim", "convert"})
@@ -30,8 +36,34 @@ TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());
 }
 
+TEST(StreamOptions, AccelScaleAndTimeJumpAreValidated) {
+  IniReader ini =
+      IniReader::fromText("[stream]\naccel_scale = 9.80665\ntime_jump_back_s = 2\n", "a.ini");
+  const StreamOptions o = StreamOptions::load(ini);
+  EXPECT_EQ(o.accel_scale, 9.80665);
+  EXPECT_EQ(o.time_jump_back_s, 2.0);
+  IniReader zero = IniReader::fromText("[stream]\naccel_scale = 0\n", "z.ini");
+  try {
+    StreamOptions::load(zero);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(),
+                 "z.ini [stream] accel_scale: value 0 is out of the accepted range [0.001, 1000]");
+  }
+  IniReader inside = IniReader::fromText("[stream]\ntime_jump_back_s = 0.08\n", "j.ini");
+  try {
+    StreamOptions::load(inside);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(),
+                 "j.ini [stream] time_jump_back_s: must be larger than imu_reorder_window_s and "
+                 "image_reorder_window_s");
+  }
+}
+
 TEST(StreamOptions, LoadsValuesAndRejectsBadOnes) {
-  IniReader ini = IniReader::fromText("[stream]\nimu_reorder_window_s = 0.02\nmax_listed_issues = 0\n", "t.ini");
+  IniReader ini = IniReader::fromText(
+      "[stream]\nimu_reorder_window_s = 0.02\nmax_listed_issues = 0\n", "t.ini");
   const StreamOptions o = StreamOptions::load(ini);
   EXPECT_EQ(o.imu_reorder_window_s, 0.02);
   EXPECT_EQ(o.max_listed_issues, 0);
@@ -41,19 +73,23 @@ TEST(StreamOptions, LoadsValuesAndRejectsBadOnes) {
     StreamOptions::load(bad);
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "bad.ini [stream] image_gap_factor: value 0.5 is out of the accepted range [1, 1000]");
+    EXPECT_STREQ(
+        e.what(),
+        "bad.ini [stream] image_gap_factor: value 0.5 is out of the accepted range [1, 1000]");
   }
   IniReader inverted = IniReader::fromText("[stream]\ndepth_median_min_m = 30\n", "inv.ini");
   try {
     StreamOptions::load(inverted);
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "inv.ini [stream] depth_median_max_m: must be larger than depth_median_min_m");
+    EXPECT_STREQ(e.what(),
+                 "inv.ini [stream] depth_median_max_m: must be larger than depth_median_min_m");
   }
 }
 
 TEST(StreamConfig, LoadsStreamImuAndExtrinsic) {
-  IniReader ini = IniReader::fromText("[imu]\nrate_hz = 400\n[extrinsic]\nsensor_pose_tolerance_m = 0.05\n", "c.ini");
+  IniReader ini = IniReader::fromText(
+      "[imu]\nrate_hz = 400\n[extrinsic]\nsensor_pose_tolerance_m = 0.05\n", "c.ini");
   const StreamConfig c = StreamConfig::load(ini);
   EXPECT_EQ(c.imu.rate_hz, 400.0);
   EXPECT_EQ(c.extrinsic.sensor_pose_tolerance_m, 0.05);

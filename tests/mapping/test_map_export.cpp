@@ -1,12 +1,12 @@
 // Map and scene files, each re-read with the library that consumes it: an own PLY reader,
 // MRPT deserialisation (points map, 3-D scene, simple map) and cv::imread (trajectory plot).
 #include <gtest/gtest.h>
-
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/CColouredPointsMap.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/opengl/CCamera.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
@@ -14,11 +14,11 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DPDF.h>
 #include <mrpt/serialization/CArchive.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -63,8 +63,10 @@ std::vector<WorldPoint> readPly(const std::string& path) {
   for (std::size_t i = 0; i < count && (i + 1) * 15 <= body.size(); ++i) {
     const unsigned char* b = reinterpret_cast<const unsigned char*>(body.data()) + i * 15;
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t bits = static_cast<std::uint32_t>(b[4 * k]) | static_cast<std::uint32_t>(b[4 * k + 1]) << 8 |
-                                 static_cast<std::uint32_t>(b[4 * k + 2]) << 16 | static_cast<std::uint32_t>(b[4 * k + 3]) << 24;
+      const std::uint32_t bits = static_cast<std::uint32_t>(b[4 * k]) |
+                                 static_cast<std::uint32_t>(b[4 * k + 1]) << 8 |
+                                 static_cast<std::uint32_t>(b[4 * k + 2]) << 16 |
+                                 static_cast<std::uint32_t>(b[4 * k + 3]) << 24;
       std::memcpy(&pts[i].p_world[k], &bits, 4);
     }
     pts[i].rgb = {b[12], b[13], b[14]};
@@ -81,9 +83,12 @@ struct SmallRun {
       Keyframe kf;
       kf.id = id;
       kf.t = 100.0 + static_cast<double>(id);
-      kf.T_world_cam.linear() = Eigen::AngleAxisd(0.2 * static_cast<double>(id), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      kf.T_world_cam.linear() =
+          Eigen::AngleAxisd(0.2 * static_cast<double>(id), Eigen::Vector3d::UnitZ())
+              .toRotationMatrix();
       kf.T_world_cam.translation() = Eigen::Vector3d(0.5 * static_cast<double>(id), 0.1, 0.3);
-      kf.points = map.insertKeyframe(planeFrame(static_cast<std::uint16_t>(1500 + 500 * id)), kf.T_world_cam);
+      kf.points = map.insertKeyframe(planeFrame(static_cast<std::uint16_t>(1500 + 500 * id)),
+                                     kf.T_world_cam);
       store.add(kf);
     }
     for (int k = 0; k <= 20; ++k) {
@@ -155,7 +160,8 @@ TEST(MapExport, SceneOpensWithMrptAndHoldsPointsTrajectoryAndKeyframes) {
   mrpt::opengl::COpenGLScene scene;
   ASSERT_TRUE(scene.loadFromFile(dir + "/scene.3Dscene"));
 
-  auto cloud = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(scene.getByName("map_points"));
+  auto cloud =
+      std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(scene.getByName("map_points"));
   ASSERT_TRUE(cloud);
   ASSERT_EQ(cloud->size(), run.map.pointCount());
   for (std::size_t i = 0; i < cloud->size(); i += 97) {
@@ -172,18 +178,42 @@ TEST(MapExport, SceneOpensWithMrptAndHoldsPointsTrajectoryAndKeyframes) {
   traj->getLineByIndex(3, x0, y0, z0, x1, y1, z1);
   EXPECT_NEAR(x0, run.trajectory[3].p.x(), 1e-6);
   EXPECT_NEAR(y1, run.trajectory[4].p.y(), 1e-6);
-  auto truth = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(scene.getByName("ground_truth"));
+  auto truth =
+      std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(scene.getByName("ground_truth"));
   ASSERT_TRUE(truth);
   EXPECT_EQ(truth->getLineCount(), gt.size() - 1);
-  auto frames = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(scene.getByName("keyframes"));
+  auto frames =
+      std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(scene.getByName("keyframes"));
   ASSERT_TRUE(frames);
   ASSERT_EQ(frames->size(), run.store.size());
   std::size_t k = 0;
   for (const auto& obj : *frames) {
-    EXPECT_TRUE(matrixOf(mrpt::poses::CPose3D(obj->getPose())).isApprox(run.store.at(k).T_world_cam.matrix(), 1e-6)) << k;
+    EXPECT_TRUE(matrixOf(mrpt::poses::CPose3D(obj->getPose()))
+                    .isApprox(run.store.at(k).T_world_cam.matrix(), 1e-6))
+        << k;
     ++k;
   }
   EXPECT_TRUE(scene.getByName("ground_grid"));
+  // Lines stand out from the points: thicker, in a colour of their own.
+  EXPECT_EQ(traj->getLineWidth(), 4.0f);
+  EXPECT_EQ(traj->getColor_u8(), mrpt::img::TColor(255, 0, 255));
+  // The initial view looks at the centre of the drawn content from a distance that shows it.
+  auto camera = scene.getByClass<mrpt::opengl::CCamera>();
+  ASSERT_TRUE(camera);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (const auto& p : run.map.points()) {
+    lo = lo.cwiseMin(p.p_world.cast<double>());
+    hi = hi.cwiseMax(p.p_world.cast<double>());
+  }
+  for (const auto& p : run.trajectory) {
+    lo = lo.cwiseMin(p.p);
+    hi = hi.cwiseMax(p.p);
+  }
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  EXPECT_NEAR(camera->getPointingAtX(), centre.x(), 1e-4);
+  EXPECT_NEAR(camera->getPointingAtY(), centre.y(), 1e-4);
+  EXPECT_NEAR(camera->getPointingAtZ(), centre.z(), 1e-4);
+  EXPECT_NEAR(camera->getZoomDistance(), 1.5 * std::max(1.0, (hi - lo).norm()), 1e-3);
 
   writeScene(dir + "/no_gt.3Dscene", run.map, run.trajectory, run.store, SceneOptions{});
   mrpt::opengl::COpenGLScene scene2;
@@ -200,9 +230,11 @@ TEST(MapExport, SimpleMapHoldsPosesAndObservations) {
     obs->hasRangeImage = true;
     obs->rangeImage_setSize(3, 4);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) obs->rangeImage(r, c) = static_cast<std::uint16_t>(1000 * k + 10 * r + c);
+      for (int c = 0; c < 4; ++c)
+        obs->rangeImage(r, c) = static_cast<std::uint16_t>(1000 * k + 10 * r + c);
     SimpleMapEntry e;
-    e.T_world_body.linear() = Eigen::AngleAxisd(0.4 * k + 0.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    e.T_world_body.linear() =
+        Eigen::AngleAxisd(0.4 * k + 0.1, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     e.T_world_body.translation() = Eigen::Vector3d(k, -2.0 * k, 0.5);
     e.observation = obs;
     entries.push_back(e);
@@ -240,7 +272,8 @@ bool pixelNear(const cv::Mat& img, const Eigen::Vector2d& px, int radius, Pred p
   const int c0 = static_cast<int>(std::lround(px.x())), r0 = static_cast<int>(std::lround(px.y()));
   for (int r = r0 - radius; r <= r0 + radius; ++r)
     for (int c = c0 - radius; c <= c0 + radius; ++c)
-      if (r >= 0 && c >= 0 && r < img.rows && c < img.cols && pred(img.at<cv::Vec3b>(r, c))) return true;
+      if (r >= 0 && c >= 0 && r < img.rows && c < img.cols && pred(img.at<cv::Vec3b>(r, c)))
+        return true;
   return false;
 }
 
@@ -271,7 +304,7 @@ TEST(TrajectoryPlot, DrawsBothViewsWithErrorColouredEstimateAndGroundTruth) {
 
   const PlotPanel& top = info.panels[0];
   const PlotPanel& side = info.panels[1];
-  EXPECT_EQ(top.px_per_m_h, top.px_per_m_v);  // equal axes in the top view
+  EXPECT_EQ(top.px_per_m_h, top.px_per_m_v);    // equal axes in the top view
   EXPECT_GT(side.px_per_m_v, side.px_per_m_h);  // z exaggerated in the side view
   // Zero-error part: the low end of TURBO (dark purple, BGR about (59, 18, 48)).
   auto low = [](const cv::Vec3b& c) { return c[0] > 40 && c[0] > c[2] + 5 && c[1] < 40; };
@@ -306,7 +339,8 @@ TEST(TrajectoryPlot, BadInputIsRejected) {
     plotTrajectory(dir + "/a.png", est, nullptr, {});
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("estimate pose 1 is not finite"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("estimate pose 1 is not finite"), std::string::npos)
+        << e.what();
   }
   Trajectory single(1);
   EXPECT_NO_THROW(plotTrajectory(dir + "/single.png", single, nullptr, {}));  // a robot at rest

@@ -4,7 +4,6 @@
 
 #include <octomap/OcTree.h>
 
-#include <chrono>
 #include <string>
 
 #include "rgbdi/common/atomic_file.h"
@@ -177,19 +176,3 @@ TEST(OccupancyMap, KeptPointsCastEveryStrideSquaredRayAndAllMarkTheirCellsOccupi
   EXPECT_EQ(cellAt(decimated.tree(), second), Cell::Occupied);
 }
 
-TEST(OccupancyMap, RayCastingTimePerKeyframe) {
-  OccupancyMap map{MappingOptions{}};
-  rgbdi::RgbdFrame f = planeFrame(3000);
-  for (int v = 0; v < f.depth.rows; ++v)
-    for (int u = 0; u < f.depth.cols; ++u)
-      f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(1500 + (u * 7 + v * 13) % 3000);
-  const int n = 10;
-  for (int k = 0; k < n; ++k) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(0.05 * k, 0.0, 0.0);
-    map.insert(f, T);
-  }
-  const double ms = 1e3 * map.stats().seconds / n;
-  std::cout << "occupancy ray casting: " << map.stats().rays / n << " rays/keyframe, " << ms << " ms/keyframe\n";
-  EXPECT_LT(ms, 100.0);  // a real-time budget at a few keyframes per second
-}

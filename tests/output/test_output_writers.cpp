@@ -54,7 +54,8 @@ TEST(TumWriter, RoundTripsThroughReadTumExactly) {
     EXPECT_NEAR(std::abs(out[k].q.dot(in[k].q)), 1.0, 1e-15);
   }
   // No temporary left next to the result.
-  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path())) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(path).parent_path())) {
     EXPECT_EQ(entry.path().filename(), "traj.tum");
   }
 }
@@ -121,7 +122,8 @@ TEST(OutputOptions, DefaultsEqualShareConfigAndRangesAreChecked) {
   EXPECT_EQ(from_file.write_plot, defaults.write_plot);
   EXPECT_EQ(from_file.progress_interval_s, defaults.progress_interval_s);
 
-  IniReader custom = IniReader::fromText("[output]\nwrite_ply = false\nprogress_interval_s = 0.5\n");
+  IniReader custom =
+      IniReader::fromText("[output]\nwrite_ply = false\nprogress_interval_s = 0.5\n");
   const OutputOptions o = OutputOptions::load(custom);
   EXPECT_FALSE(o.write_ply);
   EXPECT_TRUE(o.write_scene);
@@ -132,3 +134,20 @@ TEST(OutputOptions, DefaultsEqualShareConfigAndRangesAreChecked) {
 
 }  // namespace
 }  // namespace rgbdi::output
+
+TEST(TumWriter, FrameAndClockLinesComeBeforeTheColumnHeader) {
+  const std::string dir = rgbdi::test::makeTempDir("rgbdi_tum_hdr");
+  const std::string path = dir + "/t.tum";
+  rgbdi::Trajectory t(1);
+  t[0].t = 1.5;
+  rgbdi::output::writeTum(path, t, "body (IMU) frame in the world frame\nIMU clock");
+  std::ifstream f(path);
+  std::string l1, l2, l3;
+  std::getline(f, l1);
+  std::getline(f, l2);
+  std::getline(f, l3);
+  EXPECT_EQ(l1, "# body (IMU) frame in the world frame");
+  EXPECT_EQ(l2, "# IMU clock");
+  EXPECT_EQ(l3, "# timestamp tx ty tz qx qy qz qw");
+  EXPECT_EQ(rgbdi::eval::readTum(path).size(), 1u);  // comments are skipped by readers
+}

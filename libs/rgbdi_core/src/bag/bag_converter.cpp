@@ -335,7 +335,19 @@ BagConverter::BagConverter(const std::string& path, const ConvertOptions& option
   d.path = path;
   d.options = options;
   d.reader = std::make_unique<BagReader>(path);
-  d.layout = resolveBagLayout(d.reader->topics(), input.topics, input.depth_aligned, path);
+  try {
+    d.layout = resolveBagLayout(d.reader->topics(), input.topics, input.depth_aligned, path);
+  } catch (const BagLayoutError& e) {
+    // A damaged bag shows only the topics of its readable part: say it is damaged first, as
+    // --info does, rather than only that a topic is missing.
+    if (d.reader->indexed()) throw;
+    std::string what = e.what();
+    if (what.rfind(path + ": ", 0) == 0) what = what.substr(path.size() + 2);
+    const std::string damage =
+        d.reader->damage().empty() ? std::string() : "; " + d.reader->damage();
+    throw BagLayoutError(path + ": damaged bag: " + d.reader->recoveryReason() + damage +
+                         "; in the readable part: " + what);
+  }
   d.roles[d.layout.color] = Role::Color;
   d.roles[d.layout.depth] = Role::Depth;
   d.roles[d.layout.imu] = Role::Imu;

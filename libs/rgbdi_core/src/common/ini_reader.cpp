@@ -38,6 +38,32 @@ std::string fmtRange(double lo, double hi) {
   return os.str();
 }
 
+/// Throws ConfigError naming `label` and the line of the first line that is neither blank, a
+/// comment (';', '#', "//"), a "[section]" header, an MRPT directive ("@define", "@include") nor
+/// "key = value" with a non-empty key. MRPT's parser ignores such lines, which would let a typo
+/// such as a missing '=' drop a setting without a word.
+void checkLines(const std::string& text, const std::string& label) {
+  std::istringstream is(text);
+  std::string line;
+  for (std::size_t n = 1; std::getline(is, line); ++n) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == ';' || t[0] == '#' || t.rfind("//", 0) == 0 || t[0] == '@') continue;
+    if (t[0] == '[') {
+      const auto close = t.find(']');
+      const std::string rest = close == std::string::npos ? "x" : trim(t.substr(close + 1));
+      if (close != std::string::npos && close > 1 &&
+          (rest.empty() || rest[0] == ';' || rest[0] == '#'))
+        continue;
+      throw ConfigError(label + " line " + std::to_string(n) + ": '" + t +
+                        "' is not a valid [section] header");
+    }
+    const auto eq = t.find('=');
+    if (eq != std::string::npos && !trim(t.substr(0, eq)).empty()) continue;
+    throw ConfigError(label + " line " + std::to_string(n) + ": '" + t +
+                      "' is not 'key = value', a [section] header, a comment or blank");
+  }
+}
+
 }  // namespace
 
 IniReader::IniReader(std::unique_ptr<mrpt::config::CConfigFileBase> cfg, std::string label)
@@ -55,6 +81,7 @@ IniReader IniReader::fromFile(const std::string& path) {
 }
 
 IniReader IniReader::fromText(const std::string& text, const std::string& label) {
+  checkLines(text, label);
   try {
     return IniReader(std::make_unique<mrpt::config::CConfigFileMemory>(text), label);
   } catch (const std::exception& e) {
@@ -115,8 +142,7 @@ int IniReader::getInt(const std::string& section, const std::string& key, int de
     errno = 0;
     v = std::strtol(s.c_str(), &end, 10);
     if (s.empty() || end == s.c_str() || *end != '\0' || errno == ERANGE)
-      fail(section, key,
-           "'" + s + "' is not an integer; accepted range " + fmtRange(min, max));
+      fail(section, key, "'" + s + "' is not an integer; accepted range " + fmtRange(min, max));
   }
   if (v < min || v > max) {
     std::ostringstream os;
@@ -170,8 +196,7 @@ Eigen::VectorXd IniReader::getVector(const std::string& section, const std::stri
   }
   if (static_cast<Eigen::Index>(vals.size()) != def.size()) {
     fail(section, key,
-         "expected " + std::to_string(def.size()) + " numbers, got " +
-             std::to_string(vals.size()));
+         "expected " + std::to_string(def.size()) + " numbers, got " + std::to_string(vals.size()));
   }
   return Eigen::Map<Eigen::VectorXd>(vals.data(), static_cast<Eigen::Index>(vals.size()));
 }

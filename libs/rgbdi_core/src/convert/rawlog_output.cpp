@@ -130,7 +130,9 @@ void RawlogOutput::finish() {
     unique.push_back(p);
   }
   try {
-    output::writeTum(gt_path_, unique);
+    output::writeTum(gt_path_, unique,
+                     "ground truth as recorded in the input (the frame its pose source tracks, in "
+                     "its world frame); the input's message stamps");
   } catch (const std::invalid_argument& e) {
     throw IoError(e.what());
   }

@@ -34,16 +34,22 @@ InputFormat detectInputFormat(const std::string& path) {
 
 std::string formatName(InputFormat f) {
   switch (f) {
-    case InputFormat::Rawlog: return "MRPT rawlog";
-    case InputFormat::Ros1Bag: return "ROS1 bag";
-    case InputFormat::TumRgbd: return "TUM RGB-D directory";
-    case InputFormat::Unknown: break;
+    case InputFormat::Rawlog:
+      return "MRPT rawlog";
+    case InputFormat::Ros1Bag:
+      return "ROS1 bag";
+    case InputFormat::TumRgbd:
+      return "TUM RGB-D directory";
+    case InputFormat::Unknown:
+      break;
   }
   return "unknown";
 }
 
 StreamDiagnostics inspectRawlog(const std::string& path, const StreamConfig& cfg, bool quiet) {
-  RawlogSource src(path, cfg);
+  StreamConfig inspect = cfg;
+  inspect.report_only = true;  // report a wrong accelerometer unit, read to the end
+  RawlogSource src(path, inspect);
   if (quiet) src.logging_enable_console_output = false;
   Measurement m;
   try {

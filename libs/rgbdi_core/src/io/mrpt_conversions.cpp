@@ -2,13 +2,13 @@
 
 #include <mrpt/img/CImage.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
+#include <filesystem>
 #include <iomanip>
+#include <limits>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 namespace rgbdi::io {
@@ -37,9 +37,15 @@ cv::Mat colorToRgb(const mrpt::img::CImage& img, const std::string& label) {
   }
   cv::Mat rgb;
   switch (m.channels()) {
-    case 1: cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB); break;
-    case 3: cv::cvtColor(m, rgb, cv::COLOR_BGR2RGB); break;   // CImage keeps OpenCV's BGR
-    case 4: cv::cvtColor(m, rgb, cv::COLOR_BGRA2RGB); break;
+    case 1:
+      cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB);
+      break;
+    case 3:
+      cv::cvtColor(m, rgb, cv::COLOR_BGR2RGB);
+      break;  // CImage keeps OpenCV's BGR
+    case 4:
+      cv::cvtColor(m, rgb, cv::COLOR_BGRA2RGB);
+      break;
     default:
       throw ConversionError(label + ": intensity image has " + std::to_string(m.channels()) +
                             " channels; expected 1, 3 or 4");
@@ -116,9 +122,10 @@ Eigen::Isometry3d mrptDepthFromOptical() {
 PinholeCamera fromMrpt(const mrpt::img::TCamera& cam, const std::string& label) {
   for (size_t i = 5; i < cam.dist.size(); ++i) {
     if (cam.dist[i] != 0.0) {
-      throw ConversionError(label + ": camera '" + cam.cameraName + "' uses distortion coefficient " +
-                            std::to_string(i) +
-                            " (beyond k1 k2 p1 p2 k3); only the radial-tangential model is supported");
+      throw ConversionError(
+          label + ": camera '" + cam.cameraName + "' uses distortion coefficient " +
+          std::to_string(i) +
+          " (beyond k1 k2 p1 p2 k3); only the radial-tangential model is supported");
     }
   }
   PinholeCamera c;
@@ -149,6 +156,19 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
   RgbdFrame f;
   f.t = toSeconds(obs.timestamp);
   f.source_label = label;
+  // MRPT's own error for a missing external file is a bare "==== MRPT exception ====" banner:
+  // name the file and the folder it was looked up in.
+  auto requireFile = [&](const std::string& file, const char* what) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec))
+      throw ConversionError(label + ": cannot load the observation's images: " + what + " " + file +
+                            " does not exist (external images folder " +
+                            mrpt::img::CImage::getImagesPathBase() + ")");
+  };
+  if (obs.hasRangeImage && obs.rangeImage_isExternallyStored())
+    requireFile(obs.rangeImage_getExternalStorageFileAbsolutePath(""), "range image");
+  if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored())
+    requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
   try {
     // Externally stored range matrices are only read by load(); images load lazily on access.
     obs.load();
@@ -157,7 +177,8 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
     if (obs.hasRangeImage) {
       // MRPT "auto-fixes" the depth intrinsics' size to the serialised matrix size, which is 0x0
       // for externally stored range images: restore it from the loaded matrix.
-      if (obs.rangeImage_isExternallyStored() && f.cam_depth.width == 0 && f.cam_depth.height == 0) {
+      if (obs.rangeImage_isExternallyStored() && f.cam_depth.width == 0 &&
+          f.cam_depth.height == 0) {
         f.cam_depth.width = static_cast<int>(obs.rangeImage.cols());
         f.cam_depth.height = static_cast<int>(obs.rangeImage.rows());
       }
@@ -212,7 +233,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr toMrpt(const RgbdFrame& frame,
                             "identity");
     }
     // Keep MRPT's own default value so that doDepthAndIntensityCamerasCoincide() holds exactly.
-    obs->relativePoseIntensityWRTDepth = mrpt::obs::CObservation3DRangeScan().relativePoseIntensityWRTDepth;
+    obs->relativePoseIntensityWRTDepth =
+        mrpt::obs::CObservation3DRangeScan().relativePoseIntensityWRTDepth;
     obs->sensorPose = toCPose3D(T_body_cam * mrptDepthFromOptical().inverse());
   } else {
     const Eigen::Isometry3d T_mrptdepth_color =

@@ -7,14 +7,13 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
-
 #include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 
-#include "rgbdi/common/atomic_file.h"
 #include "io/rawlog_naming.h"
+#include "rgbdi/common/atomic_file.h"
 #include "rgbdi/io/mrpt_conversions.h"
 
 namespace rgbdi::io {
@@ -48,8 +47,8 @@ RawlogWriter::RawlogWriter(const std::string& path, const RawlogWriterOptions& o
     stream_->file = std::move(f);
   }
   if (!ok) throw IoError(path + ": cannot create rawlog (temporary " + tmp_path_ + ")");
-  stream_->archive = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CStream>>(
-      *stream_->file);
+  stream_->archive =
+      std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CStream>>(*stream_->file);
 }
 
 RawlogWriter::~RawlogWriter() {
@@ -81,7 +80,9 @@ void RawlogWriter::writeObservation(const mrpt::obs::CObservation::Ptr& obs) {
   writeRaw(sf);
 }
 
-void RawlogWriter::write(const ImuSample& imu) { writeObservation(toMrpt(imu, options_.imu_label)); }
+void RawlogWriter::write(const ImuSample& imu) {
+  writeObservation(toMrpt(imu, options_.imu_label));
+}
 
 void RawlogWriter::write(const RgbdFrame& frame) {
   auto obs = toMrpt(frame, options_.T_body_cam, options_.camera_label);

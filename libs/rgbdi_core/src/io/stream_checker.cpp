@@ -25,7 +25,9 @@ std::string gnum(double v) {
 
 std::string stamp(double t) { return num(t, 6); }
 
-std::string sizeText(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
+std::string sizeText(const cv::Mat& m) {
+  return std::to_string(m.cols) + "x" + std::to_string(m.rows);
+}
 std::string sizeText(const PinholeCamera& c) {
   return std::to_string(c.width) + "x" + std::to_string(c.height);
 }
@@ -86,7 +88,8 @@ void StreamChecker::onArrival(bool imu, double t, std::size_t record,
   const int k = imu ? 0 : 1;
   const std::string name = k == 0 ? "IMU" : "RGB-D";
   const std::string window_key = k == 0 ? "imu_reorder_window_s" : "image_reorder_window_s";
-  const double window = k == 0 ? cfg_.stream.imu_reorder_window_s : cfg_.stream.image_reorder_window_s;
+  const double window =
+      k == 0 ? cfg_.stream.imu_reorder_window_s : cfg_.stream.image_reorder_window_s;
   SensorStreamStats& st = k == 0 ? diag_.imu : diag_.images;
   if (t < prev_arrival_[k]) ++st.non_monotonic;
   if (std::isfinite(t)) prev_arrival_[k] = t;
@@ -105,7 +108,8 @@ void StreamChecker::onArrival(bool imu, double t, std::size_t record,
       break;
     case V::Duplicate:
       ++st.duplicates;
-      issue(name + " duplicate", record, head + " duplicates an earlier " + name + " stamp; dropped");
+      issue(name + " duplicate", record,
+            head + " duplicates an earlier " + name + " stamp; dropped");
       break;
     case V::TooLate:
       ++st.dropped_late;
@@ -116,10 +120,11 @@ void StreamChecker::onArrival(bool imu, double t, std::size_t record,
       break;
     case V::BehindOutput:
       ++st.dropped_late;
-      issue(name + " order", record,
-            head + " is older than measurements already delivered (it arrived more than " +
-                gnum(std::max(cfg_.stream.imu_reorder_window_s, cfg_.stream.image_reorder_window_s)) +
-                " s after newer data of another sensor); dropped");
+      issue(
+          name + " order", record,
+          head + " is older than measurements already delivered (it arrived more than " +
+              gnum(std::max(cfg_.stream.imu_reorder_window_s, cfg_.stream.image_reorder_window_s)) +
+              " s after newer data of another sensor); dropped");
       break;
     case V::InvalidStamp:
       ++st.invalid_stamps;
@@ -142,10 +147,11 @@ void StreamChecker::onDelivered(const Measurement& m, std::size_t record) {
       if (dt > st.gap_limit_s) {
         ++st.gaps;
         issue("IMU gap", record,
-              at(record) + ": IMU gap of " + num(dt, 4) + " s between t = " +
-                  stamp(prev_delivered_imu_t_) + " s and t = " + stamp(imu->t) + " s (limit " +
-                  num(st.gap_limit_s, 4) + " s = imu_gap_factor " + gnum(cfg_.stream.imu_gap_factor) +
-                  " / [imu] rate_hz " + gnum(cfg_.imu.rate_hz) + " Hz)");
+              at(record) + ": IMU gap of " + num(dt, 4) +
+                  " s between t = " + stamp(prev_delivered_imu_t_) + " s and t = " + stamp(imu->t) +
+                  " s (limit " + num(st.gap_limit_s, 4) + " s = imu_gap_factor " +
+                  gnum(cfg_.stream.imu_gap_factor) + " / [imu] rate_hz " + gnum(cfg_.imu.rate_hz) +
+                  " Hz)");
       }
     }
     ++st.delivered;
@@ -190,10 +196,12 @@ void StreamChecker::checkFrame(const RgbdFrame& f, std::size_t record) {
                " differ in size although depth is declared aligned to colour";
   } else if (f.hasColor() && f.cam_color.valid() &&
              (f.rgb.cols != f.cam_color.width || f.rgb.rows != f.cam_color.height)) {
-    mismatch = "colour image " + sizeText(f.rgb) + " does not match its intrinsics " + sizeText(f.cam_color);
+    mismatch = "colour image " + sizeText(f.rgb) + " does not match its intrinsics " +
+               sizeText(f.cam_color);
   } else if (f.hasDepth() && f.cam_depth.valid() &&
              (f.depth.cols != f.cam_depth.width || f.depth.rows != f.cam_depth.height)) {
-    mismatch = "depth image " + sizeText(f.depth) + " does not match its intrinsics " + sizeText(f.cam_depth);
+    mismatch = "depth image " + sizeText(f.depth) + " does not match its intrinsics " +
+               sizeText(f.cam_depth);
   }
   if (!mismatch.empty()) {
     ++diag_.size_mismatches;
@@ -201,7 +209,64 @@ void StreamChecker::checkFrame(const RgbdFrame& f, std::size_t record) {
   }
 
   if (f.hasDepth()) checkDepthUnits(f, record);
+  if (f.hasColor()) checkConstantColor(f, record);
   checkExtrinsic(f, record);
+}
+
+void StreamChecker::checkConstantColor(const RgbdFrame& f, std::size_t record) {
+  const int step = cfg_.stream.image_check_step_px;
+  // Per channel: a flat colour is as useless for tracking as black.
+  int lo = 255, hi = 0, spread = 0;
+  if (f.rgb.depth() == CV_8U && f.rgb.channels() <= 4) {
+    const int channels = f.rgb.channels();
+    int clo[4] = {255, 255, 255, 255}, chi[4] = {0, 0, 0, 0};
+    for (int v = 0; v < f.rgb.rows; v += step) {
+      const auto* row = f.rgb.ptr<std::uint8_t>(v);
+      for (int u = 0; u < f.rgb.cols; u += step)
+        for (int c = 0; c < channels; ++c) {
+          clo[c] = std::min<int>(clo[c], row[u * channels + c]);
+          chi[c] = std::max<int>(chi[c], row[u * channels + c]);
+        }
+    }
+    for (int c = 0; c < channels; ++c) {
+      spread = std::max(spread, chi[c] - clo[c]);
+      lo = std::min(lo, clo[c]);
+      hi = std::max(hi, chi[c]);
+    }
+  } else {
+    spread = 256;  // not an 8-bit image: not judged here
+  }
+  if (spread > cfg_.stream.constant_image_max_range) {
+    closeConstantRun();
+    return;
+  }
+  ConstantRun& r = constant_run_;
+  if (r.frames == 0) {
+    r.first_record = record;
+    r.first_t = f.t;
+  }
+  ++r.frames;
+  r.last_record = record;
+  r.last_t = f.t;
+  r.lo = std::min(r.lo, lo);
+  r.hi = std::max(r.hi, hi);
+}
+
+void StreamChecker::closeConstantRun() {
+  ConstantRun& r = constant_run_;
+  if (r.frames == 0) return;
+  const double span = r.last_t - r.first_t;
+  diag_.constant_color_frames += r.frames;
+  diag_.constant_color_s += span;
+  const bool black = r.hi <= cfg_.stream.constant_image_max_range;
+  issue("constant images", r.first_record,
+        records(r.first_record, r.last_record) + ": " + std::to_string(r.frames) + " colour image" +
+            (r.frames == 1 ? " is " : "s are ") + (black ? "black" : "one flat colour") +
+            " (sampled values " + std::to_string(r.lo) + "-" + std::to_string(r.hi) +
+            ", constant_image_max_range " + std::to_string(cfg_.stream.constant_image_max_range) +
+            ") for " + num(span, 3) + " s from t = " + stamp(r.first_t) +
+            " s to t = " + stamp(r.last_t) + " s: no visual tracking there");
+  r = ConstantRun();
 }
 
 void StreamChecker::checkDepthUnits(const RgbdFrame& f, std::size_t record) {
@@ -225,13 +290,13 @@ void StreamChecker::checkDepthUnits(const RgbdFrame& f, std::size_t record) {
   if (median_m < cfg_.stream.depth_median_min_m) {
     ++diag_.depth_unit_suspects;
     issue("depth units", record,
-          head + "below depth_median_min_m = " + gnum(cfg_.stream.depth_median_min_m) + " m" + unit +
-              "metres stored as millimetres?");
+          head + "below depth_median_min_m = " + gnum(cfg_.stream.depth_median_min_m) + " m" +
+              unit + "metres stored as millimetres?");
   } else if (median_m > cfg_.stream.depth_median_max_m) {
     ++diag_.depth_unit_suspects;
     issue("depth units", record,
-          head + "above depth_median_max_m = " + gnum(cfg_.stream.depth_median_max_m) + " m" + unit +
-              "millimetres stored as metres?");
+          head + "above depth_median_max_m = " + gnum(cfg_.stream.depth_median_max_m) + " m" +
+              unit + "millimetres stored as metres?");
   }
 }
 
@@ -240,9 +305,9 @@ void StreamChecker::checkExtrinsic(const RgbdFrame& f, std::size_t record) {
   const Eigen::Isometry3d& A = f.source_T_body_cam;
   const Eigen::Isometry3d& B = cfg_.extrinsic.T_body_cam;
   const double dt = (A.translation() - B.translation()).norm();
-  const double dang =
-      Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle() * 180.0 / M_PI;
-  if (dt <= cfg_.extrinsic.sensor_pose_tolerance_m && dang <= cfg_.extrinsic.sensor_pose_tolerance_deg)
+  const double dang = Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle() * 180.0 / M_PI;
+  if (dt <= cfg_.extrinsic.sensor_pose_tolerance_m &&
+      dang <= cfg_.extrinsic.sensor_pose_tolerance_deg)
     return;
   extrinsic_checked_mismatch_ = true;
   diag_.extrinsic_mismatch = true;
@@ -266,7 +331,8 @@ void StreamChecker::finishImu() {
   SensorStreamStats& st = diag_.imu;
   const std::size_t last_record = diag_.records == 0 ? 0 : diag_.records - 1;
   if (st.delivered == 0) {
-    warn(records(0, last_record) + ": no IMU samples (CObservationIMU with accelerometer and gyroscope)");
+    warn(records(0, last_record) +
+         ": no IMU samples (CObservationIMU with accelerometer and gyroscope)");
     return;
   }
   st.duration_s = st.last_t - st.first_t;
@@ -275,9 +341,9 @@ void StreamChecker::finishImu() {
     st.median_period_s = 1.0 / st.rate_hz;
     const double nominal = cfg_.imu.rate_hz;
     if (std::abs(st.rate_hz - nominal) > cfg_.stream.imu_rate_tolerance * nominal) {
-      warn(records(first_imu_record_, last_imu_record_) + ": measured IMU rate " + num(st.rate_hz, 1) +
-           " Hz differs from [imu] rate_hz = " + gnum(nominal) + " Hz by more than " +
-           gnum(100.0 * cfg_.stream.imu_rate_tolerance) +
+      warn(records(first_imu_record_, last_imu_record_) + ": measured IMU rate " +
+           num(st.rate_hz, 1) + " Hz differs from [imu] rate_hz = " + gnum(nominal) +
+           " Hz by more than " + gnum(100.0 * cfg_.stream.imu_rate_tolerance) +
            "% (imu_rate_tolerance); the IMU gap limit is based on [imu] rate_hz");
     }
   }
@@ -290,7 +356,8 @@ void StreamChecker::finishImu() {
   if (mean >= cfg_.stream.g_units_min_m_s2 && mean <= cfg_.stream.g_units_max_m_s2) {
     diag_.acc_looks_like_g_units = true;
     warn(head + "looks like g units (expected about " + gnum(g) +
-         " m/s^2): the accelerometer must be given in m/s^2");
+         " m/s^2): the accelerometer must be given in m/s^2 (set [stream] accel_scale = 9.80665 "
+         "to read one recorded in g)");
   } else if (std::abs(mean - g) > cfg_.stream.acc_magnitude_tolerance * g) {
     warn(head + "is far from gravity " + gnum(g) + " m/s^2 (acc_magnitude_tolerance " +
          gnum(100.0 * cfg_.stream.acc_magnitude_tolerance) + "%): wrong units or gravity removed?");
@@ -339,13 +406,14 @@ void StreamChecker::finishImages() {
 void StreamChecker::finish() {
   if (finished_) return;
   finished_ = true;
+  closeConstantRun();
   finishImu();
   finishImages();
   for (const auto& kind : issue_order_) {
     const IssueKind& k = issues_.at(kind);
     if (k.unlisted == 0) continue;
-    warn(records(k.first_unlisted, k.last_unlisted) + ": " + std::to_string(k.unlisted) + " more '" +
-         kind + "' messages not listed (max_listed_issues = " +
+    warn(records(k.first_unlisted, k.last_unlisted) + ": " + std::to_string(k.unlisted) +
+         " more '" + kind + "' messages not listed (max_listed_issues = " +
          std::to_string(cfg_.stream.max_listed_issues) + ")");
   }
 }

@@ -1,8 +1,8 @@
 #include "rgbdi/io/stream_diagnostics.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 namespace rgbdi::io {
@@ -18,27 +18,35 @@ std::string timing(const SensorStreamStats& s, const char* what) {
   std::ostringstream os;
   os << s.delivered << " " << what;
   if (s.delivered == 0) return os.str();
-  os << ", " << num(s.duration_s, 3) << " s (t = " << num(s.first_t, 6) << " .. " << num(s.last_t, 6)
-     << ")";
+  os << ", " << num(s.duration_s, 3) << " s (t = " << num(s.first_t, 6) << " .. "
+     << num(s.last_t, 6) << ")";
   if (s.rate_hz > 0.0) os << ", " << num(s.rate_hz, 2) << " Hz";
   return os.str();
 }
 
 std::string ordering(const SensorStreamStats& s) {
   std::ostringstream os;
-  os << "non-monotonic " << s.non_monotonic << ", reordered " << s.reordered << ", duplicates dropped "
-     << s.duplicates << ", late dropped " << s.dropped_late << ", invalid stamps " << s.invalid_stamps;
+  os << "non-monotonic " << s.non_monotonic << ", reordered " << s.reordered
+     << ", duplicates dropped " << s.duplicates << ", late dropped " << s.dropped_late
+     << ", invalid stamps " << s.invalid_stamps;
   return os.str();
 }
 
 nlohmann::json statsJson(const SensorStreamStats& s) {
-  return {{"delivered", s.delivered},         {"first_t", s.first_t},
-          {"last_t", s.last_t},               {"duration_s", s.duration_s},
-          {"rate_hz", s.rate_hz},             {"median_period_s", s.median_period_s},
-          {"gaps", s.gaps},                   {"gap_limit_s", s.gap_limit_s},
-          {"max_gap_s", s.max_gap_s},         {"non_monotonic", s.non_monotonic},
-          {"reordered", s.reordered},         {"duplicates", s.duplicates},
-          {"dropped_late", s.dropped_late},   {"invalid_stamps", s.invalid_stamps}};
+  return {{"delivered", s.delivered},
+          {"first_t", s.first_t},
+          {"last_t", s.last_t},
+          {"duration_s", s.duration_s},
+          {"rate_hz", s.rate_hz},
+          {"median_period_s", s.median_period_s},
+          {"gaps", s.gaps},
+          {"gap_limit_s", s.gap_limit_s},
+          {"max_gap_s", s.max_gap_s},
+          {"non_monotonic", s.non_monotonic},
+          {"reordered", s.reordered},
+          {"duplicates", s.duplicates},
+          {"dropped_late", s.dropped_late},
+          {"invalid_stamps", s.invalid_stamps}};
 }
 
 }  // namespace
@@ -73,9 +81,11 @@ std::string StreamDiagnostics::report() const {
        << " m, median depth " << num(median_depth_m, 3) << " m\n";
   }
   os << "       order: " << ordering(images) << "\n";
-  os << "Checks: size mismatches " << size_mismatches << ", missing intrinsics " << missing_intrinsics
-     << ", depth unit suspects " << depth_unit_suspects << ", sensorPose vs [extrinsic] "
-     << (extrinsic_mismatch ? "DISAGREE" : "agree or absent") << "\n";
+  os << "Checks: size mismatches " << size_mismatches << ", missing intrinsics "
+     << missing_intrinsics << ", depth unit suspects " << depth_unit_suspects
+     << ", sensorPose vs [extrinsic] " << (extrinsic_mismatch ? "DISAGREE" : "agree or absent")
+     << ", non-finite IMU samples " << non_finite_imu << ", black/constant colour images "
+     << constant_color_frames << " (" << num(constant_color_s, 3) << " s)\n";
   os << "Warnings: " << warnings.size() << "\n";
   for (const auto& w : warnings) os << "  " << w << "\n";
   if (!error.empty()) os << "ERROR: " << error << "\n";
@@ -106,10 +116,23 @@ std::string StreamDiagnostics::toJson(int indent) const {
   j["acc_looks_like_g_units"] = acc_looks_like_g_units;
   j["read_cpu_s"] = read_cpu_s;
   j["rgbd_decode_cpu_s"] = rgbd_decode_cpu_s;
+  j["non_finite_imu"] = non_finite_imu;
+  j["constant_color_frames"] = constant_color_frames;
+  j["constant_color_s"] = constant_color_s;
   j["warnings"] = warnings;
   j["error"] = error;
+  j["refused"] = refused;
   j["ok"] = ok();
   return j.dump(indent);
+}
+
+std::vector<std::string> streamProblemLines(const StreamDiagnostics& d) {
+  std::vector<std::string> lines;
+  std::set<std::string> seen;
+  for (const auto& w : d.warnings)
+    if (seen.insert(w).second) lines.push_back(w);
+  if (!d.error.empty()) lines.push_back("error: " + d.error);
+  return lines;
 }
 
 }  // namespace rgbdi::io

@@ -1,11 +1,14 @@
 #include "rgbdi/io/stream_options.h"
 
+#include <algorithm>
+
 namespace rgbdi::io {
 
 StreamOptions StreamOptions::load(IniReader& ini) {
   StreamOptions o;
   const std::string s = "stream";
-  o.imu_reorder_window_s = ini.getDouble(s, "imu_reorder_window_s", o.imu_reorder_window_s, 0.0, 10.0);
+  o.imu_reorder_window_s =
+      ini.getDouble(s, "imu_reorder_window_s", o.imu_reorder_window_s, 0.0, 10.0);
   o.image_reorder_window_s =
       ini.getDouble(s, "image_reorder_window_s", o.image_reorder_window_s, 0.0, 10.0);
   o.imu_gap_factor = ini.getDouble(s, "imu_gap_factor", o.imu_gap_factor, 1.0, 1000.0);
@@ -23,6 +26,16 @@ StreamOptions StreamOptions::load(IniReader& ini) {
     ini.fail(s, "depth_median_max_m", "must be larger than depth_median_min_m");
   o.depth_check_step_px = ini.getInt(s, "depth_check_step_px", o.depth_check_step_px, 1, 64);
   o.max_listed_issues = ini.getInt(s, "max_listed_issues", o.max_listed_issues, 0, 100000);
+  o.accel_scale = ini.getDouble(s, "accel_scale", o.accel_scale, 1e-3, 1e3);
+  o.accel_check_samples = ini.getInt(s, "accel_check_samples", o.accel_check_samples, 1, 100000);
+  o.accel_check_max_s = ini.getDouble(s, "accel_check_max_s", o.accel_check_max_s, 0.0, 1000.0);
+  o.time_jump_back_s = ini.getDouble(s, "time_jump_back_s", o.time_jump_back_s, 0.0, 1e6);
+  if (o.time_jump_back_s <= std::max(o.imu_reorder_window_s, o.image_reorder_window_s))
+    ini.fail(s, "time_jump_back_s",
+             "must be larger than imu_reorder_window_s and image_reorder_window_s");
+  o.constant_image_max_range =
+      ini.getInt(s, "constant_image_max_range", o.constant_image_max_range, 0, 255);
+  o.image_check_step_px = ini.getInt(s, "image_check_step_px", o.image_check_step_px, 1, 64);
   return o;
 }
 

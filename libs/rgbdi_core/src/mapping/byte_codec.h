@@ -30,9 +30,7 @@ class ByteWriter {
     std::memcpy(&bits, &v, sizeof bits);
     u64(bits);
   }
-  void raw(const void* data, std::size_t n) {
-    bytes_.append(static_cast<const char*>(data), n);
-  }
+  void raw(const void* data, std::size_t n) { bytes_.append(static_cast<const char*>(data), n); }
   const std::string& bytes() const { return bytes_; }
 
  private:
@@ -82,6 +80,7 @@ class ByteReader {
   }
   void raw(void* out, std::size_t n, const char* what) {
     need(n, what);
+    if (n == 0) return;  // `out` may be the null data() of an empty container (memcpy: UB)
     std::memcpy(out, data_.data() + offset_, n);
     offset_ += n;
   }

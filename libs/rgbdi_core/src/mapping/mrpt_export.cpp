@@ -4,8 +4,9 @@
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CCamera.h>
 #include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
@@ -62,7 +63,7 @@ mrpt::opengl::CSetOfLines::Ptr polyline(const Trajectory& trajectory, const std:
   auto lines = mrpt::opengl::CSetOfLines::Create();
   lines->setName(name);
   lines->setColor(r, g, b);
-  lines->setLineWidth(2.0f);
+  lines->setLineWidth(4.0f);  // thicker than the 2-px map points: the path stays visible
   for (std::size_t k = 1; k < trajectory.size(); ++k) {
     const Eigen::Vector3d& a = trajectory[k - 1].p;
     const Eigen::Vector3d& c = trajectory[k].p;
@@ -116,8 +117,9 @@ void writeScene(const std::string& path, const PointMap& map, const Trajectory& 
     lo = lo.cwiseMin(s.p);
     hi = hi.cwiseMax(s.p);
   }
-  scene.insert(polyline(trajectory, "trajectory", 0.1f, 0.3f, 1.0f));
-  if (ground_truth) scene.insert(polyline(*ground_truth, "ground_truth", 0.1f, 0.8f, 0.1f));
+  // Saturated magenta / yellow: colours that real-world map points rarely have.
+  scene.insert(polyline(trajectory, "trajectory", 1.0f, 0.0f, 1.0f));
+  if (ground_truth) scene.insert(polyline(*ground_truth, "ground_truth", 1.0f, 0.85f, 0.0f));
 
   auto frames = mrpt::opengl::CSetOfObjects::Create();
   frames->setName("keyframes");
@@ -151,6 +153,18 @@ void writeScene(const std::string& path, const PointMap& map, const Trajectory& 
   grid->setName("ground_grid");
   grid->setColor(0.6f, 0.6f, 0.6f);
   scene.insert(grid);
+
+  // The viewer opens looking down at the centre of everything drawn from a distance that shows
+  // all of it (a CCamera in the main viewport sets the initial view).
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double extent = std::max(1.0, (hi - lo).norm());
+  auto camera = mrpt::opengl::CCamera::Create();
+  camera->setPointingAt(static_cast<float>(centre.x()), static_cast<float>(centre.y()),
+                        static_cast<float>(centre.z()));
+  camera->setZoomDistance(static_cast<float>(1.5 * extent));
+  camera->setAzimuthDegrees(-90.0f);
+  camera->setElevationDegrees(60.0f);
+  scene.insert(camera);
 
   writeWithMrpt(path, "3-D scene", [&](const std::string& tmp) { return scene.saveToFile(tmp); });
 }

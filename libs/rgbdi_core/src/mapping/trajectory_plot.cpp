@@ -1,12 +1,11 @@
 #include "rgbdi/mapping/trajectory_plot.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
 
@@ -31,7 +30,7 @@ const cv::Scalar kFrameGrey(120, 120, 120);
 const cv::Scalar kGridGrey(225, 225, 225);
 const cv::Scalar kText(30, 30, 30);
 const cv::Scalar kGroundTruthGrey(90, 90, 90);
-const cv::Scalar kEstimateBlue(200, 90, 20);   // BGR
+const cv::Scalar kEstimateBlue(200, 90, 20);  // BGR
 const cv::Scalar kUnmatchedBlue(230, 190, 150);
 const cv::Scalar kStartGreen(40, 170, 40);
 const cv::Scalar kEndRed(40, 40, 210);
@@ -99,11 +98,13 @@ void drawPanelFrame(cv::Mat& img, const PlotPanel& p) {
   for (double v = std::ceil(p.v_min / step_v) * step_v; v <= p.v_min + span_v; v += step_v) {
     const int row = p.area.br().y - static_cast<int>(std::lround((v - p.v_min) * p.px_per_m_v));
     cv::line(img, {p.area.x, row}, {p.area.br().x, row}, kGridGrey, 1);
-    drawText(img, metres(std::abs(v) < 1e-12 ? 0.0 : v), {p.area.x - kMarginLeft + 5, row + 4}, 0.4);
+    drawText(img, metres(std::abs(v) < 1e-12 ? 0.0 : v), {p.area.x - kMarginLeft + 5, row + 4},
+             0.4);
   }
   cv::rectangle(img, p.area, kFrameGrey, 1);
   drawText(img, p.title, {p.area.x, kTitleHeight - 14}, 0.55);
-  drawText(img, std::string(1, names[p.axis_h]) + " [m]", {p.area.br().x - 40, p.area.br().y + 28}, 0.4);
+  drawText(img, std::string(1, names[p.axis_h]) + " [m]", {p.area.br().x - 40, p.area.br().y + 28},
+           0.4);
   drawText(img, std::string(1, names[p.axis_v]) + " [m]", {p.area.x + 4, p.area.y + 14}, 0.4);
 }
 
@@ -116,7 +117,8 @@ Eigen::Vector2d PlotPanel::toPixel(const Eigen::Vector3d& p) const {
 
 TrajectoryPlotInfo plotTrajectory(const std::string& path, const Trajectory& estimate,
                                   const Trajectory* ground_truth,
-                                  const TrajectoryPlotOptions& options) {
+                                  const TrajectoryPlotOptions& options,
+                                  const std::string& alignment) {
   if (estimate.empty()) throw std::invalid_argument("plotTrajectory " + path + ": empty estimate");
   if (options.panel_px < 100)
     throw std::invalid_argument("plotTrajectory " + path + ": panel_px must be >= 100");
@@ -125,8 +127,8 @@ TrajectoryPlotInfo plotTrajectory(const std::string& path, const Trajectory& est
     checkTrajectory(*ground_truth, path, "ground-truth");
     for (std::size_t k = 1; k < ground_truth->size(); ++k)
       if ((*ground_truth)[k].t < (*ground_truth)[k - 1].t)
-        throw std::invalid_argument("plotTrajectory " + path + ": ground-truth stamps decrease at pose " +
-                                    std::to_string(k));
+        throw std::invalid_argument("plotTrajectory " + path +
+                                    ": ground-truth stamps decrease at pose " + std::to_string(k));
   }
 
   // Extent of everything drawn.
@@ -230,9 +232,10 @@ TrajectoryPlotInfo plotTrajectory(const std::string& path, const Trajectory& est
     }
     drawText(img, "0", {x - 12, y0 + 18}, 0.4);
     drawText(img, metres(info.max_error_m) + " m", {x + 185, y0 + 18}, 0.4);
-    drawText(img, "matched " + std::to_string(info.matched) + " of " +
-                      std::to_string(estimate.size()) + " poses, RMSE " + metres(info.rmse_m) +
-                      " m, max " + metres(info.max_error_m) + " m (no alignment applied)",
+    drawText(img,
+             "matched " + std::to_string(info.matched) + " of " + std::to_string(estimate.size()) +
+                 " poses, RMSE " + metres(info.rmse_m) + " m, max " + metres(info.max_error_m) +
+                 " m (" + alignment + ")",
              {kMarginLeft, y0 + 38});
   } else {
     cv::line(img, {x, y0 - 4}, {x + 30, y0 - 4}, kEstimateBlue, 2);

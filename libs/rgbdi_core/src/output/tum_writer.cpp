@@ -1,6 +1,7 @@
 #include "rgbdi/output/tum_writer.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "output/number_format.h"
@@ -11,11 +12,12 @@ namespace {
 constexpr int kStampDecimals = 9;  // nanoseconds, the resolution of ROS and MRPT stamps
 }  // namespace
 
-void writeTum(const std::string& path, const Trajectory& trajectory) {
+void writeTum(const std::string& path, const Trajectory& trajectory,
+              const std::string& frame_and_clock) {
   for (std::size_t k = 0; k < trajectory.size(); ++k) {
     const StampedPose& s = trajectory[k];
-    const bool finite = std::isfinite(s.t) && s.p.allFinite() && s.q.coeffs().allFinite() &&
-                        s.q.norm() > 0.0;
+    const bool finite =
+        std::isfinite(s.t) && s.p.allFinite() && s.q.coeffs().allFinite() && s.q.norm() > 0.0;
     if (!finite) {
       throw std::invalid_argument("writeTum " + path + ": pose " + std::to_string(k) +
                                   " has a non-finite value or a zero quaternion");
@@ -28,6 +30,10 @@ void writeTum(const std::string& path, const Trajectory& trajectory) {
     }
   }
   writeFileAtomically(path, [&](std::ostream& os) {
+    if (!frame_and_clock.empty()) {
+      std::istringstream lines(frame_and_clock);
+      for (std::string line; std::getline(lines, line);) os << "# " << line << '\n';
+    }
     os << "# timestamp tx ty tz qx qy qz qw\n";
     for (const StampedPose& s : trajectory) {
       const Eigen::Quaterniond q = s.q.normalized();

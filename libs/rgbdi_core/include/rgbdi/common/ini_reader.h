@@ -7,7 +7,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <map>
 #include <memory>
 #include <set>
@@ -28,9 +27,12 @@ class ConfigError : public std::runtime_error {
 
 class IniReader {
  public:
-  /// Reads the file; throws ConfigError when it cannot be opened.
+  /// Reads the file; throws ConfigError when it cannot be opened or has a line that is not
+  /// blank, a comment, a [section] header, an MRPT @directive or "key = value" (the message names
+  /// the file and the line number).
   static IniReader fromFile(const std::string& path);
-  /// Parses INI text held in memory (label is used in messages instead of a file name).
+  /// Parses INI text held in memory (label is used in messages instead of a file name); the
+  /// same line check as fromFile().
   static IniReader fromText(const std::string& text, const std::string& label = "<memory>");
   /// An empty configuration: every key takes its default.
   static IniReader empty();
@@ -46,8 +48,7 @@ class IniReader {
                    double max);
   int getInt(const std::string& section, const std::string& key, int def, int min, int max);
   bool getBool(const std::string& section, const std::string& key, bool def);
-  std::string getString(const std::string& section, const std::string& key,
-                        const std::string& def);
+  std::string getString(const std::string& section, const std::string& key, const std::string& def);
   /// A string that must be one of `allowed`.
   std::string getEnum(const std::string& section, const std::string& key, const std::string& def,
                       const std::vector<std::string>& allowed);

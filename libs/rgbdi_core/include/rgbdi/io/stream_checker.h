@@ -28,7 +28,8 @@ class StreamChecker {
   StreamDiagnostics& counters() { return diag_; }
 
   /// A measurement (IMU sample if `imu`, else RGB-D frame, stamped `t`) offered to the ordering
-  /// buffer, with the buffer's verdict and the newest stamp of the same kind before it (NaN if none).
+  /// buffer, with the buffer's verdict and the newest stamp of the same kind before it (NaN if
+  /// none).
   void onArrival(bool imu, double t, std::size_t record, TimeOrderingBuffer::Verdict verdict,
                  double newest_same_kind);
   /// A measurement handed to the consumer.
@@ -57,6 +58,9 @@ class StreamChecker {
   void checkFrame(const RgbdFrame& f, std::size_t record);
   void checkDepthUnits(const RgbdFrame& f, std::size_t record);
   void checkExtrinsic(const RgbdFrame& f, std::size_t record);
+  /// Extends or closes the current run of black/constant colour images.
+  void checkConstantColor(const RgbdFrame& f, std::size_t record);
+  void closeConstantRun();
   void finishImu();
   void finishImages();
   std::string records(std::size_t a, std::size_t b) const;
@@ -78,6 +82,12 @@ class StreamChecker {
   std::vector<std::pair<double, std::size_t>> frame_stamps_;  ///< (t, record) of delivered frames
   std::vector<double> frame_median_depths_;                   ///< [m] per frame with valid depth
   bool extrinsic_checked_mismatch_ = false;
+  struct ConstantRun {
+    std::size_t frames = 0;
+    std::size_t first_record = 0, last_record = 0;
+    double first_t = 0.0, last_t = 0.0;
+    int lo = 255, hi = 0;  ///< [grey levels] range of the sampled values over the run
+  } constant_run_;
 };
 
 }  // namespace rgbdi::io

@@ -21,6 +21,12 @@ struct StreamOptions {
   double depth_median_max_m = 20.0;      ///< [m] higher median valid depth: unit suspected wrong
   int depth_check_step_px = 4;           ///< [px] sampling step of the per-frame depth median
   int max_listed_issues = 10;            ///< messages per kind of issue; further ones only counted
+  double accel_scale = 1.0;              ///< [(m/s^2) per recorded unit] 9.80665 for data in g
+  int accel_check_samples = 100;         ///< [count] IMU samples averaged before the unit check
+  double accel_check_max_s = 2.0;        ///< [s] or the samples of the first this much data
+  double time_jump_back_s = 0.5;         ///< [s] a stamp this much older than the newest: stop
+  int constant_image_max_range = 2;      ///< [grey levels] max - min at most this: constant image
+  int image_check_step_px = 8;           ///< [px] pixel step of the constant-image sampling
 
   static StreamOptions load(IniReader& ini);
 };
@@ -30,6 +36,9 @@ struct StreamConfig {
   StreamOptions stream;
   ImuOptions imu;              ///< rate_hz (gap threshold) and gravity_m_s2 (unit check)
   ExtrinsicOptions extrinsic;  ///< T_body_cam and tolerances (sensorPose check)
+  /// Not from the INI: true for inspection (`rawlog-convert --info`): an accelerometer that looks
+  /// like g units is reported but the stream is read to the end instead of being refused.
+  bool report_only = false;
 
   static StreamConfig load(IniReader& ini);
 };

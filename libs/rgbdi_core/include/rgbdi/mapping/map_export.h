@@ -11,6 +11,7 @@
 
 #include <mrpt/obs/CObservation.h>
 
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -34,9 +35,11 @@ void writePointsMap(const std::string& path, const PointMap& map);
 using SceneSegment = std::pair<Eigen::Vector3d, Eigen::Vector3d>;
 
 /// scene.3Dscene: the map points ("map_points", CPointCloudColoured), the trajectory
-/// ("trajectory", CSetOfLines), the ground truth when given ("ground_truth"), an axes frame per
-/// keyframe ("keyframes", CSetOfObjects), the loop edges when given ("loop_edges", red
-/// CSetOfLines) and a ground grid ("ground_grid").
+/// ("trajectory", CSetOfLines, magenta, 4 px), the ground truth when given ("ground_truth",
+/// yellow), an axes frame per keyframe ("keyframes", CSetOfObjects: the colour camera optical
+/// frame, z forward, not the body frame of the trajectory), the loop edges when given
+/// ("loop_edges", red CSetOfLines), a ground grid ("ground_grid") and a CCamera looking at the
+/// centre of all of it from a distance that shows it whole.
 void writeScene(const std::string& path, const PointMap& map, const Trajectory& trajectory,
                 const KeyframeStore& keyframes, const SceneOptions& options,
                 const Trajectory* ground_truth = nullptr,

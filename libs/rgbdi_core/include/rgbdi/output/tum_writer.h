@@ -4,7 +4,6 @@
 #include <string>
 
 #include "rgbdi/common/atomic_file.h"  // IoError
-
 #include "rgbdi/common/types.h"
 
 namespace rgbdi::output {
@@ -14,6 +13,10 @@ namespace rgbdi::output {
 /// Atomic (temporary file + rename). Throws std::invalid_argument naming the file and the pose
 /// index for non-finite values or timestamps that do not increase (the file could not be read
 /// back), IoError when the file cannot be written.
-void writeTum(const std::string& path, const Trajectory& trajectory);
+/// `frame_and_clock` (when not empty) is written first as "# " comment line(s): which frame the
+/// poses are of, in which frame, and which clock the stamps are (e.g. "body (IMU) frame in the
+/// world frame; IMU clock; optimised poses"), so that a file says what it holds.
+void writeTum(const std::string& path, const Trajectory& trajectory,
+              const std::string& frame_and_clock = "");
 
 }  // namespace rgbdi::output

@@ -209,8 +209,12 @@ SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::stri
   const std::string config = slamConfigText(seq), settings = simulationSettingsText(seq);
   writeFileAtomically(s.config_path, [&](std::ostream& os) { os << config; });
   writeFileAtomically(s.simulation_path, [&](std::ostream& os) { os << settings; });
-  output::writeTum(s.groundtruth_path, seq.bodyTrajectory());
-  output::writeTum(s.groundtruth_cam_path, seq.cameraTrajectory());
+  output::writeTum(s.groundtruth_path, seq.bodyTrajectory(),
+                   "ground truth: body (IMU) frame in the world frame; IMU clock (the rawlog's "
+                   "IMU stamps; image stamps are t_imu - [sim] time_offset_s)");
+  output::writeTum(s.groundtruth_cam_path, seq.cameraTrajectory(),
+                   "ground truth: colour camera optical frame in the world frame; IMU clock (the "
+                   "rawlog's IMU stamps; image stamps are t_imu - [sim] time_offset_s)");
 
   io::RawlogWriterOptions ro;
   ro.layout = io::RawlogWriterOptions::Layout::Observations;

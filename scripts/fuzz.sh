@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Runs every libFuzzer target for SECONDS each (default 60), one after the other.
+#   scripts/fuzz.sh [SECONDS] [TARGET...]     targets: rawlog bag ros_messages tum ini vins_yaml
+#                                            keyframe_store (default: all)
+# Builds build-fuzz/ with clang (-DRGBDI_FUZZ=ON) and the seed writers (fuzz_replay_*) in build/,
+# keeps the growing corpora in build-fuzz/corpus/<target>/ (not in git) and crashes in
+# build-fuzz/findings/<target>/. A finding is replayed with build/bin/fuzz_replay_<target> FILE.
+# Environment: JOBS (default 2). Exit status: 0 no finding, 1 a target found a crash, 2 usage.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-60}"
+shift || true
+case "$seconds" in ''|*[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS] [TARGET...]" >&2; exit 2;; esac
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(rawlog bag ros_messages tum ini vins_yaml keyframe_store)
+jobs="${JOBS:-2}"
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  "${launcher[@]}" -DRGBDI_FUZZ=ON >/dev/null
+ninja -C build -j "$jobs" "${targets[@]/#/fuzz_replay_}"
+ninja -C build-fuzz -j "$jobs" "${targets[@]/#/fuzz_}"
+
+found=0
+for t in "${targets[@]}"; do
+  corpus="build-fuzz/corpus/$t"
+  findings="build-fuzz/findings/$t"
+  mkdir -p "$corpus" "$findings"
+  [ -n "$(ls -A "$corpus")" ] || "build/bin/fuzz_replay_$t" --write-seeds "$corpus"
+  echo "== fuzz_$t for $seconds s"
+  # A corrupt size field makes MRPT / ROS allocate gigabytes (doc/robustness.md, open findings):
+  # ASan returns null for allocations above 1 GiB, the readers turn the bad_alloc into their
+  # refusal, and fuzzing goes on past it (libFuzzer's own malloc limit is set above ASan's).
+  if ! ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:max_allocation_size_mb=1024" \
+      UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1" "build-fuzz/bin/fuzz_$t" "$corpus" \
+      -max_total_time="$seconds" -max_len=262144 -rss_limit_mb=2560 -malloc_limit_mb=2048 \
+      -timeout=10 \
+      -artifact_prefix="$findings/" -print_final_stats=1 2>"build-fuzz/fuzz_$t.log"; then
+    found=1
+    echo "fuzz_$t: FINDING, see $findings/ and build-fuzz/fuzz_$t.log"
+  fi
+  grep -E "^stat::(number_of_executed_units|new_units_added)|cov: " "build-fuzz/fuzz_$t.log" |
+    tail -n 3 || true
+done
+exit $found
