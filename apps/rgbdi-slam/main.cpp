@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstring>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "rgbdi/system/slam_runner.h"
@@ -30,7 +31,9 @@ void usage(std::ostream& os) {
         "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
         "  --sequential   run every stage on one thread (same outputs, for debugging)\n"
         "  --quiet        no progress line\n"
-        "Ctrl-C stops reading and still writes all outputs for the part processed.\n";
+        "Ctrl-C stops reading and still writes all outputs for the part processed.\n"
+        "Exit status: 0 ok, 1 error (nothing usable), 2 usage, 3 damaged input (outputs of the\n"
+        "part read are written), 130 interrupted.\n";
 }
 
 }  // namespace
@@ -82,7 +85,11 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   opt.stop = &g_stop;
   try {
-    rgbdi::system::runSlam(opt, std::cerr);
+    const nlohmann::json summary = rgbdi::system::runSlam(opt, std::cerr);
+    const auto& d = summary["stream_diagnostics"];
+    if (d.value("refused", false)) return 1;  // nothing usable was delivered
+    if (!summary["read_error"].is_null())
+      return g_stop.load() ? 130 : 3;  // damaged, outputs written
   } catch (const rgbdi::system::UserError& e) {
     std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
     return 1;

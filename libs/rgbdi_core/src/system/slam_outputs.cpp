@@ -60,23 +60,28 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
   const Trajectory final_body = sys.finalTrajectory();
   const Trajectory online_body = sys.onlineTrajectory();
   const Trajectory odom_body = sys.odometryTrajectory();
-  auto tum = [&](const std::string& name, const Trajectory& t) {
+  auto tum = [&](const std::string& name, const Trajectory& t, const std::string& what) {
     const std::string path = dir + "/" + name + ".tum";
-    output::writeTum(path, t);
+    output::writeTum(path, t, what);
     out[name] = path;
   };
-  tum("trajectory", final_body);
-  tum("trajectory_cam", sys.toCameraFrame(final_body));
-  tum("trajectory_online", online_body);
-  tum("trajectory_online_cam", sys.toCameraFrame(online_body));
-  tum("trajectory_odometry", odom_body);
-  tum("trajectory_odometry_cam", sys.toCameraFrame(odom_body));
+  const std::string body = "body (IMU) frame in the world, IMU clock (image stamp + time offset)";
+  const std::string cam = "colour camera optical frame in the world, image stamps (camera clock)";
+  const std::string best = "best estimate after the last loop-closure solve";
+  const std::string online = "online: corrections known at each frame's time";
+  const std::string odom = "odometry alone, no loop correction";
+  tum("trajectory", final_body, body + "; " + best);
+  tum("trajectory_cam", sys.toCameraFrame(final_body), cam + "; " + best);
+  tum("trajectory_online", online_body, body + "; " + online);
+  tum("trajectory_online_cam", sys.toCameraFrame(online_body), cam + "; " + online);
+  tum("trajectory_odometry", odom_body, body + "; " + odom);
+  tum("trajectory_odometry_cam", sys.toCameraFrame(odom_body), cam + "; " + odom);
 
   Trajectory kf_traj;
   for (std::size_t i = 0; i < sys.keyframeStates().size(); ++i)
     kf_traj.push_back(
         StampedPose::fromIsometry(sys.keyframeStates()[i].state.t_imu, sys.keyframePose(i)));
-  tum("keyframes", kf_traj);
+  tum("keyframes", kf_traj, body + "; keyframes at their final poses");
   const output::PoseGraph graph = slamPoseGraph(sys);
   if (!graph.nodes.empty()) {
     out["pose_graph"] = dir + "/pose_graph.graph";
@@ -114,7 +119,9 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
   }
   if (cfg.output.write_plot && final_body.size() >= 2) {
     out["plot"] = dir + "/trajectory.png";
-    mapping::plotTrajectory(out["plot"], final_body, gt_in_est, cfg.mapping.plot);
+    mapping::plotTrajectory(
+        out["plot"], final_body, gt_in_est, cfg.mapping.plot,
+        gt_in_est ? "ground truth aligned by position + yaw" : "no alignment applied");
   }
   return out;
 }

@@ -97,6 +97,9 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   run.stream_t_last = progress.lastStamp();
   run.frames = progress.framesSeen();
   run.stream_diagnostics = nlohmann::json::parse(source->diagnostics().toJson());
+  // Every stream problem once on the console (the progress line has been ended).
+  for (const std::string& line : io::streamProblemLines(source->diagnostics()))
+    log << "rgbdi-slam: " << line << "\n";
 
   RunEvaluation evaluation;
   if (!gt.empty()) evaluation = evaluateRun(system, gt);
@@ -108,6 +111,12 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   nlohmann::json summary = slamSummary(system, run, evaluation, outputs);
   output::writeSummaryJson(summary_path, summary);
   log << formatRunReport(summary, evaluation, opt.gt_path);
+  if (system.frames().empty())
+    log << "rgbdi-slam: no pose was estimated: "
+        << (run.frames == 0 ? "the input has no colour image"
+                            : "the odometry never initialised (summary.json: resets, "
+                              "stream_diagnostics)")
+        << "\n";
   return summary;
 }
 
