@@ -1,7 +1,8 @@
 // Loop closure end to end on generated sequences (issue 10, acceptance): loops are found on every
 // revisit, every accepted loop agrees with the ground truth, the final trajectory beats the
-// odometry, a sequence that never revisits gets no loop, and two walls that look the same
-// (perceptual aliasing) give no wrong loop. Runs the same SlamSystem rgbdi-slam runs.
+// odometry, and a sequence that never revisits gets no loop. Runs the same SlamSystem rgbdi-slam
+// runs; the wheeled robot at 15 Hz to keep the suite's wall time in budget (doc/loop.md has the
+// 30 Hz figures).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -77,11 +78,13 @@ LoopRun runLoops(sim::SimOptions so) {
   return r;
 }
 
-sim::SimOptions profileOptions(const std::string& profile, double duration_s = 0.0) {
+sim::SimOptions profileOptions(const std::string& profile, double duration_s = 0.0,
+                              double fps = 15.0) {
   auto ini = IniReader::empty();
   sim::SimOptions so = sim::SimOptions::load(ini);
   so.profile.kind = sim::parseProfileKind(profile);
   so.profile.duration_s = duration_s;
+  so.fps = fps;
   return so;
 }
 
@@ -102,7 +105,9 @@ TEST(LoopAccuracy, WheeledCircleClosesALoopOnEveryLap) {
 }
 
 TEST(LoopAccuracy, HandheldRoomTourClosesTheLoopWhenItReturns) {
-  const LoopRun r = runLoops(profileOptions("handheld"));
+  // 30 Hz: at 15 Hz the final ATE is 61 % of the odometry's (0.93 vs 1.53 cm), just above the
+  // 60 % criterion (doc/loop.md).
+  const LoopRun r = runLoops(profileOptions("handheld", 0.0, 30.0));
   ASSERT_GE(r.laps, 1);
   EXPECT_GT(r.accepted, 0u);
   expectLoopsOnEveryRevisit(r);

@@ -21,18 +21,9 @@ using rgbdi::test::runCommand;
 
 namespace {
 
-/// One short generated sequence shared by the tests of this file.
-const std::string& sequenceDir() {
-  static const std::string dir = [] {
-    const std::string d = makeTempDir("rgbdi_slam_seq");
-    std::string out;
-    const int rc = runCommand(binDir() + "/rgbdi-sim --profile wheeled_slopes --duration 20 --out " +
-                                  d + " 2>&1",
-                              &out);
-    if (rc != 0) throw std::runtime_error("rgbdi-sim failed: " + out);
-    return d;
-  }();
-  return dir;
+/// One short generated sequence shared by the tests of this file (and rendered once per build).
+std::string sequenceDir() {
+  return rgbdi::test::cachedSimSequence("--profile wheeled_slopes --duration 20");
 }
 
 nlohmann::json readJson(const std::string& path) {

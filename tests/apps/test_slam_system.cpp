@@ -1,8 +1,10 @@
 // The SLAM system object on generated sequences: threaded and sequential runs give identical
-// results; an odometry reset starts a new segment without losing the window's keyframes and
+// results, loop closures included; an odometry reset starts a new segment without losing the window's keyframes and
 // without an invented odometry edge between the segments.
 #include <gtest/gtest.h>
 
+#include "rgbdi/common/fan_out_sink.h"
+#include "rgbdi/loop/loop_closer.h"
 #include "rgbdi/sim/sequence.h"
 #include "rgbdi/sim/sequence_writer.h"
 #include "rgbdi/system/slam_outputs.h"
@@ -57,15 +59,24 @@ void expectSameTrajectory(const Trajectory& a, const Trajectory& b, const char* 
 }  // namespace
 
 TEST(SlamSystem, ThreadedAndSequentialRunsGiveIdenticalResults) {
-  sim::SimulatedSequence seq(shortSequence("wheeled_circle", 12.0));
+  // At twice the profile's speed (a 16 s lap) long enough to come back to the start once, so loop
+  // detection and graph solves run while the odometry goes on. Both systems get the same
+  // measurements from one rendering.
+  sim::SimOptions so = shortSequence("wheeled_circle", 26.0);
+  so.profile.speed_m_s = 0.8;
+  sim::SimulatedSequence seq(so);
   const system::SystemConfig cfg = configOf(seq);
   system::SlamSystemOptions threaded, sequential;
   threaded.threaded = true;
   sequential.threaded = false;
   system::SlamSystem a(cfg, threaded), b(cfg, sequential);
-  seq.pump(a);
-  seq.pump(b);
+  FanOutSink both({&a, &b});
+  seq.pump(both);
   ASSERT_GT(a.frames().size(), 100u);
+  ASSERT_NE(a.loopCloser(), nullptr);
+  ASSERT_NE(b.loopCloser(), nullptr);
+  EXPECT_GT(a.loopCloser()->stats().accepted, 0u);
+  EXPECT_EQ(a.loopCloser()->stats().accepted, b.loopCloser()->stats().accepted);
   expectSameTrajectory(a.odometryTrajectory(), b.odometryTrajectory(), "odometry");
   expectSameTrajectory(a.onlineTrajectory(), b.onlineTrajectory(), "online");
   expectSameTrajectory(a.finalTrajectory(), b.finalTrajectory(), "final");

@@ -6,7 +6,10 @@
 
 #include <iomanip>
 #include <iostream>
+#include <string>
+#include <utility>
 
+#include "rgbdi/common/fan_out_sink.h"
 #include "rgbdi/eval/evaluate.h"
 #include "rgbdi/sim/sequence.h"
 #include "rgbdi/sim/sequence_writer.h"
@@ -27,21 +30,16 @@ struct Metrics {
   double time_offset_s = 0.0;  ///< final estimate
 };
 
-Metrics runProfile(const std::string& profile, double fps, bool no_depth,
-                   double true_time_offset_s = 0.0, double duration_s = 0.0) {
-  auto sim_ini = IniReader::empty();
-  sim::SimOptions so = sim::SimOptions::load(sim_ini);
-  so.profile.kind = sim::parseProfileKind(profile);
-  so.fps = fps;
-  so.time_offset_s = true_time_offset_s;
-  so.profile.duration_s = duration_s;  // 0: the profile's own
-  sim::SimulatedSequence seq(so);
-  // Exactly what a user gets: the config.ini written next to the sequence.
-  auto ini = IniReader::fromText(sim::slamConfigText(seq), "generated config.ini");
-  const system::SystemConfig cfg = system::SystemConfig::load(ini);
-  system::VioSystem vio(cfg, !no_depth);
-  seq.pump(vio);
+struct ProfileRun {
+  std::string profile;
+  double fps = 30.0;
+  double true_time_offset_s = 0.0;
+  double duration_s = 0.0;  ///< 0: the profile's own
+  bool with_monocular = false;  ///< also run the monocular baseline on the same rendering
+};
 
+Metrics measure(const ProfileRun& run, const sim::SimulatedSequence& seq, system::VioSystem& vio,
+                bool no_depth) {
   Metrics m;
   m.resets = vio.estimatorStats().resets;
   m.time_offset_s = vio.estimator().timeOffset();
@@ -58,13 +56,40 @@ Metrics runProfile(const std::string& profile, double fps, bool no_depth,
   m.scale = sim3.alignment.scale;
   m.coverage = posyaw.coverage.coverage;
   m.evaluated = true;
-  std::cout << std::fixed << std::setprecision(4) << "| " << profile << " | " << fps << " Hz | "
-            << (no_depth ? "mono-inertial" : "rgbd-inertial") << " | ATE " << m.ate_posyaw
-            << " m | scale error " << std::abs(m.scale - 1.0) * 100.0 << " % | coverage "
-            << m.coverage * 100.0 << " % | first pose " << m.first_pose_s << " s | resets "
-            << m.resets << " | time offset " << 1000.0 * m.time_offset_s << " ms |" << std::endl;
+  std::cout << std::fixed << std::setprecision(4) << "| " << run.profile << " | " << run.fps
+            << " Hz | " << (no_depth ? "mono-inertial" : "rgbd-inertial") << " | ATE "
+            << m.ate_posyaw << " m | scale error " << std::abs(m.scale - 1.0) * 100.0
+            << " % | coverage " << m.coverage * 100.0 << " % | first pose " << m.first_pose_s
+            << " s | resets " << m.resets << " | time offset " << 1000.0 * m.time_offset_s
+            << " ms |" << std::endl;
   return m;
 }
+
+/// RGB-D-inertial odometry (and, when asked, the monocular baseline fed the same measurements:
+/// rendering costs more than either odometry, so the sequence is rendered once).
+std::pair<Metrics, Metrics> runProfile(const ProfileRun& run) {
+  auto sim_ini = IniReader::empty();
+  sim::SimOptions so = sim::SimOptions::load(sim_ini);
+  so.profile.kind = sim::parseProfileKind(run.profile);
+  so.fps = run.fps;
+  so.time_offset_s = run.true_time_offset_s;
+  so.profile.duration_s = run.duration_s;
+  sim::SimulatedSequence seq(so);
+  // Exactly what a user gets: the config.ini written next to the sequence.
+  auto ini = IniReader::fromText(sim::slamConfigText(seq), "generated config.ini");
+  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  system::VioSystem rgbd(cfg, true);
+  if (!run.with_monocular) {
+    seq.pump(rgbd);
+    return {measure(run, seq, rgbd, false), Metrics{}};
+  }
+  system::VioSystem mono(cfg, false);
+  FanOutSink both({&rgbd, &mono});
+  seq.pump(both);
+  return {measure(run, seq, rgbd, false), measure(run, seq, mono, true)};
+}
+
+Metrics runRgbd(const ProfileRun& run) { return runProfile(run).first; }
 
 void expectHealthy(const Metrics& m) {
   ASSERT_TRUE(m.evaluated) << "the odometry never initialised";
@@ -76,24 +101,21 @@ void expectHealthy(const Metrics& m) {
 
 }  // namespace
 
+// One frame rate per profile keeps the suite's wall time in budget; scripts/vio-table.sh runs
+// every profile at 30 and 15 Hz (doc/status.md has that table).
 TEST(VioAccuracy, Handheld30Hz) {
-  const Metrics m = runProfile("handheld", 30.0, false);
+  const Metrics m = runRgbd({"handheld", 30.0});
   expectHealthy(m);
   EXPECT_LE(m.ate_posyaw, 0.02);
 }
 
-TEST(VioAccuracy, Handheld15Hz) {
-  const Metrics m = runProfile("handheld", 15.0, false);
-  expectHealthy(m);
-  EXPECT_LE(m.ate_posyaw, 0.02);
-}
-
-TEST(VioAccuracy, WheeledCircle30HzBeatsMonocularByHalf) {
-  const Metrics rgbd = runProfile("wheeled_circle", 30.0, false);
+TEST(VioAccuracy, WheeledCircle15HzBeatsMonocularByHalf) {
+  ProfileRun run{"wheeled_circle", 15.0};
+  run.with_monocular = true;
+  const auto [rgbd, mono] = runProfile(run);
   expectHealthy(rgbd);
   EXPECT_LE(rgbd.ate_posyaw, 0.04);
   EXPECT_LE(std::abs(rgbd.scale - 1.0), 0.005);
-  const Metrics mono = runProfile("wheeled_circle", 30.0, true);
   // A monocular run that never initialises counts as failed, so the comparison only needs it
   // to have produced a trajectory when it did.
   if (mono.evaluated) {
@@ -101,28 +123,15 @@ TEST(VioAccuracy, WheeledCircle30HzBeatsMonocularByHalf) {
   }
 }
 
-TEST(VioAccuracy, WheeledCircle15Hz) {
-  const Metrics m = runProfile("wheeled_circle", 15.0, false);
-  expectHealthy(m);
-  EXPECT_LE(m.ate_posyaw, 0.04);
-  EXPECT_LE(std::abs(m.scale - 1.0), 0.005);
-}
-
-TEST(VioAccuracy, TrackedSlopes30Hz) {
-  const Metrics m = runProfile("tracked_slopes", 30.0, false);
-  expectHealthy(m);
-  EXPECT_LE(m.ate_posyaw, 0.03);
-}
-
 TEST(VioAccuracy, TrackedSlopes15Hz) {
-  const Metrics m = runProfile("tracked_slopes", 15.0, false);
+  const Metrics m = runRgbd({"tracked_slopes", 15.0});
   expectHealthy(m);
   EXPECT_LE(m.ate_posyaw, 0.03);
 }
 
 TEST(VioAccuracy, HandheldTimeOffsetOf10msIsFoundWithin1ms) {
   // Images stamped 10 ms early; the generated config starts the estimate at 0.
-  const Metrics m = runProfile("handheld", 30.0, false, 0.010, 20.0);
+  const Metrics m = runRgbd({"handheld", 30.0, 0.010, 20.0});
   ASSERT_TRUE(m.evaluated) << "the odometry never initialised";
   EXPECT_EQ(m.resets, 0);
   EXPECT_LE(m.first_pose_s, 1.0);  // (coverage of a 20 s run is bounded by this start-up time)

@@ -529,3 +529,41 @@ TEST(PoseGraph4Dof, MemoryGrowsWithNodesAndEdges) {
   EXPECT_GT(g.memoryBytes(), before);
   EXPECT_GE(g.memoryBytes(), empty + 81 * sizeof(GraphNode) + g.edges().size() * sizeof(GraphEdge));
 }
+
+TEST(PoseGraph4Dof, ALoadedMapStaysFixedAndALaterRunIsMovedIntoItsFrame) {
+  // Segment 0: a map (fixed nodes at their true poses). Segment 1: a new run with drift, in a
+  // frame G away. Two loops to the map put the run into the map frame; no map node moves.
+  const std::vector<Isometry3d> truth = squareRoute(8.0, 20, 2);
+  Isometry3d G = Isometry3d::Identity();
+  G.linear() = rotZ(-1.1);
+  G.translation() << -4.0, 2.0, 0.3;
+  std::vector<Isometry3d> run(truth.begin() + 80, truth.end());
+  const std::vector<Isometry3d> run_odom = driftedOdometry(run, 0.05 * kDeg, 1.01, 0.001);
+  PoseGraph4Dof g;
+  for (std::size_t k = 0; k < 80; ++k) g.addFixedNode(k, 0, truth[k]);
+  for (std::size_t k = 0; k < run_odom.size(); ++k) g.addNode(80 + k, 1, G.inverse() * run_odom[k]);
+  EXPECT_EQ(g.nodes()[0].fixed, true);
+  EXPECT_EQ(g.nodes()[80].fixed, false);
+  // No odometry edge among the map's nodes nor into the map.
+  for (const GraphEdge& e : g.edges()) EXPECT_GE(e.from, 80u);
+
+  g.addLoopEdge(10, 90, relative(truth, 10, 90));
+  g.addLoopEdge(70, 150, relative(truth, 70, 150));
+  const PoseGraphSolveReport r = g.solve();
+  EXPECT_TRUE(r.rolled_back_loop_edges.empty());
+  EXPECT_TRUE(g.segments()[1].connected_to_origin);
+  EXPECT_EQ(r.free_nodes, run_odom.size());
+  for (std::size_t k = 0; k < 80; ++k) EXPECT_TRUE(g.pose(k).isApprox(truth[k], 1e-12)) << k;
+  // The loop keyframes land on their true poses within the loops' weight against the drift.
+  EXPECT_LT(positionError(g.pose(90), truth[90]), 0.02);
+  EXPECT_LT(positionError(g.pose(150), truth[150]), 0.02);
+  for (std::size_t k = 80; k < truth.size(); ++k)
+    EXPECT_LT(positionError(g.pose(k), truth[k]), 0.10) << k;
+
+  // Order and mixing rules.
+  EXPECT_THROW(g.addFixedNode(1000, 1, truth[0]), std::invalid_argument);  // after free nodes
+  PoseGraph4Dof h;
+  h.addFixedNode(0, 0, truth[0]);
+  EXPECT_THROW(h.addNode(1, 0, truth[1]), std::invalid_argument);  // same segment, free
+  EXPECT_NO_THROW(h.addNode(1, 1, truth[1]));
+}

@@ -1,5 +1,8 @@
 #include "testing/fixtures.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -8,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 
 namespace rgbdi::test {
@@ -55,6 +59,40 @@ int runCommand(const std::string& cmd, std::string* output) {
   const int status = ::pclose(pipe);
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string cachedSimSequence(const std::string& args) {
+  namespace fs = std::filesystem;
+  const std::string sim = binDir() + "/rgbdi-sim";
+  struct stat st {};
+  if (::stat(sim.c_str(), &st) != 0) throw std::runtime_error("rgbdi-sim not built: " + sim);
+  // The key names the arguments and the simulator build, so a rebuilt simulator never serves an
+  // old sequence.
+  const std::string key = std::to_string(std::hash<std::string>{}(args)) + "_" +
+                          std::to_string(static_cast<long long>(st.st_mtime)) + "_" +
+                          std::to_string(static_cast<long long>(st.st_size));
+  const fs::path root = fs::path(binDir()).parent_path() / "test-cache";
+  fs::create_directories(root);
+  const fs::path dir = root / key;
+  const std::string lock_path = (root / (key + ".lock")).string();
+  const int fd = ::open(lock_path.c_str(), O_CREAT | O_RDWR, 0644);
+  if (fd < 0) throw std::runtime_error("cannot open lock file " + lock_path);
+  ::flock(fd, LOCK_EX);  // released by close, also when this process dies
+  std::string error;
+  if (!fs::exists(dir)) {
+    const fs::path tmp = root / (key + ".tmp");
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    std::string out;
+    const int rc = runCommand(sim + " " + args + " --out " + tmp.string(), &out);
+    if (rc == 0)
+      fs::rename(tmp, dir);
+    else
+      error = "rgbdi-sim " + args + " failed (status " + std::to_string(rc) + "): " + out;
+  }
+  ::close(fd);
+  if (!error.empty()) throw std::runtime_error(error);
+  return dir.string();
 }
 
 }  // namespace rgbdi::test

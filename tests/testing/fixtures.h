@@ -22,6 +22,13 @@ std::string sourceDir();
 std::string makeTempDir(const std::string& prefix);
 /// Runs a shell command, returns its exit status; stdout+stderr captured into `output`.
 int runCommand(const std::string& cmd, std::string* output = nullptr);
+/// The directory of a sequence written by `rgbdi-sim ARGS --out DIR`, generated once per build of
+/// rgbdi-sim and shared by every test process that asks for the same arguments (ctest runs each
+/// test in its own process; rendering dominates the cost of the app tests). The directory is
+/// read-only by convention: tests write their outputs elsewhere. Generation is guarded by a file
+/// lock and published by a rename, so concurrent tests never see a partial sequence. Throws with
+/// the simulator's output when it fails.
+std::string cachedSimSequence(const std::string& args);
 
 }  // namespace rgbdi::test
 

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace rgbdi::loop {
 namespace {
@@ -22,6 +25,27 @@ LoopCloser::LoopCloser(const LoopOptions& options, const PinholeCamera& colour_c
       recognizer_(options.place),
       graph_(options.graph) {}
 
+void LoopCloser::loadMap(const std::vector<LoopKeyframe>& places) {
+  if (!keyframes_.empty())
+    throw std::logic_error("LoopCloser::loadMap: keyframes were processed already");
+  for (const LoopKeyframe& kf : places) {
+    graph_.addFixedNode(kf.id, 0, kf.T_world_body);
+    LoopKeyframe stored = kf;
+    stored.segment = 0;  // the map is one fixed part, whatever sessions built it
+    stored.T_world_body_odom = kf.T_world_body;
+    recognizer_.insert(stored);
+    slot_of_[stored.id] = keyframes_.size();
+    keyframes_.push_back(std::move(stored));
+  }
+  map_keyframes_ = keyframes_.size();
+}
+
+bool LoopCloser::connectedToOrigin(int segment) const {
+  for (const SegmentState& s : graph_.segments())
+    if (s.segment == segment) return s.connected_to_origin;
+  return false;
+}
+
 Eigen::Isometry3d LoopCloser::drift(int segment) const {
   for (const SegmentState& s : graph_.segments())
     if (s.segment == segment) return graph_.drift(segment);
@@ -30,6 +54,22 @@ Eigen::Isometry3d LoopCloser::drift(int segment) const {
 
 LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   LoopUpdate update;
+  if (hasMap()) {
+    if (kf.segment < 1)
+      throw std::invalid_argument("LoopCloser::process: keyframe " + std::to_string(kf.id) +
+                                  " has segment " + std::to_string(kf.segment) +
+                                  ", but segment 0 is the loaded map");
+    if (!shift_set_) {
+      // The run's clock and path length continue after the map's, so that recency exclusion
+      // treats every map keyframe as old.
+      const LoopKeyframe& last = keyframes_.back();
+      t_shift_ = std::max(0.0, last.t + options_.place.exclude_recent_s + 1.0 - kf.t);
+      travelled_shift_ = last.travelled_m + options_.place.exclude_recent_m + 1.0;
+      shift_set_ = true;
+    }
+    kf.t += t_shift_;
+    kf.travelled_m += travelled_shift_;
+  }
   ++stats_.keyframes;
   graph_.addNode(kf.id, kf.segment, kf.T_world_body_odom);
   kf.T_world_body = graph_.pose(kf.id);  // the segment's current drift applied
@@ -57,12 +97,17 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
       ++stats_.rejected[static_cast<std::size_t>(v.reason)];
       continue;
     }
+    if (!related) {
+      // One joining match per keyframe: the confirmations must come from other keyframes.
+      offerJoin(kf, cand, v, c.by_proximity, update);
+      break;
+    }
     LoopRecord r;
     r.constraint = v.constraint;
     r.edge_id =
         graph_.addLoopEdge(v.constraint.from_id, v.constraint.to_id, v.constraint.T_from_to);
     r.by_proximity = c.by_proximity;
-    r.t_query = kf.t;
+    r.t_query = kf.t - t_shift_;
     loops_.push_back(r);
     ++update.accepted;
     ++stats_.accepted;
@@ -79,6 +124,74 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   keyframes_.push_back(std::move(kf));
   if (update.solved) recognizer_.updatePoses(correctedPoses());
   return update;
+}
+
+bool LoopCloser::offerJoin(const LoopKeyframe& kf, const LoopKeyframe& cand,
+                           const LoopVerification& v, bool by_proximity, LoopUpdate& update) {
+  if (v.constraint.pnp_inliers < options_.relocalize_min_inliers) {
+    ++stats_.join_matches_weak;
+    return false;
+  }
+  int target = cand.segment;
+  for (const SegmentState& s : graph_.segments())
+    if (s.segment == cand.segment) target = s.component;
+  PendingJoin p;
+  p.record.constraint = v.constraint;
+  p.record.by_proximity = by_proximity;
+  p.record.t_query = kf.t - t_shift_;
+  p.query_index = stats_.keyframes;
+  p.query_segment = kf.segment;
+  p.target_component = target;
+  // Where this match puts the query's part: its current frame -> the candidate's frame.
+  p.A = graph_.pose(cand.id) * v.constraint.T_from_to * kf.T_world_body.inverse();
+
+  // Keep only recent matches of this part; older ones were never confirmed.
+  const std::uint64_t window = static_cast<std::uint64_t>(options_.relocalize_window_keyframes);
+  const auto stale = [&](const PendingJoin& q) {
+    return q.query_segment != kf.segment || q.query_index + window <= p.query_index;
+  };
+  const auto n_before = pending_joins_.size();
+  pending_joins_.erase(std::remove_if(pending_joins_.begin(), pending_joins_.end(), stale),
+                       pending_joins_.end());
+  stats_.join_matches_dropped += n_before - pending_joins_.size();
+  pending_joins_.push_back(p);
+
+  // The matches that agree with the newest one on where the part goes.
+  const Eigen::Vector3d x = kf.T_world_body.translation();
+  const double max_yaw = options_.relocalize_max_disagreement_deg * M_PI / 180.0;
+  std::vector<std::size_t> agreeing;
+  for (std::size_t i = 0; i < pending_joins_.size(); ++i) {
+    const PendingJoin& q = pending_joins_[i];
+    if (q.target_component != target) continue;
+    const Eigen::Isometry3d E = p.A.inverse() * q.A;
+    const double yaw = std::abs(std::atan2(E.linear()(1, 0), E.linear()(0, 0)));
+    if ((q.A * x - p.A * x).norm() <= options_.relocalize_max_disagreement_m && yaw <= max_yaw)
+      agreeing.push_back(i);
+  }
+  if (static_cast<int>(agreeing.size()) < options_.relocalize_consistent_keyframes) return false;
+
+  JoinRecord j;
+  j.segment = kf.segment;
+  j.to_segment = target;
+  j.t_query = kf.t - t_shift_;
+  j.query_id = kf.id;
+  for (std::size_t i : agreeing) {
+    LoopRecord r = pending_joins_[i].record;
+    r.edge_id =
+        graph_.addLoopEdge(r.constraint.from_id, r.constraint.to_id, r.constraint.T_from_to);
+    loops_.push_back(r);
+    ++update.accepted;
+    ++stats_.accepted;
+    ++j.loop_edges;
+  }
+  stats_.join_matches_dropped += pending_joins_.size() - agreeing.size();
+  pending_joins_.clear();
+  joins_.push_back(j);
+  ++stats_.joins;
+  // Solved now, not after solve_interval_keyframes: the part's poses jump into the other frame.
+  solve_pending_ = true;
+  keyframes_since_solve_ = static_cast<std::uint64_t>(options_.solve_interval_keyframes);
+  return true;
 }
 
 LoopUpdate LoopCloser::finish() {

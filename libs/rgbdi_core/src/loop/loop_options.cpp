@@ -1,5 +1,7 @@
 #include "rgbdi/loop/loop_options.h"
 
+#include <string>
+
 namespace rgbdi::loop {
 
 LoopOptions LoopOptions::load(IniReader& ini) {
@@ -17,6 +19,21 @@ LoopOptions LoopOptions::load(IniReader& ini) {
       ini.getDouble(s, "min_keyframe_angle_deg", o.min_keyframe_angle_deg, 0.0, 180.0);
   o.solve_interval_keyframes =
       ini.getInt(s, "solve_interval_keyframes", o.solve_interval_keyframes, 1, 10000);
+  o.relocalize_min_inliers =
+      ini.getInt(s, "relocalize_min_inliers", o.relocalize_min_inliers, 1, 10000);
+  o.relocalize_consistent_keyframes =
+      ini.getInt(s, "relocalize_consistent_keyframes", o.relocalize_consistent_keyframes, 1, 50);
+  o.relocalize_max_disagreement_m = ini.getDouble(s, "relocalize_max_disagreement_m",
+                                                  o.relocalize_max_disagreement_m, 0.0, 100.0);
+  o.relocalize_max_disagreement_deg = ini.getDouble(s, "relocalize_max_disagreement_deg",
+                                                    o.relocalize_max_disagreement_deg, 0.0, 180.0);
+  o.relocalize_window_keyframes =
+      ini.getInt(s, "relocalize_window_keyframes", o.relocalize_window_keyframes, 1, 1000);
+  if (o.relocalize_window_keyframes < o.relocalize_consistent_keyframes)
+    ini.fail(s, "relocalize_window_keyframes",
+             std::to_string(o.relocalize_window_keyframes) +
+                 " must be at least relocalize_consistent_keyframes (" +
+                 std::to_string(o.relocalize_consistent_keyframes) + ")");
   o.features = LoopFeatureOptions::load(ini);
   o.place = PlaceRecognitionOptions::load(ini);
   o.verify = LoopVerificationOptions::load(ini);

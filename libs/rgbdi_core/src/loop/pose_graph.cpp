@@ -38,9 +38,9 @@ PoseGraph4Dof::PoseGraph4Dof(const PoseGraphOptions& options) : options_(options
   options_.validate();
 }
 
-void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
-                            const Eigen::Isometry3d& T_world_body_odom) {
-  const std::string who = "PoseGraph4Dof::addNode: node " + std::to_string(id);
+void PoseGraph4Dof::appendNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T,
+                               bool fixed, const char* caller) {
+  const std::string who = std::string(caller) + ": node " + std::to_string(id);
   if (!nodes_.empty() && id <= nodes_.back().id)
     throw std::invalid_argument(who + ": ids must increase, the last node is " +
                                 std::to_string(nodes_.back().id));
@@ -50,31 +50,48 @@ void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
     throw std::invalid_argument(who + ": segment " + std::to_string(segment) +
                                 " is lower than the current segment " +
                                 std::to_string(segments_.back().segment));
-  if (!isRigid(T_world_body_odom))
-    throw std::invalid_argument(who + ": odometry pose is not finite and rigid");
+  if (!isRigid(T))
+    throw std::invalid_argument(who + (fixed ? ": pose" : ": odometry pose") +
+                                " is not finite and rigid");
+  if (fixed && !nodes_.empty() && !nodes_.back().fixed)
+    throw std::invalid_argument(who + ": fixed nodes (a loaded map) come before every free node");
+  const bool new_segment = segments_.empty() || segments_.back().segment != segment;
+  if (!new_segment && nodes_.back().fixed != fixed)
+    throw std::invalid_argument(who + ": segment " + std::to_string(segment) +
+                                " mixes fixed and free nodes");
 
   GraphNode n;
   n.id = id;
   n.segment = segment;
-  n.T_world_body_odom = T_world_body_odom;
-  n.yaw_odom_rad = yawOf(T_world_body_odom.linear());
-  n.R_tilt = tiltOf(T_world_body_odom.linear());
-
-  const bool new_segment = segments_.empty() || segments_.back().segment != segment;
-  if (new_segment) {
-    n.xyz_yaw << T_world_body_odom.translation(), n.yaw_odom_rad;
-    segments_.push_back({segment, nodes_.size(), nodes_.size()});
-    solved_labels_.push_back(segments_.size() - 1);
+  n.fixed = fixed;
+  n.T_world_body_odom = T;
+  n.yaw_odom_rad = yawOf(T.linear());
+  n.R_tilt = tiltOf(T.linear());
+  if (new_segment || fixed) {
+    n.xyz_yaw << T.translation(), n.yaw_odom_rad;
   } else {
     // Start where the segment's current correction puts it, so the initial guess is good.
     const Eigen::Isometry3d C = drift(segment);
-    n.xyz_yaw << C * T_world_body_odom.translation(), wrapAngle(n.yaw_odom_rad + yawOf(C.linear()));
+    n.xyz_yaw << C * T.translation(), wrapAngle(n.yaw_odom_rad + yawOf(C.linear()));
   }
-
-  const std::size_t index = nodes_.size();
-  const std::size_t first = segments_.back().begin;
+  if (new_segment) {
+    segments_.push_back({segment, nodes_.size(), nodes_.size()});
+    solved_labels_.push_back(segments_.size() - 1);
+  }
   nodes_.push_back(n);
   segments_.back().end = nodes_.size();
+}
+
+void PoseGraph4Dof::addFixedNode(std::uint64_t id, int segment,
+                                 const Eigen::Isometry3d& T_world_body) {
+  appendNode(id, segment, T_world_body, true, "PoseGraph4Dof::addFixedNode");
+}
+
+void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
+                            const Eigen::Isometry3d& T_world_body_odom) {
+  appendNode(id, segment, T_world_body_odom, false, "PoseGraph4Dof::addNode");
+  const std::size_t index = nodes_.size() - 1;
+  const std::size_t first = segments_.back().begin;
 
   // Odometry edges to the newest predecessors of the same segment, never across segments.
   const std::size_t n_edges =
@@ -177,7 +194,7 @@ PoseGraphSolveReport PoseGraph4Dof::solve() {
       for (std::size_t i = segments_[s].begin; i < segments_[s].end; ++i) {
         GraphNode& n = nodes_[i];
         problem.AddParameterBlock(n.xyz_yaw.data(), 4, &state_manifold_);
-        if (s == labels[s] && i == segments_[s].begin) {  // the component's anchor
+        if (n.fixed || (s == labels[s] && i == segments_[s].begin)) {  // map or anchor
           problem.SetParameterBlockConstant(n.xyz_yaw.data());
         } else {
           ++free_nodes;
@@ -342,6 +359,9 @@ std::vector<std::size_t> PoseGraph4Dof::components() const {
 
 Eigen::Isometry3d PoseGraph4Dof::pose(std::uint64_t id) const {
   const GraphNode& n = nodes_[indexOf(id)];
+  // Uncorrected: the odometry pose itself (composing yaw and tilt again would round it).
+  if (n.p_world_body_m() == n.T_world_body_odom.translation() && n.yaw_rad() == n.yaw_odom_rad)
+    return n.T_world_body_odom;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = rotZ(n.yaw_rad()) * n.R_tilt;
   T.translation() = n.p_world_body_m();

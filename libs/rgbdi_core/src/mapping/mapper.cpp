@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace rgbdi::mapping {
 namespace {
@@ -35,6 +37,24 @@ void Mapper::addKeyframe(Keyframe k, const RgbdFrame& frame) {
   ++stats_.keyframes;
   stats_.keyframes_adding_points = adding_ids_.size();
   stats_.insert_ms_total += msSince(t0);
+}
+
+void Mapper::restore(const KeyframeStore& saved) {
+  if (!store_.empty()) throw std::logic_error("Mapper::restore: keyframes were added already");
+  for (std::size_t slot = 0; slot < saved.size(); ++slot) {
+    Keyframe k = saved.at(slot);
+    if (store_.contains(k.id))
+      throw std::invalid_argument("Mapper::restore: keyframe " + std::to_string(k.id) +
+                                  " appears twice");
+    if (!k.points.empty()) {
+      k.points = points_.insertPoints(k.points, k.T_world_cam);
+      viewpoints_.add(k.T_world_cam);
+      adding_ids_.push_back(k.id);
+    }
+    if (occupancy_) occupancy_->insertPoints(k.points, k.T_world_cam);
+    store_.add(std::move(k));
+  }
+  stats_.keyframes_adding_points = adding_ids_.size();
 }
 
 MapCorrection Mapper::correct(

@@ -55,7 +55,9 @@ void ProgressReporter::update(bool force) {
     line << "?";
   line << std::setprecision(1) << ", stream " << (std::isnan(t0_) ? 0.0 : t_last_ - t0_) << " s, "
        << estimator::toString(p.status) << ", " << p.keyframes << " keyframes, " << p.loops_accepted
-       << " loops   ";
+       << " loops";
+  if (p.map_state != MapState::kNoMap) line << ", map: " << toString(p.map_state);
+  line << "   ";
   os_ << line.str() << std::flush;
   on_screen_ = true;
 }

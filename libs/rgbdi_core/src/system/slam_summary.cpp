@@ -1,5 +1,7 @@
 #include "rgbdi/system/slam_summary.h"
 
+#include <set>
+
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -69,6 +71,35 @@ nlohmann::json loopSummary(const SlamSystem& sys) {
   return j;
 }
 
+nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
+  nlohmann::json j;
+  const bool have_t = !std::isnan(run.stream_t0);
+  j["loaded_from"] = run.map_loaded_from.empty() ? nlohmann::json() : nlohmann::json(run.map_loaded_from);
+  j["mode"] = !sys.hasMap() ? "new map" : (sys.options().localize_only ? "localize-only" : "mapping");
+  j["state"] = toString(sys.mapState());
+  const loop::LoopCloser* lc = sys.loopCloser();
+  j["map_keyframes_loaded"] = lc ? lc->mapKeyframes() : 0;
+  const double t_reloc = sys.firstRelocalisationTime();
+  j["relocalised_at_s"] =
+      t_reloc >= 0 && have_t ? nlohmann::json(t_reloc - run.stream_t0) : nlohmann::json();
+  nlohmann::json joins = nlohmann::json::array();
+  if (lc)
+    for (const loop::JoinRecord& jr : lc->joins())
+      joins.push_back({{"segment", jr.segment},
+                       {"joined_segment", jr.to_segment},
+                       {"time_s", have_t ? jr.t_query - run.stream_t0 : jr.t_query},
+                       {"keyframe", jr.query_id},
+                       {"loop_edges", jr.loop_edges}});
+  j["joins"] = joins;
+  if (lc)
+    j["join_matches"] = {{"too_few_inliers", lc->stats().join_matches_weak},
+                         {"unconfirmed", lc->stats().join_matches_dropped}};
+  j["first_keyframe_id"] = sys.firstKeyframeId();
+  j["saved_to"] = run.map_saved_to.empty() ? nlohmann::json() : nlohmann::json(run.map_saved_to);
+  j["note"] = run.map_save_note.empty() ? nlohmann::json() : nlohmann::json(run.map_save_note);
+  return j;
+}
+
 nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunEvaluation& ev,
                            const nlohmann::json& outputs) {
   const VioSystem& vio = sys.odometry();
@@ -120,11 +151,12 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
               {"correction_ms_total", mst.correction_ms_total},
               {"correction_ms_max", mst.correction_ms_max},
               {"occupancy_rebuild_ms", mst.occupancy_rebuild_ms}};
-  int segments = 0;
-  for (const auto& k : sys.keyframeStates()) segments = std::max(segments, k.state.segment + 1);
+  std::set<int> segments;  // of this run (a loaded map is segment 0 of the graph, not counted)
+  for (const auto& k : sys.keyframeStates()) segments.insert(k.state.segment);
   s["keyframes"] = sys.keyframeStates().size();
-  s["segments"] = segments;
+  s["segments"] = segments.size();
   s["loop"] = loopSummary(sys);
+  s["map_session"] = mapSessionSummary(sys, run);
   s["stream_diagnostics"] = run.stream_diagnostics;
   s["outputs"] = outputs;
   if (ev.final_posyaw && ev.final_sim3 && ev.online && ev.odometry) {

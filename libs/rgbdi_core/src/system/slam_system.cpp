@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "rgbdi/io/mrpt_conversions.h"
 
@@ -23,6 +25,16 @@ SlamSystem::SlamSystem(const SystemConfig& cfg, const SlamSystemOptions& options
       options_(options),
       vio_(cfg, options.use_depth),
       mapper_(std::make_unique<mapping::Mapper>(cfg.mapping, cfg.output.write_octomap)) {
+  if (options.map) {
+    if (!cfg.loop.enable)
+      throw std::invalid_argument(
+          "a loaded map needs loop closure: [loop] enable = true (and no --no-loop)");
+    id_offset_ = options.map->manifest.next_keyframe_id;
+    segment_offset_ = 1;  // segment 0 is the map in the pose graph
+    frame_segment_ = segment_offset_;
+    progress_map_state_.store(static_cast<int>(MapState::kNotLocalised));
+    mapper_->restore(options.map->keyframes);
+  }
   vio_.setFrameCallback(
       [this](const estimator::FrameEstimate& est, const RgbdFrame& f) { onFrame(est, f); });
   vio_.setKeyframeCallback([this](const estimator::KeyframeState& kf, const RgbdFrame& f,
@@ -138,11 +150,14 @@ void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) 
   r.t_image = est.t_image;
   r.segment = frame_segment_;
   r.T_world_body_odom = est.T_world_body;
-  r.T_world_body_online = onlineDrift(frame_segment_) * est.T_world_body;
+  bool in_origin = false;
+  r.T_world_body_online = onlineDrift(frame_segment_, &in_origin) * est.T_world_body;
+  r.online_in_map = options_.map && in_origin;
   frames_.push_back(r);
 }
 
-Eigen::Isometry3d SlamSystem::onlineDrift(int segment) {
+Eigen::Isometry3d SlamSystem::onlineDrift(int segment, bool* in_origin) {
+  *in_origin = false;
   const std::size_t lag = static_cast<std::size_t>(cfg_.loop.offline_lag_keyframes);
   const std::size_t emitted = keyframe_states_.size();
   std::size_t entry;  // drift entry to use: after keyframe `entry - 1` was handled
@@ -154,6 +169,8 @@ Eigen::Isometry3d SlamSystem::onlineDrift(int segment) {
   }
   if (entry == 0) return Eigen::Isometry3d::Identity();
   std::lock_guard<std::mutex> lock(drift_mutex_);
+  const auto& o = in_origin_after_keyframe_[entry - 1];
+  *in_origin = segment < static_cast<int>(o.size()) && o[static_cast<std::size_t>(segment)];
   const auto& d = drift_after_keyframe_[entry - 1];
   return segment < static_cast<int>(d.size()) ? d[static_cast<std::size_t>(segment)]
                                               : Eigen::Isometry3d::Identity();
@@ -169,8 +186,9 @@ void SlamSystem::onKeyframe(const estimator::KeyframeState& kf, const RgbdFrame&
   last_keyframe_segment_ = kf.segment;
 
   KeyframePacket packet;
-  packet.id = keyframe_states_.size();
+  packet.id = id_offset_ + keyframe_states_.size();
   packet.state = kf;
+  packet.state.segment += segment_offset_;
   packet.travelled_m = travelled_m_;
   KeyframePacket record = packet;  // without images: kept for the outputs
   record.features.features.clear();
@@ -196,6 +214,7 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
       loop_camera_ = vio_.cameraFor(p.frame);
       closer_ = std::make_unique<loop::LoopCloser>(cfg_.loop, loop_camera_, T_bc);
       extractor_ = std::make_unique<loop::LoopFeatureExtractor>(cfg_.loop.features, cfg_.frontend);
+      if (options_.map) loadMap(loop_camera_);
     }
     loop::LoopKeyframe lk;
     lk.id = p.id;
@@ -210,6 +229,10 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
     solved = closer_->process(std::move(lk)).solved;
     T_world_body = closer_->pose(p.id);
     progress_loops_.store(closer_->stats().accepted - closer_->stats().rolled_back);
+    if (options_.map)
+      progress_map_state_.store(static_cast<int>(closer_->connectedToOrigin(p.state.segment)
+                                                     ? MapState::kLocalised
+                                                     : MapState::kNotLocalised));
   }
 
   MapPacket m;
@@ -226,7 +249,7 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
     m.keyframe.features.push_back(kfe);
   }
   m.frame = std::move(p.frame);
-  map_stage_->submit(std::move(m));
+  if (!(options_.map && options_.localize_only)) map_stage_->submit(std::move(m));
   if (solved) {
     // The map follows the corrected keyframes (paper 4.5).
     MapPacket c;
@@ -237,10 +260,14 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
   }
   std::vector<Eigen::Isometry3d> drift(static_cast<std::size_t>(p.state.segment) + 1,
                                        Eigen::Isometry3d::Identity());
-  if (closer_)
-    for (std::size_t s = 0; s < drift.size(); ++s) drift[s] = closer_->drift(static_cast<int>(s));
+  std::vector<char> in_origin(drift.size(), 0);
+  for (std::size_t s = 0; s < drift.size(); ++s) {
+    if (closer_) drift[s] = closer_->drift(static_cast<int>(s));
+    in_origin[s] = segmentInOrigin(static_cast<int>(s)) ? 1 : 0;
+  }
   std::lock_guard<std::mutex> lock(drift_mutex_);
   drift_after_keyframe_.push_back(std::move(drift));
+  in_origin_after_keyframe_.push_back(std::move(in_origin));
 }
 
 void SlamSystem::handleMap(MapPacket& p) {
@@ -257,6 +284,7 @@ SlamProgress SlamSystem::progress() const {
   s.keyframes = progress_keyframes_.load();
   s.loops_accepted = progress_loops_.load();
   s.status = static_cast<estimator::EstimatorStatus>(progress_status_.load());
+  s.map_state = mapState();
   return s;
 }
 
@@ -277,8 +305,123 @@ Trajectory SlamSystem::onlineTrajectory() const {
   Trajectory t;
   t.reserve(frames_.size());
   for (const FrameRecord& r : frames_)
-    t.push_back(StampedPose::fromIsometry(r.t_imu, r.T_world_body_online));
+    if (!hasMap() || r.online_in_map)
+      t.push_back(StampedPose::fromIsometry(r.t_imu, r.T_world_body_online));
   return t;
+}
+
+const char* toString(MapState s) {
+  switch (s) {
+    case MapState::kNoMap:
+      return "no map";
+    case MapState::kNotLocalised:
+      return "not localised";
+    case MapState::kLocalised:
+      return "localised";
+  }
+  return "?";
+}
+
+MapState SlamSystem::mapState() const {
+  return static_cast<MapState>(progress_map_state_.load());
+}
+
+bool SlamSystem::segmentInOrigin(int segment) const {
+  if (!closer_) return !hasMap() && segment == 0;
+  return closer_->connectedToOrigin(segment);
+}
+
+double SlamSystem::firstRelocalisationTime() const {
+  if (!hasMap() || !closer_) return -1.0;
+  for (const loop::JoinRecord& j : closer_->joins())
+    if (j.to_segment == 0) return j.t_query;
+  return -1.0;
+}
+
+void SlamSystem::loadMap(const PinholeCamera& camera) {
+  const map::MapManifest& m = options_.map->manifest;
+  auto differs = [](double a, double b) { return std::abs(a - b) > 1e-6 * std::max(1.0, std::abs(a)); };
+  bool same = m.camera.width == camera.width && m.camera.height == camera.height &&
+              !differs(m.camera.fx, camera.fx) && !differs(m.camera.fy, camera.fy) &&
+              !differs(m.camera.cx, camera.cx) && !differs(m.camera.cy, camera.cy);
+  for (std::size_t i = 0; i < camera.dist.size(); ++i)
+    same = same && !differs(m.camera.dist[i], camera.dist[i]);
+  if (!same)
+    throw std::invalid_argument(
+        "the loaded map was built with another colour camera calibration (map: " +
+        std::to_string(m.camera.width) + "x" + std::to_string(m.camera.height) +
+        " fx " + std::to_string(m.camera.fx) + "; this run: " + std::to_string(camera.width) +
+        "x" + std::to_string(camera.height) + " fx " + std::to_string(camera.fx) + ")");
+  if (!m.T_body_cam.isApprox(cfg_.extrinsic.T_body_cam, 1e-6))
+    throw std::invalid_argument(
+        "the loaded map was built with another camera-IMU extrinsic ([extrinsic] T_body_cam)");
+  if (m.descriptor_type != loop::kLoopDescriptorType)
+    throw std::invalid_argument("the loaded map holds " + m.descriptor_type +
+                                " descriptors; this build uses " + loop::kLoopDescriptorType);
+  closer_->loadMap(options_.map->places);
+}
+
+map::MapData SlamSystem::mapToSave(std::size_t* dropped_keyframes) const {
+  if (!closer_)
+    throw std::logic_error("no map to save: loop closure did not run (a map needs its place "
+                           "keyframes)");
+  map::MapData out;
+  map::MapManifest& m = out.manifest;
+  m.camera = loop_camera_;
+  m.T_body_cam = cfg_.extrinsic.T_body_cam;
+  m.descriptor_type = loop::kLoopDescriptorType;
+  m.descriptor_bytes = cfg_.loop.place.index.descriptor_bytes;
+  m.next_keyframe_id = id_offset_ + keyframe_states_.size();
+  m.sessions = (hasMap() ? options_.map->manifest.sessions : 0) + 1;
+  const auto& pi = cfg_.loop.place.index;
+  m.index_parameters = "place_index_tables = " + std::to_string(pi.tables) +
+                       "\nplace_index_key_bits = " + std::to_string(pi.key_bits) +
+                       "\nplace_index_max_key_keyframes = " + std::to_string(pi.max_key_keyframes) +
+                       "\nplace_index_seed = " + std::to_string(pi.seed) + "\n";
+
+  // Keyframes of segments joined to the origin, at their corrected poses.
+  for (const loop::LoopKeyframe& k : closer_->keyframes()) {
+    const bool keep = k.segment == 0 || closer_->connectedToOrigin(k.segment);
+    if (!keep) continue;
+    loop::LoopKeyframe c = k;
+    c.T_world_body = closer_->pose(k.id);
+    out.places.push_back(std::move(c));
+  }
+  m.next_segment = 1;
+  for (const loop::LoopKeyframe& k : out.places) m.next_segment = std::max(m.next_segment, k.segment + 1);
+  std::vector<std::uint64_t> saved_ids;  // increasing: places are in id order
+  for (const loop::LoopKeyframe& k : out.places) saved_ids.push_back(k.id);
+  auto isSaved = [&](std::uint64_t id) {
+    return std::binary_search(saved_ids.begin(), saved_ids.end(), id);
+  };
+  if (hasMap())
+    for (const map::MapLoopEdge& e : options_.map->loops) out.loops.push_back(e);
+  for (const loop::LoopRecord& r : closer_->loops()) {
+    if (!isSaved(r.constraint.from_id) || !isSaved(r.constraint.to_id)) continue;
+    map::MapLoopEdge e;
+    e.from_id = r.constraint.from_id;
+    e.to_id = r.constraint.to_id;
+    e.T_from_to = r.constraint.T_from_to;
+    e.active = !r.rolled_back;
+    out.loops.push_back(e);
+  }
+
+  std::size_t dropped = 0;
+  const mapping::KeyframeStore& store = mapper_->store();
+  for (std::size_t slot = 0; slot < store.size(); ++slot) {
+    const mapping::Keyframe& k = store.at(slot);
+    if (k.id >= id_offset_) {
+      const std::size_t run_slot = static_cast<std::size_t>(k.id - id_offset_);
+      if (run_slot < keyframe_states_.size() &&
+          !segmentInOrigin(keyframe_states_[run_slot].state.segment)) {
+        ++dropped;
+        continue;
+      }
+    }
+    out.keyframes.add(k);
+  }
+  if (dropped_keyframes) *dropped_keyframes = dropped;
+  return out;
 }
 
 Trajectory SlamSystem::finalTrajectory() const {
@@ -289,6 +432,7 @@ Trajectory SlamSystem::finalTrajectory() const {
   std::size_t k = 0;
   const std::size_t nk = keyframe_states_.size();
   for (const FrameRecord& r : frames_) {
+    if (hasMap() && !segmentInOrigin(r.segment)) continue;  // never placed in the map
     while (k + 1 < nk && (keyframe_states_[k + 1].state.segment < r.segment ||
                           (keyframe_states_[k + 1].state.segment == r.segment &&
                            keyframe_states_[k + 1].state.t_imu <= r.t_imu)))

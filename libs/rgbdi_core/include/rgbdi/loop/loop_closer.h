@@ -2,6 +2,11 @@
 // stored keyframes, geometric verification with metric depth accepts or rejects each (counted by
 // reason), accepted loops become edges of the live 4-DOF pose graph, which is solved to
 // convergence with wrong loops rolled back. Owned by one thread (the loop-closing stage).
+//
+// Joining parts that are not yet related (a run to a loaded map, a segment after an odometry
+// reset to the earlier ones) is a relocalisation: stricter than a loop (more inliers, several
+// consecutive keyframes agreeing on the part's alignment) and then done in one solve, which
+// moves the joined part into the frame of the part it joined (the map's, when one is loaded).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -29,6 +34,15 @@ struct LoopRecord {
   bool rolled_back = false;   ///< removed by a later solve (its residual exceeded the gate)
 };
 
+/// One relocalisation: a part joined to another by verified loops.
+struct JoinRecord {
+  int segment = 0;         ///< segment of the query keyframes (the part that was moved)
+  int to_segment = 0;      ///< lowest segment of the part it joined (0 = the map / the origin)
+  double t_query = 0.0;    ///< [s] stamp (run clock) of the keyframe that completed the join
+  std::uint64_t query_id = 0;
+  int loop_edges = 0;      ///< loop edges added by the join
+};
+
 struct LoopStats {
   std::uint64_t keyframes = 0;   ///< keyframes processed (all queried)
   std::uint64_t candidates = 0;  ///< proposed by place recognition
@@ -38,6 +52,9 @@ struct LoopStats {
   std::uint64_t accepted = 0;
   std::uint64_t rolled_back = 0;
   std::uint64_t solves = 0;
+  std::uint64_t joins = 0;                 ///< relocalisations (see JoinRecord)
+  std::uint64_t join_matches_weak = 0;     ///< joining matches with too few PnP inliers
+  std::uint64_t join_matches_dropped = 0;  ///< joining matches that no later keyframe confirmed
   double features_ms_total = 0.0;     ///< ORB extraction (done by the caller, added by it)
   double recognition_ms_total = 0.0;  ///< index query + insertion
   double verification_ms_total = 0.0;
@@ -57,6 +74,19 @@ class LoopCloser {
   LoopCloser(const LoopOptions& options, const PinholeCamera& colour_cam,
              const Eigen::Isometry3d& T_body_cam);
 
+  /// Loads the keyframes of a saved map before the first process(): fixed graph nodes of
+  /// segment 0 (the origin; the map's poses never change) that join the place index. The run's
+  /// keyframes must then have segments >= 1 and ids above the map's; their stamps and distances
+  /// are shifted after the map's inside loop closing (see timeShift()), so the map's keyframes
+  /// count as old. Throws std::logic_error after process(), std::invalid_argument for keyframes
+  /// out of id order or with inconsistent descriptors.
+  void loadMap(const std::vector<LoopKeyframe>& places);
+  bool hasMap() const { return map_keyframes_ > 0; }
+  std::size_t mapKeyframes() const { return map_keyframes_; }
+  /// [s] added to the run's stamps inside loop closing (0 without a map): keyframes() and the
+  /// saved map use this shifted clock, LoopRecord::t_query and JoinRecord::t_query the run's.
+  double timeShift() const { return t_shift_; }
+
   /// kf.descriptors must hold its ORB keypoints; kf.T_world_body is set here from the drift of
   /// its segment (the best estimate before this keyframe's own loops).
   LoopUpdate process(LoopKeyframe kf);
@@ -72,6 +102,11 @@ class LoopCloser {
 
   const PoseGraph4Dof& graph() const { return graph_; }
   const std::vector<LoopRecord>& loops() const { return loops_; }
+  const std::vector<JoinRecord>& joins() const { return joins_; }
+  /// True when `segment` is joined to the origin (segment 0 / the loaded map) by active loops.
+  bool connectedToOrigin(int segment) const;
+  /// Every processed keyframe (loaded map first), by id order; poses as of the last update.
+  const std::vector<LoopKeyframe>& keyframes() const { return keyframes_; }
   const LoopStats& stats() const { return stats_; }
   LoopStats& mutableStats() { return stats_; }
   const PlaceRecognitionStats& placeStats() const { return recognizer_.stats(); }
@@ -90,7 +125,24 @@ class LoopCloser {
   bool solve_pending_ = false;
   std::uint64_t keyframes_since_solve_ = 0;
 
+  /// A verified match joining two unrelated parts, waiting for consecutive confirmations.
+  struct PendingJoin {
+    LoopRecord record;
+    std::uint64_t query_index = 0;  ///< keyframe counter of the query
+    int query_segment = 0;
+    int target_component = 0;
+    Eigen::Isometry3d A = Eigen::Isometry3d::Identity();  ///< part's frame -> target's frame
+  };
+  std::vector<PendingJoin> pending_joins_;
+  std::vector<JoinRecord> joins_;
+  std::size_t map_keyframes_ = 0;
+  double t_shift_ = 0.0, travelled_shift_ = 0.0;
+  bool shift_set_ = false;
+
   void solve(LoopUpdate& update);
+  /// Handles an accepted match between unrelated parts; true when it completed a join.
+  bool offerJoin(const LoopKeyframe& kf, const LoopKeyframe& cand, const LoopVerification& v,
+                 bool by_proximity, LoopUpdate& update);
 };
 
 }  // namespace rgbdi::loop

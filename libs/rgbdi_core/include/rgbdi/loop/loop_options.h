@@ -26,6 +26,18 @@ struct LoopOptions {
   /// passed since the last solve (and at the end of the run): bounds the solver's share.
   int solve_interval_keyframes = 5;
 
+  /// Joining two parts not yet related (a new run to a loaded map, a segment after a reset to
+  /// the earlier ones) is stricter than a loop: a false join puts a whole run in the wrong
+  /// place. Each verified match must have this many PnP inliers ...
+  int relocalize_min_inliers = 40;  ///< [count]
+  /// ... and this many consecutive joining keyframes must agree on where the part goes ...
+  int relocalize_consistent_keyframes = 3;  ///< [count] (1 = the first match joins)
+  /// ... within these bounds (alignment of the part implied by each match) ...
+  double relocalize_max_disagreement_m = 0.10;   ///< [m]
+  double relocalize_max_disagreement_deg = 3.0;  ///< [deg]
+  /// ... among matches of at most this many of the part's latest loop keyframes.
+  int relocalize_window_keyframes = 6;  ///< [count]
+
   LoopFeatureOptions features;
   PlaceRecognitionOptions place;
   LoopVerificationOptions verify;

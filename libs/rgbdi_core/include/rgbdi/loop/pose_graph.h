@@ -14,6 +14,10 @@
 // another one, the joined part is first moved rigidly onto the loop (a good initial guess), then
 // optimised with the rest.
 //
+// Fixed nodes (a loaded map, map_data.h): their pose is held constant by every solve and they
+// have no odometry edges. The map is loaded as the first segment, so it is the origin and a new
+// run's segment that a verified loop joins to it is moved into the map's frame.
+//
 // Not thread-safe: one thread owns the object (the loop-closure thread).
 #pragma once
 
@@ -37,6 +41,7 @@ struct GraphNode {
   Eigen::Isometry3d T_world_body_odom = Eigen::Isometry3d::Identity();  ///< as added
   Eigen::Matrix3d R_tilt = Eigen::Matrix3d::Identity();  ///< roll/pitch part of the odometry
   double yaw_odom_rad = 0.0;                             ///< [rad] heading of the odometry
+  bool fixed = false;  ///< held constant by solve() (a loaded map's keyframe)
   /// Corrected state [x, y, z] [m] and yaw [rad, in [-pi, pi)]: one Ceres parameter block.
   Eigen::Vector4d xyz_yaw = Eigen::Vector4d::Zero();
 
@@ -93,6 +98,11 @@ class PoseGraph4Dof {
   /// last node's (segments only begin, they never resume), or the pose is not finite and rigid.
   void addNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T_world_body_odom);
 
+  /// Adds a node whose pose stays T_world_body in every solve (a keyframe of a loaded map), with
+  /// no odometry edge. Same id and segment rules as addNode; fixed nodes come before every free
+  /// node and a segment is either all fixed or all free (std::invalid_argument otherwise).
+  void addFixedNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T_world_body);
+
   /// Adds an (active) loop edge; T_from_to maps points of the `to` body frame into the `from`
   /// body frame; only its x, y, z and yaw are used. Returns the edge id. Throws
   /// std::invalid_argument naming the ids when a node is unknown, from == to, or the pose is
@@ -128,6 +138,8 @@ class PoseGraph4Dof {
     std::size_t begin = 0, end = 0;  ///< node indices [begin, end) (segments are contiguous)
   };
 
+  void appendNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T, bool fixed,
+                  const char* caller);
   std::size_t indexOf(std::uint64_t id) const;  ///< throws std::out_of_range
   std::size_t segmentIndexOfNode(std::size_t node_index) const;
   /// Component label per segment index (lowest segment index of its component).

@@ -51,6 +51,12 @@ class Mapper {
   /// Throws std::invalid_argument for a duplicate id or an unusable frame (see PointMap).
   void addKeyframe(Keyframe keyframe, const RgbdFrame& frame);
 
+  /// Starts from a saved map (before any addKeyframe): every keyframe with its kept points goes
+  /// into the store, the point map, the viewpoint index and the occupancy map, at its saved
+  /// pose. Throws std::logic_error when keyframes were added already, std::invalid_argument for
+  /// a duplicate id.
+  void restore(const KeyframeStore& saved);
+
   /// Moves keyframes to corrected camera poses (id, T_world_cam); ids not in the store are
   /// ignored (keyframes the mapper has not received yet), and so are corrections smaller than
   /// correction_min_shift_m / correction_min_rotation_deg. Rebuilds the point map when any

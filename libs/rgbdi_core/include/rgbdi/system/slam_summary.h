@@ -20,6 +20,9 @@ struct RunInfo {
   std::size_t frames = 0;                       ///< images fed
   double wall_s = 0.0;
   nlohmann::json stream_diagnostics;
+  std::string map_loaded_from;  ///< --load-map directory (empty: none)
+  std::string map_saved_to;     ///< directory the run's map was saved to (empty: not saved)
+  std::string map_save_note;    ///< why it was not saved, or what was left out
 };
 
 /// The three trajectories of a run evaluated against ground truth (position + yaw alignment;
@@ -35,6 +38,10 @@ RunEvaluation evaluateRun(const SlamSystem& system, const Trajectory& gt);
 /// The "loop" object of summary.json: counts (queried, candidates, rejected per reason,
 /// accepted, rolled back), timings, segments and their final drift correction.
 nlohmann::json loopSummary(const SlamSystem& system);
+
+/// The "map_session" object of summary.json: the loaded map and its mode, the run's state in it,
+/// when it relocalised (seconds after the stream start), the joins, and where the map was saved.
+nlohmann::json mapSessionSummary(const SlamSystem& system, const RunInfo& run);
 
 nlohmann::json slamSummary(const SlamSystem& system, const RunInfo& run,
                            const RunEvaluation& evaluation, const nlohmann::json& outputs);

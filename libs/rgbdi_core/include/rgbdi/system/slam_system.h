@@ -8,6 +8,13 @@
 //
 //   feedImu/feedRgbd -> [queue] odometry -> keyframe packets -> [queue] loop closing
 //                    -> map packets (keyframes, corrections) -> [queue] mapping
+//
+// With a loaded map (SlamSystemOptions::map) the run starts "not localised": the odometry runs
+// in its own frame while its keyframes query the map; the first relocalisation (stricter than
+// a loop, loop_closer.h) moves the run into the map's frame, earlier poses included. The map is
+// segment 0 of the pose graph and never moves; the run's segments are 1, 2, ... and its keyframe
+// ids continue the map's. In mapping mode the run's keyframes extend the map; with
+// localize_only the map stays as loaded.
 #pragma once
 
 #include <mrpt/obs/CObservation.h>
@@ -24,6 +31,7 @@
 #include "rgbdi/io/measurement_source.h"
 #include "rgbdi/loop/loop_closer.h"
 #include "rgbdi/loop/loop_features.h"
+#include "rgbdi/map/map_data.h"
 #include "rgbdi/mapping/mapper.h"
 #include "rgbdi/system/keyframe_packet.h"
 #include "rgbdi/system/system_config.h"
@@ -37,6 +45,9 @@ struct SlamSystemOptions {
   bool live = false;      ///< live input: drift corrections taken when ready (wall time)
   bool keep_observations = false;   ///< keep each keyframe's MRPT observation (keyframes.simplemap)
   std::size_t queue_capacity = 64;  ///< [packets] bound of each stage queue
+  /// A saved map to start in (nullptr: a new map). Needs loop closure ([loop] enable).
+  std::shared_ptr<const map::MapData> map;
+  bool localize_only = false;  ///< with a map: the map stays as loaded (it does not grow)
 };
 
 /// One processed image as the outputs need it.
@@ -47,7 +58,13 @@ struct FrameRecord {
   Eigen::Isometry3d T_world_body_odom = Eigen::Isometry3d::Identity();  ///< odometry alone
   Eigen::Isometry3d T_world_body_online =
       Eigen::Isometry3d::Identity();  ///< with the drift known then
+  /// With a map: the online pose is in the map's frame (the segment was relocalised then).
+  bool online_in_map = false;
 };
+
+/// Map state of a run (SlamProgress, summary).
+enum class MapState { kNoMap, kNotLocalised, kLocalised };
+const char* toString(MapState s);
 
 /// A snapshot for progress lines (safe to take from any thread while the system runs).
 struct SlamProgress {
@@ -55,6 +72,7 @@ struct SlamProgress {
   std::size_t keyframes = 0;
   std::size_t loops_accepted = 0;
   estimator::EstimatorStatus status = estimator::EstimatorStatus::kInitializing;
+  MapState map_state = MapState::kNoMap;
 };
 
 class SlamSystem : public MeasurementSink {
@@ -78,19 +96,38 @@ class SlamSystem : public MeasurementSink {
   /// nullptr when loop closure is off ([loop] enable = false) or no keyframe was made.
   const loop::LoopCloser* loopCloser() const { return closer_.get(); }
   const VioSystem& odometry() const { return vio_; }
+  /// The loaded map (nullptr when the run started a new one).
+  const map::MapData* loadedMap() const { return options_.map.get(); }
   /// Final body pose of keyframe `slot` (loop-corrected when loops closed).
   Eigen::Isometry3d keyframePose(std::size_t slot) const;
   /// Best estimate of every processed frame after the last solve: each frame carried by the
-  /// correction of its keyframe (same segment, nearest in time).
+  /// correction of its keyframe (same segment, nearest in time). With a map: only the frames
+  /// of segments relocalised in it (in the map's frame).
   Trajectory finalTrajectory() const;
   Trajectory odometryTrajectory() const;
+  /// Causal poses; with a map only those taken once their segment was relocalised.
   Trajectory onlineTrajectory() const;
+  /// With a map: the run's state now (kNoMap otherwise).
+  MapState mapState() const;
+  bool hasMap() const { return options_.map != nullptr; }
+  /// [s] stamp (IMU clock) of the first relocalisation in the loaded map; < 0 when none.
+  double firstRelocalisationTime() const;
+  /// Frame segment -> joined to the origin (the loaded map, or the run's first segment).
+  bool segmentInOrigin(int segment) const;
+  /// The map this run leaves (after endOfStream): the loaded map (if any) plus the run's
+  /// keyframes of segments joined to the origin, in the origin's frame; `dropped_keyframes`
+  /// counts the run's keyframes left out (segments never joined). Throws std::logic_error when
+  /// loop closure never ran (a map needs its place keyframes).
+  map::MapData mapToSave(std::size_t* dropped_keyframes = nullptr) const;
+  /// Keyframe ids of this run start here (the loaded map's next id, else 0).
+  std::uint64_t firstKeyframeId() const { return id_offset_; }
   /// The same three in the colour camera frame, stamped with the image stamps.
   Trajectory toCameraFrame(const Trajectory& body) const;
   /// MRPT observation of each keyframe, by slot (only with keep_observations).
   const std::vector<mrpt::obs::CObservation::Ptr>& observations() const { return observations_; }
   const Eigen::Isometry3d& T_body_cam() const { return cfg_.extrinsic.T_body_cam; }
   const SystemConfig& config() const { return cfg_; }
+  const SlamSystemOptions& options() const { return options_; }
   std::size_t mapQueueHighWater() const { return map_stage_->queueHighWater(); }
 
  private:
@@ -100,8 +137,11 @@ class SlamSystem : public MeasurementSink {
                   const frontend::FeatureFrame& features);
   void handleKeyframe(KeyframePacket& p);
   void handleMap(MapPacket& p);
-  /// Drift of `segment` to apply to the online pose now (see the file comment).
-  Eigen::Isometry3d onlineDrift(int segment);
+  /// Drift of `segment` to apply to the online pose now (see the file comment); `in_origin`
+  /// says whether the segment was joined to the origin then.
+  Eigen::Isometry3d onlineDrift(int segment, bool* in_origin);
+  /// The loaded map into the loop closer and the mapper (first keyframe: the camera is known).
+  void loadMap(const PinholeCamera& camera);
 
   SystemConfig cfg_;
   SlamSystemOptions options_;
@@ -133,10 +173,15 @@ class SlamSystem : public MeasurementSink {
   // keyframe k was handled (index = segment; segments not yet seen are identity).
   mutable std::mutex drift_mutex_;
   std::vector<std::vector<Eigen::Isometry3d>> drift_after_keyframe_;
+  std::vector<std::vector<char>> in_origin_after_keyframe_;  ///< same indexing: joined to origin
   std::vector<Eigen::Isometry3d> final_keyframe_poses_;  ///< T_world_body by slot, at the end
 
   std::atomic<std::size_t> progress_frames_{0}, progress_keyframes_{0}, progress_loops_{0};
   std::atomic<int> progress_status_{0};
+  std::atomic<int> progress_map_state_{0};
+
+  std::uint64_t id_offset_ = 0;  ///< keyframe id = id_offset_ + slot
+  int segment_offset_ = 0;       ///< frame/keyframe segment = estimator segment + this
 
   // Declared last: destroyed (threads joined) before the state above.
   std::unique_ptr<StageWorker<MapPacket>> map_stage_;

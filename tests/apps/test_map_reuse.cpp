@@ -1,0 +1,141 @@
+// Map reuse end to end on generated sequences (issue 12): a second run that loads the map of a
+// first run in the same world relocalises early and is then in the map's frame (its ATE taken
+// through the first run's alignment to ground truth only); localize-only leaves the map as it
+// was; a run in another world never relocalises. Runs the same SlamSystem rgbdi-slam runs.
+#include <gtest/gtest.h>
+
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include "rgbdi/eval/evaluate.h"
+#include "rgbdi/loop/loop_closer.h"
+#include "rgbdi/sim/sequence.h"
+#include "rgbdi/sim/sequence_writer.h"
+#include "rgbdi/system/slam_system.h"
+
+using namespace rgbdi;
+
+namespace {
+
+sim::SimOptions circle(double duration_s, std::uint64_t seed = 1) {
+  auto ini = IniReader::empty();
+  sim::SimOptions so = sim::SimOptions::load(ini);
+  so.profile.kind = sim::ProfileKind::WheeledCircle;
+  so.profile.speed_m_s = 0.8;  // a 16 s lap
+  so.profile.duration_s = duration_s;
+  so.fps = 15.0;
+  so.seed = seed;
+  return so;
+}
+
+struct SessionRun {
+  std::unique_ptr<sim::SimulatedSequence> seq;
+  std::unique_ptr<system::SlamSystem> sys;
+};
+
+SessionRun run(const sim::SimOptions& so, std::shared_ptr<const map::MapData> map = nullptr,
+        bool localize_only = false) {
+  SessionRun r;
+  r.seq = std::make_unique<sim::SimulatedSequence>(so);
+  auto ini = IniReader::fromText(sim::slamConfigText(*r.seq), "generated config.ini");
+  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  system::SlamSystemOptions opt;
+  opt.map = std::move(map);
+  opt.localize_only = localize_only;
+  r.sys = std::make_unique<system::SlamSystem>(cfg, opt);
+  r.seq->pump(*r.sys);
+  return r;
+}
+
+/// ATE of `est` mapped by T_gt_map, without any alignment of its own.
+double ateInMapFrame(const Trajectory& gt, const Trajectory& est, const Eigen::Isometry3d& T_gt_map) {
+  Trajectory moved;
+  for (const StampedPose& p : est)
+    moved.push_back(StampedPose::fromIsometry(p.t, T_gt_map * p.isometry()));
+  eval::EvalOptions eo;
+  eo.align = eval::AlignMode::None;
+  return eval::evaluate(gt, moved, eo).ate.rmse;
+}
+
+/// The first run's map and its alignment to ground truth, shared by the tests of this file.
+struct FirstRun {
+  std::shared_ptr<const map::MapData> map;
+  Eigen::Isometry3d T_gt_map = Eigen::Isometry3d::Identity();
+  double ate = 0.0;
+};
+
+const FirstRun& firstRun() {
+  static const FirstRun f = [] {
+    FirstRun out;
+    SessionRun a = run(circle(20.0));
+    eval::EvalOptions eo;
+    eo.align = eval::AlignMode::PosYaw;
+    const eval::EvalResult ev = eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo);
+    out.T_gt_map = ev.alignment.rigid();
+    out.ate = ev.ate.rmse;
+    out.map = std::make_shared<const map::MapData>(a.sys->mapToSave());
+    std::cout << "first run: ATE " << out.ate << " m, " << out.map->places.size()
+              << " place keyframes, " << out.map->keyframes.size() << " keyframes" << std::endl;
+    return out;
+  }();
+  return f;
+}
+
+}  // namespace
+
+TEST(MapReuse, ASecondRunRelocalisesEarlyAndIsInTheMapsFrame) {
+  const FirstRun& first = firstRun();
+  ASSERT_GT(first.map->places.size(), 20u);
+  SessionRun b = run(circle(12.0), first.map);
+  const system::SlamSystem& sys = *b.sys;
+  EXPECT_EQ(sys.mapState(), system::MapState::kLocalised);
+  const double t_reloc = sys.firstRelocalisationTime();
+  ASSERT_GE(t_reloc, 0.0) << "never relocalised";
+  const double since_start = t_reloc - b.seq->frameStamp(0);
+  std::cout << "relocalised " << since_start << " s after the start" << std::endl;
+  EXPECT_LE(since_start, 3.0);
+  // Keyframe ids continue the map's.
+  EXPECT_EQ(sys.firstKeyframeId(), first.map->manifest.next_keyframe_id);
+  // Every pose of trajectory.tum is in the map's frame: ATE through the first run's alignment.
+  const Trajectory traj = sys.finalTrajectory();
+  ASSERT_GT(traj.size(), 100u);
+  const double ate = ateInMapFrame(b.seq->bodyTrajectory(), traj, first.T_gt_map);
+  std::cout << "second run: ATE in the map frame " << ate << " m" << std::endl;
+  EXPECT_LE(ate, 0.03);
+  // The online trajectory starts at the relocalisation.
+  const Trajectory online = sys.onlineTrajectory();
+  ASSERT_FALSE(online.empty());
+  EXPECT_GE(online.front().t, t_reloc - 1e-9);
+  EXPECT_LE(ateInMapFrame(b.seq->bodyTrajectory(), online, first.T_gt_map), 0.05);
+  // Mapping mode: the saved map holds both runs, the first run's keyframes unchanged.
+  const map::MapData both = sys.mapToSave();
+  EXPECT_GT(both.places.size(), first.map->places.size());
+  EXPECT_EQ(both.manifest.sessions, 2);
+  for (std::size_t i = 0; i < first.map->places.size(); ++i) {
+    ASSERT_EQ(both.places[i].id, first.map->places[i].id);
+    EXPECT_TRUE(both.places[i].T_world_body.isApprox(first.map->places[i].T_world_body, 1e-12));
+  }
+}
+
+TEST(MapReuse, LocalizeOnlyLeavesTheMapAsItWas) {
+  const FirstRun& first = firstRun();
+  SessionRun c = run(circle(12.0), first.map, /*localize_only=*/true);
+  EXPECT_EQ(c.sys->mapState(), system::MapState::kLocalised);
+  EXPECT_EQ(c.sys->mapper().store().size(), first.map->keyframes.size());
+  const double ate =
+      ateInMapFrame(c.seq->bodyTrajectory(), c.sys->finalTrajectory(), first.T_gt_map);
+  EXPECT_LE(ate, 0.03);
+}
+
+TEST(MapReuse, ARunInAnotherWorldNeverRelocalises) {
+  const FirstRun& first = firstRun();
+  SessionRun d = run(circle(12.0, /*seed=*/7), first.map);  // other textures: another world
+  EXPECT_EQ(d.sys->mapState(), system::MapState::kNotLocalised);
+  EXPECT_LT(d.sys->firstRelocalisationTime(), 0.0);
+  EXPECT_TRUE(d.sys->finalTrajectory().empty());
+  EXPECT_TRUE(d.sys->onlineTrajectory().empty());
+  EXPECT_FALSE(d.sys->odometryTrajectory().empty());
+  ASSERT_NE(d.sys->loopCloser(), nullptr);
+  EXPECT_EQ(d.sys->loopCloser()->stats().joins, 0u);
+}
