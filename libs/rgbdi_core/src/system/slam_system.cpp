@@ -119,6 +119,9 @@ bool SlamSystem::joinsLoopClosing(const KeyframePacket& p) {
   const Eigen::Isometry3d& T = p.state.T_world_body;
   const bool joins = [&] {
     if (p.state.segment != last_loop_segment_) return true;
+    // A part not yet placed in the origin's frame (a run in a loaded map, a segment after a
+    // reset) queries with every keyframe: relocalising early matters more than the cost.
+    if (closer_ && !closer_->connectedToOrigin(p.state.segment)) return true;
     const double d = (T.translation() - last_loop_keyframe_.translation()).norm();
     const double angle =
         Eigen::AngleAxisd(last_loop_keyframe_.rotation().transpose() * T.rotation()).angle();

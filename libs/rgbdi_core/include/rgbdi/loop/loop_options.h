@@ -20,6 +20,7 @@ struct LoopOptions {
   /// A keyframe joins loop closing (ORB features, place index, pose-graph node) only when it is
   /// at least this far from, or turned this much from, the previous one that joined (same
   /// segment); the others follow the correction of their neighbours. Bounds the cost per metre.
+  /// Every keyframe joins while its segment is not yet joined to the origin (relocalisation).
   double min_keyframe_distance_m = 0.2;  ///< [m]
   double min_keyframe_angle_deg = 10.0;  ///< [deg]
   /// [count] after a loop is accepted the graph is solved once this many loop keyframes have
