@@ -621,6 +621,15 @@ TEST(MapDirectory, RefusesToReplaceAPlainDirectoryAndAMissingParent) {
   EXPECT_EQ(entriesOf(root), std::vector<std::string>{"map"});
   EXPECT_EQ(entriesOf(root + "/map"), std::vector<std::string>{"keep.txt"});
   EXPECT_THROW(saveMap(root + "/no/such/map", syntheticMap(13)), MapError);
+
+  // A plain copy of a published map (cp -rL) loads, but cannot be saved over.
+  const MapData m = syntheticMap(14);
+  saveMap(root + "/published", m);
+  std::filesystem::copy(root + "/published.1", root + "/copy",
+                        std::filesystem::copy_options::recursive);
+  expectSameMap(m, loadMap(root + "/copy"));
+  EXPECT_THROW(saveMap(root + "/copy", m), MapError);
+  expectSameMap(m, loadMap(root + "/copy"));
 }
 
 // A child process saves map B over map A and SIGKILLs itself right after step k, for every step

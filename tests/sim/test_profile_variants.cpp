@@ -182,6 +182,44 @@ TEST(ProfileVariants, EveryVariantStartsAtRestSomewhereElse) {
   }
 }
 
+// How soon a variant's camera sees a place as variant 0's camera saw it (within 1 m and 45 deg
+// of viewing direction): what relocalisation in a map of variant 0 can hope for. Variant 2
+// drives the same way along the same path: at once. Variant 1 looks the other way round; its
+// figure is printed (an upper bound of what a relocaliser can do on it).
+TEST(ProfileVariants, Variant2SeesAVariant0ViewFromItsStart) {
+  const double cos45 = std::cos(45.0 * M_PI / 180.0);
+  for (const std::string& name : profileNames()) {
+    const ProfileKind kind = parseProfileKind(name);
+    const MotionProfile world = profileOf(kind, 0);
+    std::vector<Eigen::Isometry3d> views;
+    for (double t = 0.0; t <= world.trajectory->duration(); t += 0.1)
+      views.push_back(world.trajectory->pose(t) * bodyCam());
+    for (int variant = 1; variant < kProfileVariants; ++variant) {
+      const MotionProfile prof = profileOf(kind, variant);
+      double first = -1.0, closest = std::numeric_limits<double>::infinity();
+      for (double t = 0.0; t <= prof.trajectory->duration() && first < 0.0; t += 0.1) {
+        const Eigen::Isometry3d c = prof.trajectory->pose(t) * bodyCam();
+        for (const Eigen::Isometry3d& v : views) {
+          if (v.linear().col(2).dot(c.linear().col(2)) < cos45) continue;
+          const double d = (v.translation() - c.translation()).norm();
+          closest = std::min(closest, d);
+          if (d < 1.0) {
+            first = t;
+            break;
+          }
+        }
+      }
+      std::printf("%-15s variant %d: first view within 1 m / 45 deg of a variant-0 view at %s\n",
+                  name.c_str(), variant,
+                  first < 0.0 ? ("never (closest " + std::to_string(closest) + " m)").c_str()
+                              : (std::to_string(first) + " s").c_str());
+      if (variant == 2) {
+        EXPECT_EQ(first, 0.0) << name;
+      }
+    }
+  }
+}
+
 TEST(ProfileVariants, TheSceneIsTheWorldsForEveryVariantAndDuration) {
   for (const std::string& name : profileNames()) {
     const ProfileKind kind = parseProfileKind(name);
