@@ -1,5 +1,5 @@
 // rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast] [--fps N]
-//           [--seed N] [--config FILE] [--time-offset S] [--aliased-walls]
+//           [--seed N] [--variant N] [--config FILE] [--time-offset S] [--aliased-walls]
 //           [--bag [--bag-compression none|bz2|lz4]]
 // Simulates an RGB-D-inertial sequence (doc/simulator.md) and writes it to DIR. Exit codes:
 // 0 ok, 1 error (files, a sequence that cannot be made), 2 bad usage or configuration,
@@ -28,7 +28,7 @@ using rgbdi::kExitUsage;
 
 const char* const kUsage =
     "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
-    "                 [--fps N] [--seed N] [--config FILE] [--time-offset S]\n"
+    "                 [--fps N] [--seed N] [--variant N] [--config FILE] [--time-offset S]\n"
     "                 [--aliased-walls] [--bag [--bag-compression none|bz2|lz4]]\n"
     "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
@@ -37,6 +37,10 @@ const char* const kUsage =
     "  --speed            speed preset (wheeled_slopes: the paper's slow/normal/fast runs)\n"
     "  --fps              camera frame rate [Hz] (default 30)\n"
     "  --seed             random seed of noise and textures (default 1)\n"
+    "  --variant          path in the same world: 0 = the profile's path (default), 1 = the\n"
+    "                     same closed path from another start driven the other way round,\n"
+    "                     2 = from a third start, same direction; ground truth in the\n"
+    "                     world frame of every variant\n"
     "  --config           INI file with [sim], [camera], [extrinsic] (default: built-in values,\n"
     "                     the same as share/config.ini)\n"
     "  --time-offset      camera-IMU time offset [s]: images stamped t_imu - offset\n"
@@ -66,6 +70,7 @@ struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
   long long seed = -1;
+  int variant = -1;
   bool has_time_offset = false, bag = false, aliased_walls = false;
 };
 
@@ -89,6 +94,13 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     if (s < 0 || s > std::numeric_limits<int>::max() || s != std::floor(s))
       throw UsageError("--seed must be an integer in [0, 2147483647]");
     a.seed = static_cast<long long>(s);
+  });
+  cl.value("--variant", [&](const std::string& v) {
+    const double n = number("--variant", v);
+    if (n < 0 || n >= rgbdi::sim::kProfileVariants || n != std::floor(n))
+      throw UsageError("--variant must be an integer in [0, " +
+                       std::to_string(rgbdi::sim::kProfileVariants - 1) + "]");
+    a.variant = static_cast<int>(n);
   });
   cl.value("--time-offset", [&](const std::string& v) {
     a.time_offset = number("--time-offset", v);
@@ -126,6 +138,7 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   if (a.duration > 0.0) o.profile.duration_s = a.duration;
   if (a.fps > 0.0) o.fps = a.fps;
   if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
+  if (a.variant >= 0) o.profile.variant = a.variant;
   if (a.has_time_offset) o.time_offset_s = a.time_offset;
   if (a.aliased_walls) o.scene.aliased_walls = true;
   return o;
@@ -176,12 +189,14 @@ int main(int argc, char** argv) {
                 << " frames; no rawlog or bag was written\n";
       return kExitInterrupted;
     }
-    std::cout << std::fixed << std::setprecision(1) << "profile " << args.profile << ": "
-              << sequence.duration() << " s, " << sequence.profile().path_length_m << " m at "
-              << std::setprecision(3) << sequence.profile().cruise_speed_m_s << " m/s, " << s.frames
-              << " frames, " << s.imu_samples << " IMU samples in " << std::setprecision(1)
-              << s.wall_time_s << " s (" << s.frames / std::max(1e-9, s.wall_time_s)
-              << " frames/s)\n"
+    std::cout << std::fixed << std::setprecision(1) << "profile " << args.profile
+              << (opt.profile.variant != 0 ? " variant " + std::to_string(opt.profile.variant)
+                                           : std::string())
+              << ": " << sequence.duration() << " s, " << sequence.profile().path_length_m
+              << " m at " << std::setprecision(3) << sequence.profile().cruise_speed_m_s << " m/s, "
+              << s.frames << " frames, " << s.imu_samples << " IMU samples in "
+              << std::setprecision(1) << s.wall_time_s << " s ("
+              << s.frames / std::max(1e-9, s.wall_time_s) << " frames/s)\n"
               << "  " << s.rawlog_path << "\n  " << s.groundtruth_path << "\n  "
               << s.groundtruth_cam_path << "\n  " << s.config_path << "\n  " << s.simulation_path
               << "\n";

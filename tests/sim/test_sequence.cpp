@@ -1,9 +1,9 @@
 // SimulatedSequence: the push stream (order, counts, stop), time offset, determinism, ground
 // truth API, options loading, and the scenes' structure along every profile's path.
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "rgbdi/sim/sequence.h"
 #include "testing/fixtures.h"
@@ -50,14 +50,15 @@ struct Recorder : MeasurementSink {
 
 TEST(SimulatedSequence, PumpDeliversEverythingInTimeOrder) {
   const SimulatedSequence seq(shortOptions(0.02));
-  EXPECT_EQ(seq.imuCount(), 1801u);   // 9 s at 200 Hz, both ends included
-  EXPECT_EQ(seq.frameCount(), 46u);   // 9 s at 5 Hz
+  EXPECT_EQ(seq.imuCount(), 1801u);  // 9 s at 200 Hz, both ends included
+  EXPECT_EQ(seq.frameCount(), 46u);  // 9 s at 5 Hz
   Recorder rec;
   seq.pump(rec);
   EXPECT_EQ(rec.ends, 1);
   ASSERT_EQ(rec.imu.size(), seq.imuCount());
   ASSERT_EQ(rec.frames.size(), seq.frameCount());
-  for (std::size_t j = 1; j < rec.stamps.size(); ++j) ASSERT_LE(rec.stamps[j - 1], rec.stamps[j]) << j;
+  for (std::size_t j = 1; j < rec.stamps.size(); ++j)
+    ASSERT_LE(rec.stamps[j - 1], rec.stamps[j]) << j;
   for (std::size_t k = 0; k < rec.imu.size(); ++k)
     EXPECT_DOUBLE_EQ(rec.imu[k].t, 1000.0 + k / 200.0);
   const PinholeCamera cam = CameraOptions().camera;
@@ -109,8 +110,8 @@ TEST(SimulatedSequence, FramesAreRenderedAtTheExposurePose) {
   seq.renderIdeal(i, rgb, depth_m);
   const Renderer renderer(seq.scene(), seq.options().camera.camera, seq.options().render);
   cv::Mat rgb2, depth2;
-  renderer.render(seq.groundTruth(1000.0 + 6.0).T_world_body * seq.options().extrinsic.T_body_cam, rgb2,
-                  depth2);
+  renderer.render(seq.groundTruth(1000.0 + 6.0).T_world_body * seq.options().extrinsic.T_body_cam,
+                  rgb2, depth2);
   EXPECT_EQ(cv::norm(depth_m, depth2, cv::NORM_INF), 0.0);
   // Rendering at the (wrong) stamp time instead gives a different image: the offset is real.
   renderer.render(seq.cameraPose(1000.0 + 6.0 - 0.03), rgb2, depth2);
@@ -151,7 +152,8 @@ TEST(SimulatedSequence, SameSeedSameFramesDifferentSeedDifferentNoise) {
   EXPECT_GT(cv::countNonZero(diff), static_cast<int>(fa.depth.total() / 10));
   EXPECT_NE(a.imuSample(500).acc, c.imuSample(500).acc);
   // The motion is the same for every seed.
-  EXPECT_TRUE(a.groundTruth(1005.0).T_world_body.isApprox(c.groundTruth(1005.0).T_world_body, 1e-15));
+  EXPECT_TRUE(
+      a.groundTruth(1005.0).T_world_body.isApprox(c.groundTruth(1005.0).T_world_body, 1e-15));
   // With and without prefetching the stream is identical.
   SimOptions no_prefetch = shortOptions();
   no_prefetch.prefetch_frames = false;
@@ -174,7 +176,9 @@ TEST(SimulatedSequence, GroundTruthApi) {
   EXPECT_EQ(g.bias.acc, seq.imu().biasAt(4.125).acc);
   const Eigen::Isometry3d& T_body_cam = seq.options().extrinsic.T_body_cam;
   EXPECT_TRUE(T_body_cam.isApprox(ExtrinsicOptions().T_body_cam, 1e-7));
-  EXPECT_LT((T_body_cam.linear().transpose() * T_body_cam.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-15);
+  EXPECT_LT(
+      (T_body_cam.linear().transpose() * T_body_cam.linear() - Eigen::Matrix3d::Identity()).norm(),
+      1e-15);
   EXPECT_TRUE(seq.cameraPose(t).isApprox(s.T_world_body * T_body_cam, 1e-15));
   const Trajectory body = seq.bodyTrajectory(), cam = seq.cameraTrajectory();
   ASSERT_EQ(body.size(), seq.imuCount());
@@ -182,7 +186,8 @@ TEST(SimulatedSequence, GroundTruthApi) {
   EXPECT_DOUBLE_EQ(body[200].t, 1001.0);
   EXPECT_DOUBLE_EQ(cam[5].t, 1001.0 - 0.01);
   EXPECT_LT((cam[5].isometry().matrix() - seq.cameraPose(1001.0).matrix()).norm(), 1e-12)
-      << cam[5].isometry().matrix() << "\n" << seq.cameraPose(1001.0).matrix();
+      << cam[5].isometry().matrix() << "\n"
+      << seq.cameraPose(1001.0).matrix();
   // The measured IMU minus its true bias averages to the ideal measurement.
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (std::size_t k = 1000; k < 1400; ++k)
@@ -246,43 +251,56 @@ TEST(SimOptions, DefaultsEqualTheSharedConfigAndAreAtLeastAsHardAsAD435i) {
   }
 }
 
-/// Along every profile's whole path (a frame every 2 s): most of the image sees surfaces within
+/// Along a profile's whole path (a frame every 2 s): most of the image sees surfaces within
 /// 0.5-4 m (D435 depth range), there are plenty of corners, and the camera never sits against
 /// or inside an object.
-TEST(ProfileScenes, TexturedStructureIsNearTheCameraAlongEveryPath) {
-  for (const std::string& name : profileNames()) {
-    SimOptions o;
-    o.profile.kind = parseProfileKind(name);
-    const SimulatedSequence seq(o);
-    double sum_near = 0.0, min_near = 1.0;
-    int frames = 0;
-    std::size_t min_corners = 100000;
-    cv::Mat rgb, depth, grey;
-    for (std::size_t i = 0; i < seq.frameCount(); i += 60) {
-      seq.renderIdeal(i, rgb, depth);
-      int near = 0, too_close = 0;
-      for (int r = 0; r < depth.rows; ++r)
-        for (int c = 0; c < depth.cols; ++c) {
-          const float z = depth.at<float>(r, c);
-          near += (z >= 0.5f && z <= 4.0f);
-          too_close += (z > 0.0f && z < 0.25f);
-        }
-      const double frac = static_cast<double>(near) / depth.total();
-      sum_near += frac;
-      min_near = std::min(min_near, frac);
-      ++frames;
-      EXPECT_LT(static_cast<double>(too_close) / depth.total(), 0.02) << name << " frame " << i;
-      cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
-      std::vector<cv::Point2f> corners;
-      cv::goodFeaturesToTrack(grey, corners, 1000, 0.01, 15);
-      min_corners = std::min(min_corners, corners.size());
-    }
-    std::printf("%-15s %d frames: depth in 0.5-4 m on %.0f %% of the image (min %.0f %%), >= %zu corners\n",
-                name.c_str(), frames, 100.0 * sum_near / frames, 100.0 * min_near, min_corners);
-    EXPECT_GE(sum_near / frames, 0.6) << name;
-    EXPECT_GE(min_near, 0.3) << name;
-    EXPECT_GE(min_corners, 150u) << name;
+void expectTexturedStructureNearTheCamera(const std::string& name, int variant) {
+  SCOPED_TRACE(name + " variant " + std::to_string(variant));
+  SimOptions o;
+  o.profile.kind = parseProfileKind(name);
+  o.profile.variant = variant;
+  const SimulatedSequence seq(o);
+  double sum_near = 0.0, min_near = 1.0;
+  int frames = 0;
+  std::size_t min_corners = 100000;
+  cv::Mat rgb, depth, grey;
+  for (std::size_t i = 0; i < seq.frameCount(); i += 60) {
+    seq.renderIdeal(i, rgb, depth);
+    int near = 0, too_close = 0;
+    for (int r = 0; r < depth.rows; ++r)
+      for (int c = 0; c < depth.cols; ++c) {
+        const float z = depth.at<float>(r, c);
+        near += (z >= 0.5f && z <= 4.0f);
+        too_close += (z > 0.0f && z < 0.25f);
+      }
+    const double frac = static_cast<double>(near) / depth.total();
+    sum_near += frac;
+    min_near = std::min(min_near, frac);
+    ++frames;
+    EXPECT_LT(static_cast<double>(too_close) / depth.total(), 0.02) << name << " frame " << i;
+    cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
+    std::vector<cv::Point2f> corners;
+    cv::goodFeaturesToTrack(grey, corners, 1000, 0.01, 15);
+    min_corners = std::min(min_corners, corners.size());
   }
+  std::printf(
+      "%-15s variant %d, %d frames: depth in 0.5-4 m on %.0f %% of the image (min %.0f %%), >= %zu "
+      "corners\n",
+      name.c_str(), variant, frames, 100.0 * sum_near / frames, 100.0 * min_near, min_corners);
+  EXPECT_GE(sum_near / frames, 0.6) << name;
+  EXPECT_GE(min_near, 0.3) << name;
+  EXPECT_GE(min_corners, 150u) << name;
+}
+
+TEST(ProfileScenes, TexturedStructureIsNearTheCameraAlongEveryPath) {
+  for (const std::string& name : profileNames()) expectTexturedStructureNearTheCamera(name, 0);
+}
+
+// The other paths of the same world (rgbdi-sim --variant) see as much structure.
+TEST(ProfileScenes, TexturedStructureIsNearTheCameraAlongEveryVariantPath) {
+  for (const std::string& name : profileNames())
+    for (int variant = 1; variant < kProfileVariants; ++variant)
+      expectTexturedStructureNearTheCamera(name, variant);
 }
 
 }  // namespace

@@ -3,11 +3,17 @@
 // for them. Every profile starts at rest for rest_start_s, accelerates smoothly, and ends at
 // rest. The motion does not depend on the random seed (only noise and textures do), so several
 // seeds give several noise realisations of one motion.
+//
+// Variants (issue 12): variant 0 is the profile's path; variants 1 and 2 are further sequences of
+// the same world (same room, ramps, furniture and, for a seed, textures) along the same closed
+// path, started at rest from another point of it: variant 1 drives it in the opposite direction,
+// variant 2 in the same direction. The world of a profile is the scene of its variant-0 path at
+// the default timing (at least one lap); a variant-0 run of at least one lap has exactly this
+// scene. Poses stay in the world frame.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +25,9 @@ namespace rgbdi::sim {
 
 enum class ProfileKind { Handheld, WheeledCircle, WheeledSlopes, TrackedSlopes };
 enum class SpeedPreset { Slow, Normal, Fast };
+
+/// Number of path variants of every profile (0 .. kProfileVariants - 1).
+inline constexpr int kProfileVariants = 3;
 
 /// "handheld", "wheeled_circle", "wheeled_slopes", "tracked_slopes".
 const std::vector<std::string>& profileNames();
@@ -35,17 +44,17 @@ struct ProfileOptions {
   /// slow|normal|fast. wheeled_slopes: the paper's runs (31 m in 148 s, 32 m in 74 s, 48 m in
   /// 99 s with intermittent high-speed phases); other profiles: 0.6x / 1x / 1.4x cruise speed.
   SpeedPreset speed = SpeedPreset::Normal;
-  double duration_s = 0.0;   ///< [s] total duration; 0 = the profile's default
-  double speed_m_s = 0.0;    ///< [m/s] cruise speed; 0 = the profile's / preset's default
-  double rest_start_s = 2.0; ///< [s] at rest before moving
-  double rest_end_s = 1.0;   ///< [s] at rest after stopping
+  double duration_s = 0.0;    ///< [s] total duration; 0 = the profile's default
+  double speed_m_s = 0.0;     ///< [m/s] cruise speed; 0 = the profile's / preset's default
+  double rest_start_s = 2.0;  ///< [s] at rest before moving
+  double rest_end_s = 1.0;    ///< [s] at rest after stopping
   /// Track/wheel vibration (real motion, 10-30 Hz tones, scaled by speed / cruise speed):
   /// RMS of the accelerometer and gyro vibration while cruising.
   double wheeled_vibration_acc_rms = 0.3;   ///< [m/s^2]
   double wheeled_vibration_gyr_rms = 0.01;  ///< [rad/s]
   double tracked_vibration_acc_rms = 2.0;   ///< [m/s^2]
   double tracked_vibration_gyr_rms = 0.08;  ///< [rad/s]
-  double tracked_jitter_deg = 0.5;  ///< [deg] RMS of the 1-6 Hz roll/pitch jitter (yaw half)
+  double tracked_jitter_deg = 0.5;      ///< [deg] RMS of the 1-6 Hz roll/pitch jitter (yaw half)
   double vibration_band_min_hz = 10.0;  ///< [Hz]
   double vibration_band_max_hz = 30.0;  ///< [Hz]
   /// [m] camera height above the floor for the wheeled profiles (SPEC: 0.3 m) and the tracked
@@ -53,6 +62,9 @@ struct ProfileOptions {
   double wheeled_camera_height_m = 0.3;
   double tracked_camera_height_m = 0.35;
   double handheld_camera_height_m = 1.35;
+  /// [index] 0 = the profile's path; 1 = the same closed path from another start, driven the
+  /// other way round; 2 = the same path from a third start, same direction (see file comment).
+  int variant = 0;
 
   /// Reads the keys of [sim] listed above (kind is not read: it comes from the command line).
   static ProfileOptions load(IniReader& ini);
@@ -75,6 +87,8 @@ struct PlatformLayout {
 };
 
 /// Geometry the scene must match.
+/// For variants >= 1 this is the layout of the world (variant 0 at the default timing): the
+/// variant's own path runs along the same corridor.
 struct ProfileLayout {
   Eigen::Vector3d room_min = Eigen::Vector3d::Zero(), room_max = Eigen::Vector3d::Zero();
   std::vector<RampLayout> ramps;
@@ -98,8 +112,13 @@ struct MotionProfile {
   ProfileLayout layout;
 };
 
+/// The options whose variant-0 path defines the world of `options` (kind and speed preset kept,
+/// default timing: at least one lap).
+ProfileOptions worldOptions(const ProfileOptions& options);
+
 /// Builds a profile. T_body_cam places the camera at the requested height above the floor.
-/// Throws std::invalid_argument when the duration is too short for the profile.
+/// Throws std::invalid_argument when the duration is too short for the profile or the variant
+/// is not in [0, kProfileVariants).
 MotionProfile makeMotionProfile(const ProfileOptions& options, const Eigen::Isometry3d& T_body_cam);
 
 }  // namespace rgbdi::sim

@@ -1,12 +1,23 @@
 #include "sim/motion/path_following_trajectory.h"
 
+#include <cmath>
+
 namespace rgbdi::sim {
 
 MotionJet PathFollowingTrajectory::jetAt(double t) const {
   const Taylor<3> time = Taylor<3>::variable(t);
   const Taylor<3> s = motion_.speed.integral(time);
   const Taylor<3> envelope = motion_.speed.value(time) * (1.0 / motion_.cruise_speed);
-  const GroundPoint ground = path_.at(s);
+  GroundPoint ground;
+  if (motion_.path_start_m == 0.0 && !motion_.path_reverse) {
+    ground = path_.at(s);
+  } else if (!motion_.path_reverse) {
+    ground = path_.at(motion_.path_start_m + s);
+  } else {
+    ground = path_.at(motion_.path_start_m - s);
+    ground.heading = ground.heading + M_PI;
+    ground.slope = -ground.slope;
+  }
   // Uphill (positive slope) lifts the nose: a negative rotation about the body y axis.
   const Taylor<3> slope_pitch = -atan(ground.slope);
 

@@ -24,7 +24,12 @@ struct PathFollowingMotion {
   /// Oscillating roll (about x), pitch (about y) and yaw (about z) [rad] applied after the
   /// chassis orientation as Rz(yaw) Ry(pitch) Rx(roll).
   std::array<ToneSum, 3> rotation;
-  double pitch_bias = 0.0;    ///< [rad] constant pitch of the body on the chassis (e.g. hand tilt)
+  double pitch_bias = 0.0;  ///< [rad] constant pitch of the body on the chassis (e.g. hand tilt)
+  /// [m] arc length of the path where the motion starts (profile variants); the body is at
+  /// path arc length path_start_m + s(t), or path_start_m - s(t) when path_reverse (driving the
+  /// path backwards: heading turned by pi, slopes negated).
+  double path_start_m = 0.0;
+  bool path_reverse = false;
 };
 
 class PathFollowingTrajectory : public BodyTrajectory {

@@ -138,12 +138,12 @@ void addVibration(PathFollowingMotion& m, double acc_rms, double gyr_rms, double
   const int tones = 8;
   for (int i = 0; i < 3; ++i) {
     const auto a = static_cast<size_t>(i);
-    m.translation[a] = mergeTones(
-        m.translation[a], bandTones(acc_rms * wt[i], 2, f_min, f_max, tones, 0.15 + 0.25 * i,
-                                    kMotionPhaseSeed + 11 * a));
-    m.rotation[a] = mergeTones(
-        m.rotation[a], bandTones(gyr_rms * wr[i], 1, f_min, f_max, tones, 0.27 + 0.25 * i,
-                                 kMotionPhaseSeed + 101 * a + 7));
+    m.translation[a] =
+        mergeTones(m.translation[a], bandTones(acc_rms * wt[i], 2, f_min, f_max, tones,
+                                               0.15 + 0.25 * i, kMotionPhaseSeed + 11 * a));
+    m.rotation[a] =
+        mergeTones(m.rotation[a], bandTones(gyr_rms * wr[i], 1, f_min, f_max, tones,
+                                            0.27 + 0.25 * i, kMotionPhaseSeed + 101 * a + 7));
   }
 }
 
@@ -151,14 +151,42 @@ void addJitter(PathFollowingMotion& m, double rms_rad) {
   const double weight[3] = {1.0, 1.0, 0.5};
   for (int i = 0; i < 3; ++i) {
     const auto a = static_cast<size_t>(i);
-    m.rotation[a] = mergeTones(m.rotation[a], bandTones(rms_rad * weight[i], 0, 1.0, 6.0, 5,
-                                                        0.2 + 0.3 * i, kMotionPhaseSeed + 1009 * a));
+    m.rotation[a] = mergeTones(
+        m.rotation[a],
+        bandTones(rms_rad * weight[i], 0, 1.0, 6.0, 5, 0.2 + 0.3 * i, kMotionPhaseSeed + 1009 * a));
   }
 }
 
 /// Body origin height above the ground that puts the camera at camera_height (level body).
 double mountHeight(double camera_height, const Eigen::Isometry3d& T_body_cam) {
   return camera_height - T_body_cam.translation().z();
+}
+
+/// Where a variant starts on the profile's closed path: lap-relative arc length [m] and
+/// direction. Variant 0 is {0, forward}.
+struct VariantStart {
+  double s = 0.0;
+  bool reverse = false;
+};
+
+/// Arc length of the (lap-periodic) base path where the motion starts: a reversed run goes
+/// back from a start whole laps further on, so that it never needs the path before s = 0.
+double baseStart(const VariantStart& v, double lap, double length) {
+  return v.reverse ? v.s + std::ceil(length / lap) * lap : v.s;
+}
+
+/// Length the base path must cover for a run of `length` metres from `v`.
+double baseLength(const VariantStart& v, double lap, double length) {
+  return v.reverse ? baseStart(v, lap, length) : v.s + length;
+}
+
+void startAt(PathFollowingMotion& m, const VariantStart& v, double lap, double length) {
+  m.path_start_m = baseStart(v, lap, length);
+  m.path_reverse = v.reverse;
+}
+
+VariantStart pick(int variant, const VariantStart& v1, const VariantStart& v2) {
+  return variant == 1 ? v1 : (variant == 2 ? v2 : VariantStart{});
 }
 
 struct ProfileParts {
@@ -227,8 +255,10 @@ MotionProfile finish(ProfileKind kind, const ProfileParts& parts, GroundPath pat
   prof.cruise_start_s = parts.timeline.rest_start + parts.timeline.accel;
   prof.cruise_end_s = prof.moving_end_s - parts.timeline.decel;
   const Eigen::AlignedBox2d box = pathBounds(path, 0.0, std::min(lap, prof.path_length_m));
-  prof.layout.room_min = Eigen::Vector3d(box.min().x() - room_margin, box.min().y() - room_margin, 0.0);
-  prof.layout.room_max = Eigen::Vector3d(box.max().x() + room_margin, box.max().y() + room_margin, ceiling);
+  prof.layout.room_min =
+      Eigen::Vector3d(box.min().x() - room_margin, box.min().y() - room_margin, 0.0);
+  prof.layout.room_max =
+      Eigen::Vector3d(box.max().x() + room_margin, box.max().y() + room_margin, ceiling);
   prof.layout.path_xy = samplePath(path, prof.path_length_m);
   prof.layout.path_clearance_m = clearance;
   prof.trajectory = std::make_shared<PathFollowingTrajectory>(std::move(path), std::move(motion));
@@ -252,9 +282,13 @@ MotionProfile wheeledCircle(const ProfileOptions& o, const Eigen::Isometry3d& T_
   addVibration(m, o.wheeled_vibration_acc_rms, o.wheeled_vibration_gyr_rms, o.vibration_band_min_hz,
                o.vibration_band_max_hz);
   const double length = m.speed.integral(m.duration);
+  // Variants: clockwise from the opposite side (-r, 0); counter-clockwise from (0, r).
+  const double lap = 2.0 * M_PI * radius;
+  const VariantStart v = pick(o.variant, {0.5 * lap, true}, {0.25 * lap, false});
+  startAt(m, v, lap, length);
   // Counter-clockwise around the origin, starting on the +x axis heading +y.
   GroundPath path(SmoothSteps(1.0 / radius), SmoothSteps(), Eigen::Vector2d(radius, 0.0), 0.0,
-                  0.5 * M_PI, length + 1.0);
+                  0.5 * M_PI, baseLength(v, lap, length) + 1.0);
   return finish(ProfileKind::WheeledCircle, parts, std::move(path), std::move(m),
                 2.0 * M_PI * radius, 2.0, 3.0, 0.45);
 }
@@ -272,10 +306,15 @@ MotionProfile wheeledSlopes(const ProfileOptions& o, const Eigen::Isometry3d& T_
   m.mount_height = mountHeight(o.wheeled_camera_height_m, T_body_cam);
   addVibration(m, o.wheeled_vibration_acc_rms, o.wheeled_vibration_gyr_rms, o.vibration_band_min_hz,
                o.vibration_band_max_hz);
-  const double length = m.speed.integral(m.duration) + 1.0;
+  const double run_length = m.speed.integral(m.duration) + 1.0;
 
   // Racetrack: 6 m straights, 180-degree turns of radius 1.2 m.
   const LoopSegment seg{6.0, M_PI, 1.2, 0.6};
+  // Variants start on flat ground: backwards from the end of the second straight (towards its
+  // ramp), forwards from the end of the first straight (into the first turn).
+  const VariantStart v = pick(o.variant, {seg.length() + 5.0, true}, {5.0, false});
+  startAt(m, v, 2.0 * seg.length(), run_length);
+  const double length = baseLength(v, 2.0 * seg.length(), run_length);
   const LoopPlan loop = planLoop({seg, seg}, length);
   const std::vector<SymmetricRampFeature> ramps{{2.0, 1.0, 0.12},
                                                 {loop.segment_start[1] + 1.5, 0.9, 0.10}};
@@ -311,11 +350,16 @@ MotionProfile trackedSlopes(const ProfileOptions& o, const Eigen::Isometry3d& T_
   addVibration(m, o.tracked_vibration_acc_rms, o.tracked_vibration_gyr_rms, o.vibration_band_min_hz,
                o.vibration_band_max_hz);
   addJitter(m, o.tracked_jitter_deg * kDeg);
-  const double length = m.speed.integral(m.duration) + 1.0;
+  const double run_length = m.speed.integral(m.duration) + 1.0;
 
   // Racetrack with 5 m straights and 1 m turns: an up-down ramp on the first straight, a
   // platform reached by a ramp and left over an 8 cm step drop on the second.
   const LoopSegment seg{5.0, M_PI, 1.0, 0.5};
+  // Variants start on flat ground: backwards from the end of the second straight (climbing the
+  // 8 cm step onto the platform, down its ramp), forwards from the end of the first straight.
+  const VariantStart v = pick(o.variant, {seg.length() + 4.5, true}, {4.0, false});
+  startAt(m, v, 2.0 * seg.length(), run_length);
+  const double length = baseLength(v, 2.0 * seg.length(), run_length);
   const LoopPlan loop = planLoop({seg, seg}, length);
   const SymmetricRampFeature ramp{1.2, 0.8, 0.10};
   const PlatformFeature platform{loop.segment_start[1] + 0.6, 0.8, 1.4, 0.08, 0.16};
@@ -336,10 +380,10 @@ MotionProfile trackedSlopes(const ProfileOptions& o, const Eigen::Isometry3d& T_
   }
   GroundPath path = centredPath(loop.curvature, slope, loop.lap, length);
   const double width = 1.0;
-  MotionProfile prof = finish(ProfileKind::TrackedSlopes, parts, path, std::move(m), loop.lap,
-                              1.8, 3.0, 0.45);
-  prof.layout.ramps.push_back(
-      RampLayout{path.xy(ramp.foot), path.xy(ramp.foot + 2.0 * ramp.run), width, ramp.height, true});
+  MotionProfile prof =
+      finish(ProfileKind::TrackedSlopes, parts, path, std::move(m), loop.lap, 1.8, 3.0, 0.45);
+  prof.layout.ramps.push_back(RampLayout{path.xy(ramp.foot), path.xy(ramp.foot + 2.0 * ramp.run),
+                                         width, ramp.height, true});
   prof.layout.ramps.push_back(RampLayout{path.xy(platform.foot),
                                          path.xy(platform.foot + platform.ramp_run), width,
                                          platform.height, false});
@@ -368,10 +412,17 @@ MotionProfile handheld(const ProfileOptions& o, const Eigen::Isometry3d& T_body_
   m.rotation[1] = ToneSum({{0.12, 0.13, 1.3}, {0.06, 0.47, 0.2}, {0.015, 1.8, 0.7}});
   m.rotation[2] = ToneSum({{0.35, 0.09, 0.0}, {0.15, 0.31, 2.9}, {0.02, 0.9, 1.4}});
   m.pitch_bias = 0.08;  // camera held slightly down
-  const double length = m.speed.integral(m.duration) + 1.0;
+  const double run_length = m.speed.integral(m.duration) + 1.0;
 
   // Rounded rectangle around a table: 3.0 m and 1.6 m sides, 90-degree turns of radius 0.9 m.
   const LoopSegment a{3.0, 0.5 * M_PI, 0.9, 0.4}, b{1.6, 0.5 * M_PI, 0.9, 0.4};
+  // Variants: backwards from the middle of the opposite long side, forwards from the middle of
+  // the first short side.
+  const double lap = 2.0 * (a.length() + b.length());
+  const VariantStart v =
+      pick(o.variant, {a.length() + b.length() + 1.5, true}, {a.length() + 0.8, false});
+  startAt(m, v, lap, run_length);
+  const double length = baseLength(v, lap, run_length);
   const LoopPlan loop = planLoop({a, b, a, b}, length);
   GroundPath path = centredPath(loop.curvature, SmoothSteps(), loop.lap, length);
   return finish(ProfileKind::Handheld, parts, std::move(path), std::move(m), loop.lap, 1.6, 2.8,
@@ -386,9 +437,7 @@ const std::vector<std::string>& profileNames() {
   return names;
 }
 
-std::string toString(ProfileKind kind) {
-  return profileNames()[static_cast<size_t>(kind)];
-}
+std::string toString(ProfileKind kind) { return profileNames()[static_cast<size_t>(kind)]; }
 
 ProfileKind parseProfileKind(const std::string& name) {
   const auto& names = profileNames();
@@ -413,7 +462,8 @@ SpeedPreset parseSpeedPreset(const std::string& name) {
 ProfileOptions ProfileOptions::load(IniReader& ini) {
   ProfileOptions o;
   const std::string s = "sim";
-  o.speed = parseSpeedPreset(ini.getEnum(s, "speed", toString(o.speed), {"slow", "normal", "fast"}));
+  o.speed =
+      parseSpeedPreset(ini.getEnum(s, "speed", toString(o.speed), {"slow", "normal", "fast"}));
   o.duration_s = ini.getDouble(s, "duration_s", o.duration_s, 0.0, 86400.0);
   o.speed_m_s = ini.getDouble(s, "speed_m_s", o.speed_m_s, 0.0, 5.0);
   o.rest_start_s = ini.getDouble(s, "rest_start_s", o.rest_start_s, 0.0, 60.0);
@@ -437,17 +487,44 @@ ProfileOptions ProfileOptions::load(IniReader& ini) {
       ini.getDouble(s, "tracked_camera_height_m", o.tracked_camera_height_m, 0.05, 2.0);
   o.handheld_camera_height_m =
       ini.getDouble(s, "handheld_camera_height_m", o.handheld_camera_height_m, 0.3, 2.5);
+  o.variant = ini.getInt(s, "variant", o.variant, 0, kProfileVariants - 1);
   return o;
 }
 
-MotionProfile makeMotionProfile(const ProfileOptions& options, const Eigen::Isometry3d& T_body_cam) {
+ProfileOptions worldOptions(const ProfileOptions& options) {
+  ProfileOptions w;
+  w.kind = options.kind;
+  w.speed = options.speed;
+  return w;
+}
+
+MotionProfile makeMotionProfile(const ProfileOptions& options,
+                                const Eigen::Isometry3d& T_body_cam) {
+  if (options.variant < 0 || options.variant >= kProfileVariants)
+    throw std::invalid_argument("profile " + toString(options.kind) + ": variant " +
+                                std::to_string(options.variant) + " does not exist (valid: 0 to " +
+                                std::to_string(kProfileVariants - 1) + ")");
+  MotionProfile prof;
   switch (options.kind) {
-    case ProfileKind::Handheld: return handheld(options, T_body_cam);
-    case ProfileKind::WheeledCircle: return wheeledCircle(options, T_body_cam);
-    case ProfileKind::WheeledSlopes: return wheeledSlopes(options, T_body_cam);
-    case ProfileKind::TrackedSlopes: return trackedSlopes(options, T_body_cam);
+    case ProfileKind::Handheld:
+      prof = handheld(options, T_body_cam);
+      break;
+    case ProfileKind::WheeledCircle:
+      prof = wheeledCircle(options, T_body_cam);
+      break;
+    case ProfileKind::WheeledSlopes:
+      prof = wheeledSlopes(options, T_body_cam);
+      break;
+    case ProfileKind::TrackedSlopes:
+      prof = trackedSlopes(options, T_body_cam);
+      break;
+    default:
+      throw std::invalid_argument("makeMotionProfile: unknown profile kind");
   }
-  throw std::invalid_argument("makeMotionProfile: unknown profile kind");
+  // A variant lives in the world of the profile's own path: the scene is built from that.
+  if (options.variant != 0)
+    prof.layout = makeMotionProfile(worldOptions(options), T_body_cam).layout;
+  return prof;
 }
 
 }  // namespace rgbdi::sim

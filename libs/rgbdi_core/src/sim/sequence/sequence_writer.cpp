@@ -142,10 +142,11 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   std::ostringstream os;
   os << "; Settings of this simulated sequence: rgbdi-sim --profile " << toString(prof.kind)
      << " --config simulation.ini regenerates it.\n"
-     << "; profile " << toString(prof.kind) << ": duration " << iniNumber(seq.duration())
-     << " s, cruise speed " << iniNumber(prof.cruise_speed_m_s) << " m/s, path length "
-     << iniNumber(prof.path_length_m) << " m, " << seq.frameCount() << " frames, " << seq.imuCount()
-     << " IMU samples\n"
+     << "; profile " << toString(prof.kind)
+     << (p.variant != 0 ? " variant " + std::to_string(p.variant) : std::string()) << ": duration "
+     << iniNumber(seq.duration()) << " s, cruise speed " << iniNumber(prof.cruise_speed_m_s)
+     << " m/s, path length " << iniNumber(prof.path_length_m) << " m, " << seq.frameCount()
+     << " frames, " << seq.imuCount() << " IMU samples\n"
      << "; true initial accelerometer bias " << iniNumbers(b0.acc) << " m/s^2, gyro bias "
      << iniNumbers(b0.gyr) << " rad/s\n\n[sim]\n";
   iniLine(os, "fps", iniNumber(o.fps), "[Hz]");
@@ -183,6 +184,10 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "wheeled_camera_height_m", iniNumber(p.wheeled_camera_height_m), "[m]");
   iniLine(os, "tracked_camera_height_m", iniNumber(p.tracked_camera_height_m), "[m]");
   iniLine(os, "handheld_camera_height_m", iniNumber(p.handheld_camera_height_m), "[m]");
+  // Written only for the other paths: a variant-0 sequence's files stay as they always were.
+  if (p.variant != 0)
+    iniLine(os, "variant", std::to_string(p.variant),
+            "[index] path variant in the same world (0 = the profile's path)");
   os << "\n";
   cameraSection(os, o.camera);
   os << "\n";
