@@ -140,6 +140,7 @@ void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) 
   r.T_world_body_odom = est.T_world_body;
   r.T_world_body_online = onlineDrift(frame_segment_) * est.T_world_body;
   frames_.push_back(r);
+  if (options_.on_pose) options_.on_pose(frames_.back());
 }
 
 Eigen::Isometry3d SlamSystem::onlineDrift(int segment) {

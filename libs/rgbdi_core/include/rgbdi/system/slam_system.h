@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -31,12 +32,17 @@
 
 namespace rgbdi::system {
 
+struct FrameRecord;
+
 struct SlamSystemOptions {
   bool use_depth = true;  ///< false: monocular-inertial baseline (depth ignored everywhere)
   bool threaded = true;   ///< stages on their own threads (false: all inline, same result)
   bool live = false;      ///< live input: drift corrections taken when ready (wall time)
   bool keep_observations = false;   ///< keep each keyframe's MRPT observation (keyframes.simplemap)
   std::size_t queue_capacity = 64;  ///< [packets] bound of each stage queue
+  /// Called on the odometry thread for every frame pose as it is produced (live latency
+  /// figures); must be quick and thread-safe towards its owner.
+  std::function<void(const FrameRecord&)> on_pose;
 };
 
 /// One processed image as the outputs need it.
