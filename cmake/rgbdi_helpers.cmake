@@ -38,12 +38,17 @@ function(rgbdi_add_app NAME)
   set(RGBDI_APPS ${RGBDI_APPS} ${NAME} CACHE INTERNAL "")
 endfunction()
 
-# rgbdi_add_test(NAME SOURCES <files> DEPS <targets...>): one gtest executable, discovered by ctest.
+# rgbdi_add_test(NAME [SERIAL] SOURCES <files> DEPS <targets...>): one gtest executable, discovered
+# by ctest. SERIAL: its tests never run beside another test (ctest -j), for tests that need the
+# machine's CPU, e.g. live runs that must keep up with real time.
 function(rgbdi_add_test NAME)
-  cmake_parse_arguments(ARG "" "" "DEPS;SOURCES" ${ARGN})
+  cmake_parse_arguments(ARG "SERIAL" "" "DEPS;SOURCES" ${ARGN})
   add_executable(${NAME} ${ARG_SOURCES})
   target_compile_options(${NAME} PRIVATE ${RGBDI_WARNINGS})
   target_link_libraries(${NAME} PRIVATE ${ARG_DEPS} rgbdi_testing GTest::gtest GTest::gtest_main)
-  gtest_discover_tests(${NAME} DISCOVERY_TIMEOUT 60
-    PROPERTIES ENVIRONMENT "RGBDI_SHARED_DATA=${RGBDI_SHARED_DATA_DIR};RGBDI_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
+  set(_props ENVIRONMENT "RGBDI_SHARED_DATA=${RGBDI_SHARED_DATA_DIR};RGBDI_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
+  if(ARG_SERIAL)
+    list(APPEND _props RUN_SERIAL TRUE)
+  endif()
+  gtest_discover_tests(${NAME} DISCOVERY_TIMEOUT 60 PROPERTIES ${_props})
 endfunction()
