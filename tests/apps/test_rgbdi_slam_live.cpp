@@ -155,7 +155,8 @@ TEST(RgbdiSlamLive, RealTimeReplayReachesTheOfflineAccuracy) {
   EXPECT_LT(live_ate, limit) << "offline ATE " << offline_ate << " m, live " << live_ate
                              << " m, dropped " << l["dropped"]["frames"] << "\n"
                              << live.log;
-  EXPECT_GT(live.summary["poses"].get<double>(), 0.9 * offline.summary["poses"].get<double>());
+  // A pose for (nearly) every image the system was given.
+  EXPECT_GE(live.summary["poses"].get<double>(), 0.95 * l["delivered"]["frames"].get<double>());
 }
 
 TEST(RgbdiSlamLive, TooFastAReplayDropsImagesNeverImuKeepsTrackingAndItsRecordingReprocesses) {
@@ -281,11 +282,21 @@ TEST(RgbdiSlamLive, DurationAndSigtermStopTheRunWithEveryOutput) {
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     const std::string bin = slam();
+    const std::string rec = out + "/raw.rawlog";
     execl(bin.c_str(), bin.c_str(), "--live", ini.c_str(), "--config", config.c_str(), "--out",
-          out.c_str(), "--quiet", static_cast<char*>(nullptr));
+          out.c_str(), "--record", rec.c_str(), "--quiet", static_cast<char*>(nullptr));
     _exit(127);
   }
-  sleep(3);
+  // Stop once 3 s of data went through (the recording's images show it; start-up time varies
+  // with the machine's load), or after a minute at most.
+  const auto images = [&] {
+    std::size_t n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(out + "/raw_Images", ec))
+      n += e.path().string().find("_color.png") != std::string::npos;
+    return n;
+  };
+  for (int i = 0; i < 600 && images() < 30; ++i) usleep(100000);
   kill(pid, SIGTERM);
   int status = 0;
   waitpid(pid, &status, 0);
