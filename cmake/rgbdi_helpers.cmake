@@ -46,9 +46,14 @@ function(rgbdi_add_test NAME)
   add_executable(${NAME} ${ARG_SOURCES})
   target_compile_options(${NAME} PRIVATE ${RGBDI_WARNINGS})
   target_link_libraries(${NAME} PRIVATE ${ARG_DEPS} rgbdi_testing GTest::gtest GTest::gtest_main)
-  set(_props ENVIRONMENT "RGBDI_SHARED_DATA=${RGBDI_SHARED_DATA_DIR};RGBDI_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
+  gtest_discover_tests(${NAME} DISCOVERY_TIMEOUT 60
+    PROPERTIES ENVIRONMENT "RGBDI_SHARED_DATA=${RGBDI_SHARED_DATA_DIR};RGBDI_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
   if(ARG_SERIAL)
-    list(APPEND _props RUN_SERIAL TRUE)
+    # Not through PROPERTIES above: its ENVIRONMENT list is flattened into the property pairs.
+    # A ctest include file run after the discovered tests' one marks every test of NAME.
+    set(_serial_file "${CMAKE_CURRENT_BINARY_DIR}/${NAME}_run_serial.cmake")
+    file(WRITE "${_serial_file}"
+      "if(${NAME}_TESTS)\n  set_tests_properties(\${${NAME}_TESTS} PROPERTIES RUN_SERIAL TRUE)\nendif()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${_serial_file}")
   endif()
-  gtest_discover_tests(${NAME} DISCOVERY_TIMEOUT 60 PROPERTIES ${_props})
 endfunction()
