@@ -38,12 +38,22 @@ function(rgbdi_add_app NAME)
   set(RGBDI_APPS ${RGBDI_APPS} ${NAME} CACHE INTERNAL "")
 endfunction()
 
-# rgbdi_add_test(NAME SOURCES <files> DEPS <targets...>): one gtest executable, discovered by ctest.
+# rgbdi_add_test(NAME [SERIAL] SOURCES <files> DEPS <targets...>): one gtest executable, discovered
+# by ctest. SERIAL: its tests never run beside another test (ctest -j), for tests that need the
+# machine's CPU, e.g. live runs that must keep up with real time.
 function(rgbdi_add_test NAME)
-  cmake_parse_arguments(ARG "" "" "DEPS;SOURCES" ${ARGN})
+  cmake_parse_arguments(ARG "SERIAL" "" "DEPS;SOURCES" ${ARGN})
   add_executable(${NAME} ${ARG_SOURCES})
   target_compile_options(${NAME} PRIVATE ${RGBDI_WARNINGS})
   target_link_libraries(${NAME} PRIVATE ${ARG_DEPS} rgbdi_testing GTest::gtest GTest::gtest_main)
   gtest_discover_tests(${NAME} DISCOVERY_TIMEOUT 60
     PROPERTIES ENVIRONMENT "RGBDI_SHARED_DATA=${RGBDI_SHARED_DATA_DIR};RGBDI_BIN_DIR=${CMAKE_BINARY_DIR}/bin")
+  if(ARG_SERIAL)
+    # Not through PROPERTIES above: its ENVIRONMENT list is flattened into the property pairs.
+    # A ctest include file run after the discovered tests' one marks every test of NAME.
+    set(_serial_file "${CMAKE_CURRENT_BINARY_DIR}/${NAME}_run_serial.cmake")
+    file(WRITE "${_serial_file}"
+      "if(${NAME}_TESTS)\n  set_tests_properties(\${${NAME}_TESTS} PROPERTIES RUN_SERIAL TRUE)\nendif()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${_serial_file}")
+  endif()
 endfunction()

@@ -1,11 +1,14 @@
-// rgbdi-slam: RGB-D-inertial SLAM (odometry, loop closure, mapping) on an MRPT rawlog.
+// rgbdi-slam: RGB-D-inertial SLAM (odometry, loop closure, mapping) on an MRPT rawlog
+// (--input) or on live sensors described by a sensors INI (--live). Options are parsed by
+// rgbdi::CommandLine (the tools' shared parser); the runs are system::runSlam / runLive.
 #include <atomic>
 #include <csignal>
-#include <cstring>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "rgbdi/common/command_line.h"
+#include "rgbdi/system/live_runner.h"
 #include "rgbdi/system/slam_runner.h"
 
 namespace {
@@ -14,88 +17,139 @@ std::atomic<bool> g_stop{false};
 
 void onSignal(int) { g_stop.store(true); }
 
-void usage(std::ostream& os) {
-  os << "Usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
-        "                  [--no-depth] [--no-loop] [--save-simplemap] [--sequential]\n"
-        "                  [--quiet]\n"
-        "  --input FILE   MRPT rawlog with CObservation3DRangeScan (colour+depth) and "
-        "CObservationIMU\n"
-        "  --out DIR      output directory (created): trajectory.tum (best estimate), "
-        "trajectory_online.tum,\n"
-        "                 trajectory_odometry.tum (+ _cam twins), maps, pose graph, summary.json\n"
-        "  --config FILE  rgbdi INI configuration (default: built-in values = share/config.ini)\n"
-        "  --gt FILE      ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval "
-        "figures\n"
-        "  --no-depth     monocular-inertial baseline: ignore depth\n"
-        "  --no-loop      no loop closure (odometry and mapping only; [loop] enable = false)\n"
-        "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
-        "  --sequential   run every stage on one thread (same outputs, for debugging)\n"
-        "  --quiet        no progress line\n"
-        "Ctrl-C stops reading and still writes all outputs for the part processed.\n"
-        "Exit status: 0 ok, 1 error (nothing usable), 2 usage, 3 damaged input (outputs of the\n"
-        "part read are written), 130 interrupted.\n";
+const char* const kUsage =
+    "usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
+    "                  [--no-depth] [--no-loop] [--save-simplemap] [--sequential] [--quiet]\n"
+    "       rgbdi-slam --live SENSORS.ini --out DIR [--config FILE] [--duration S]\n"
+    "                  [--record RAW.rawlog] [--no-depth] [--no-loop] [--save-simplemap]\n"
+    "                  [--quiet]\n"
+    "  -i, --input FILE  MRPT rawlog with CObservation3DRangeScan (colour+depth) and\n"
+    "                    CObservationIMU (rawlog-convert makes one from bags and TUM folders)\n"
+    "  --live FILE       live sensors, MRPT rawlog-grabber layout: one section per sensor,\n"
+    "                    'driver = CLASS' (e.g. share/sensors/d435i.ini, replay.ini,\n"
+    "                    simulator.ini; doc/live.md); runs until Ctrl-C, --duration, the end\n"
+    "                    of a replay, or a sensor fault\n"
+    "  -o, --out DIR     output directory (created): trajectory.tum (best estimate),\n"
+    "                    trajectory_online.tum, trajectory_odometry.tum (+ _cam twins), maps,\n"
+    "                    pose graph, summary.json (--live: with a 'live' section: latency per\n"
+    "                    stage, received/dropped counts, stop reason)\n"
+    "  --config FILE     rgbdi INI configuration (default: built-in values = share/config.ini)\n"
+    "  --gt FILE         ground truth (TUM, body/IMU frame): prints and stores rgbdi-eval\n"
+    "                    figures (--input only)\n"
+    "  --duration S      --live: stop after S seconds of wall time\n"
+    "  --record FILE     --live: also write the stream as delivered to SLAM (dropped images\n"
+    "                    excluded) as a rawlog, images in <FILE stem>_Images/, for --input\n"
+    "  --no-depth        monocular-inertial baseline: ignore depth\n"
+    "  --no-loop         no loop closure (odometry and mapping only; [loop] enable = false)\n"
+    "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
+    "  --sequential      --input: run every stage on one thread (same outputs, for debugging)\n"
+    "  --quiet           no progress line\n"
+    "  --version         print the version\n"
+    "  -h, --help        this help\n"
+    "Options take their value as '--opt VALUE' or '--opt=VALUE'.\n"
+    "Ctrl-C (or SIGTERM) stops reading and still writes all outputs for the part processed.\n"
+    "Status 3 also ends a --live run whose sensor stopped (camera gone: no frame for\n"
+    "live_camera_timeout_s, sensor failure, overload); the outputs of the part received are\n"
+    "written. A --live run stopped by --duration or the end of a replay ends with 0.\n";
+
+struct Arguments {
+  rgbdi::system::SlamRunOptions offline;
+  rgbdi::system::LiveRunOptions live;
+  bool sequential = false;
+  bool has_duration = false;
+};
+
+/// Throws rgbdi::UsageError.
+rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
+  rgbdi::system::SlamRunOptions& o = a.offline;
+  rgbdi::system::LiveRunOptions& l = a.live;
+  rgbdi::CommandLine cl;
+  cl.value("-i,--input", &o.input);
+  cl.value("--live", &l.sensors_path);
+  cl.value("-o,--out", &o.out_dir);
+  cl.value("--config", &o.config_path);
+  cl.value("--gt", &o.gt_path);
+  cl.value("--duration", [&](const std::string& v) {
+    l.duration_s = rgbdi::parseNumber("--duration", v, true);
+    a.has_duration = true;
+  });
+  cl.value("--record", &l.record_path);
+  cl.flag("--no-depth", &o.no_depth);
+  cl.flag("--no-loop", &o.no_loop);
+  cl.flag("--save-simplemap", &o.save_simplemap);
+  cl.flag("--sequential", &a.sequential);
+  cl.flag("--quiet", &o.quiet);
+  const auto outcome = cl.parse(argc, argv);
+  if (outcome != rgbdi::CommandLine::Outcome::Run) return outcome;
+  if (!cl.positional().empty())
+    throw rgbdi::UsageError("unexpected argument '" + cl.positional().front() + "'");
+  const bool live = !l.sensors_path.empty();
+  if (live && !o.input.empty())
+    throw rgbdi::UsageError("--input and --live exclude each other (a rawlog or live sensors)");
+  if (!live && o.input.empty()) throw rgbdi::UsageError("--input or --live is required");
+  if (o.out_dir.empty()) throw rgbdi::UsageError("--out is required");
+  if (live) {
+    if (!o.gt_path.empty())
+      throw rgbdi::UsageError("--gt is for --input (live stamps are on the host clock)");
+    if (a.sequential) throw rgbdi::UsageError("--sequential is for --input (--live is threaded)");
+  } else {
+    if (a.has_duration) throw rgbdi::UsageError("--duration is for --live");
+    if (!l.record_path.empty()) throw rgbdi::UsageError("--record is for --live");
+  }
+  o.threaded = !a.sequential;
+  l.out_dir = o.out_dir;
+  l.config_path = o.config_path;
+  l.no_depth = o.no_depth;
+  l.no_loop = o.no_loop;
+  l.quiet = o.quiet;
+  l.save_simplemap = o.save_simplemap;
+  return outcome;
+}
+
+int runOffline(rgbdi::system::SlamRunOptions& opt) {
+  opt.stop = &g_stop;
+  const nlohmann::json summary = rgbdi::system::runSlam(opt, std::cerr);
+  if (summary["stream_diagnostics"].value("refused", false))
+    return rgbdi::kExitError;  // nothing usable was delivered
+  if (!summary["read_error"].is_null())
+    return g_stop.load() ? rgbdi::kExitInterrupted : rgbdi::kExitDamaged;  // outputs written
+  return g_stop.load() ? rgbdi::kExitInterrupted : rgbdi::kExitOk;
+}
+
+int runLive(rgbdi::system::LiveRunOptions& opt) {
+  opt.stop = &g_stop;
+  const rgbdi::system::LiveRunResult r = rgbdi::system::runLive(opt, std::cerr);
+  if (r.summary["stream_diagnostics"].value("refused", false)) return rgbdi::kExitError;
+  if (rgbdi::system::isFault(r.stop_reason)) return rgbdi::kExitDamaged;  // outputs written
+  if (r.stop_reason == rgbdi::system::LiveStopReason::Interrupted) return rgbdi::kExitInterrupted;
+  return rgbdi::kExitOk;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  rgbdi::system::SlamRunOptions opt;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&](const char* name) -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "rgbdi-slam: " << name << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--input" || a == "-i")
-      opt.input = value("--input");
-    else if (a == "--out" || a == "-o")
-      opt.out_dir = value("--out");
-    else if (a == "--config")
-      opt.config_path = value("--config");
-    else if (a == "--gt")
-      opt.gt_path = value("--gt");
-    else if (a == "--no-depth")
-      opt.no_depth = true;
-    else if (a == "--no-loop")
-      opt.no_loop = true;
-    else if (a == "--save-simplemap")
-      opt.save_simplemap = true;
-    else if (a == "--sequential")
-      opt.threaded = false;
-    else if (a == "--quiet")
-      opt.quiet = true;
-    else if (a == "--help" || a == "-h") {
-      usage(std::cout);
-      return 0;
-    } else {
-      std::cerr << "rgbdi-slam: unknown argument '" << a << "'\n";
-      usage(std::cerr);
-      return 2;
-    }
+  Arguments args;
+  rgbdi::CommandLine::Outcome outcome;
+  try {
+    outcome = parse(argc, argv, args);
+  } catch (const rgbdi::UsageError& e) {
+    std::cerr << "rgbdi-slam: " << e.what() << " (see rgbdi-slam --help)\n";
+    return rgbdi::kExitUsage;
   }
-  if (opt.input.empty() || opt.out_dir.empty()) {
-    std::cerr << "rgbdi-slam: --input and --out are required\n";
-    usage(std::cerr);
-    return 2;
+  if (outcome == rgbdi::CommandLine::Outcome::Help) {
+    std::cout << kUsage << "\n" << rgbdi::exitStatusHelp();
+    return rgbdi::kExitOk;
+  }
+  if (outcome == rgbdi::CommandLine::Outcome::Version) {
+    std::cout << rgbdi::versionLine("rgbdi-slam") << "\n";
+    return rgbdi::kExitOk;
   }
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
-  opt.stop = &g_stop;
   try {
-    const nlohmann::json summary = rgbdi::system::runSlam(opt, std::cerr);
-    const auto& d = summary["stream_diagnostics"];
-    if (d.value("refused", false)) return 1;  // nothing usable was delivered
-    if (!summary["read_error"].is_null())
-      return g_stop.load() ? 130 : 3;  // damaged, outputs written
-  } catch (const rgbdi::system::UserError& e) {
-    std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
-    return 1;
+    return args.live.sensors_path.empty() ? runOffline(args.offline) : runLive(args.live);
   } catch (const std::exception& e) {
     std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
-    return 1;
+    return rgbdi::kExitError;
   }
-  return g_stop.load() ? 130 : 0;
 }

@@ -11,10 +11,12 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 
 #include "io/rawlog_naming.h"
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/io/mrpt_conversions.h"
+#include "rgbdi/io/mrpt_image_path.h"
 
 namespace rgbdi::io {
 
@@ -96,6 +98,8 @@ void RawlogWriter::write(const RgbdFrame& frame) {
     }
     if (obs->hasRangeImage) {
       try {
+        // MRPT swaps its process-wide image directory while it writes the depth file.
+        std::lock_guard<std::mutex> lock(mrptImagePathMutex());
         obs->rangeImage_convertToExternalStorage(stem + "_depth.bin", images_dir_);
       } catch (const std::exception& e) {
         throw IoError(images_dir_ + "/" + stem + "_depth.bin: cannot write depth: " + e.what());

@@ -1,7 +1,10 @@
 #include "live/external_images.h"
 
 #include <filesystem>
+#include <mutex>
 #include <stdexcept>
+
+#include "rgbdi/io/mrpt_image_path.h"
 
 namespace rgbdi::live {
 
@@ -15,7 +18,11 @@ void storeImagesExternally(mrpt::obs::CObservation3DRangeScan& obs, const std::s
       throw std::runtime_error(dir + "/" + name + ": cannot write the colour image");
     obs.intensityImage.setExternalStorage(name);
   }
-  if (obs.hasRangeImage) obs.rangeImage_convertToExternalStorage(stem + "_depth.bin", dir);
+  if (obs.hasRangeImage) {
+    // MRPT swaps its process-wide image directory while it writes the depth file.
+    std::lock_guard<std::mutex> lock(io::mrptImagePathMutex());
+    obs.rangeImage_convertToExternalStorage(stem + "_depth.bin", dir);
+  }
 }
 
 }  // namespace rgbdi::live

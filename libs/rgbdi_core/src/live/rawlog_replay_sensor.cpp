@@ -13,6 +13,7 @@
 #include "rgbdi/bag/bag_converter.h"
 #include "rgbdi/io/input_format.h"
 #include "rgbdi/io/mrpt_conversions.h"
+#include "rgbdi/io/mrpt_image_path.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/live/playback_clock.h"
 
@@ -20,13 +21,6 @@ IMPLEMENTS_GENERIC_SENSOR(RgbdiRawlogReplay, rgbdi::live)
 
 namespace rgbdi::live {
 namespace {
-
-/// RawlogSource resolves external images through MRPT's ONE process-wide image path, so two
-/// replays in one process must not read at the same time; this serialises their reads.
-std::mutex& rawlogReadMutex() {
-  static std::mutex m;
-  return m;
-}
 
 struct Item {
   io::Measurement m;
@@ -82,7 +76,9 @@ struct RgbdiRawlogReplay::Impl {
         io::Measurement m;
         for (;;) {
           {
-            std::lock_guard<std::mutex> lk(rawlogReadMutex());
+            // RawlogSource resolves external images through MRPT's ONE process-wide image
+            // path: no other replay, recorder or grabber may use it meanwhile.
+            std::lock_guard<std::mutex> lk(io::mrptImagePathMutex());
             if (stop || !rawlog->next(m)) break;
           }
           Item it{std::move(m), Eigen::Isometry3d::Identity()};

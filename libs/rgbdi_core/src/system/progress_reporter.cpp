@@ -18,6 +18,10 @@ ProgressReporter::ProgressReporter(SlamSystem& system, std::ostream& os, bool qu
       t0_(NAN),
       t_last_(NAN) {}
 
+void ProgressReporter::setLiveStatus(std::function<std::string()> status) {
+  live_status_ = std::move(status);
+}
+
 void ProgressReporter::feedImu(const ImuSample& imu) {
   if (std::isnan(t0_)) t0_ = imu.t;
   t_last_ = imu.t;
@@ -44,18 +48,24 @@ void ProgressReporter::update(bool force) {
   if (!force && std::chrono::duration<double>(now - last_).count() < interval_s_) return;
   last_ = now;
   const double wall = std::chrono::duration<double>(now - start_).count();
-  const double fraction = fraction_ ? fraction_() : 0.0;
   const SlamProgress p = system_.progress();
   std::ostringstream line;
-  line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] " << 100.0 * fraction << " %, "
-       << frames_ << " frames, " << (wall > 0 ? frames_ / wall : 0.0) << " frames/s, ETA ";
-  if (fraction > 0.01)
-    line << std::setprecision(0) << wall * (1.0 - fraction) / fraction << " s";
-  else
-    line << "?";
-  line << std::setprecision(1) << ", stream " << (std::isnan(t0_) ? 0.0 : t_last_ - t0_) << " s, "
-       << estimator::toString(p.status) << ", " << p.keyframes << " keyframes, " << p.loops_accepted
-       << " loops";
+  line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] ";
+  if (live_status_) {
+    line << "live " << wall << " s, " << estimator::toString(p.status) << ", " << p.keyframes
+         << " keyframes, " << p.loops_accepted << " loops, " << live_status_();
+  } else {
+    const double fraction = fraction_ ? fraction_() : 0.0;
+    line << 100.0 * fraction << " %, " << frames_ << " frames, "
+         << (wall > 0 ? frames_ / wall : 0.0) << " frames/s, ETA ";
+    if (fraction > 0.01)
+      line << std::setprecision(0) << wall * (1.0 - fraction) / fraction << " s";
+    else
+      line << "?";
+    line << std::setprecision(1) << ", stream " << (std::isnan(t0_) ? 0.0 : t_last_ - t0_) << " s, "
+         << estimator::toString(p.status) << ", " << p.keyframes << " keyframes, "
+         << p.loops_accepted << " loops";
+  }
   if (p.map_state != MapState::kNoMap) line << ", map: " << toString(p.map_state);
   line << "   ";
   os_ << line.str() << std::flush;

@@ -157,6 +157,7 @@ void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) 
   r.T_world_body_online = onlineDrift(frame_segment_, &in_origin) * est.T_world_body;
   r.online_in_map = options_.map && in_origin;
   frames_.push_back(r);
+  if (options_.on_pose) options_.on_pose(frames_.back());
 }
 
 Eigen::Isometry3d SlamSystem::onlineDrift(int segment, bool* in_origin) {

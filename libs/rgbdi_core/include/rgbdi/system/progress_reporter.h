@@ -1,12 +1,15 @@
 // The progress line of long runs: a MeasurementSink that forwards every measurement to the
 // system it watches and, at most every `interval_s` of wall time, rewrites one status line
 // (percent, frames, rate, ETA, stream time, odometry state, keyframes, loops). Other log lines
-// must call endLine() first so that they do not share the progress line.
+// must call endLine() first so that they do not share the progress line. A live run has no
+// fraction or ETA: setLiveStatus() replaces them by the elapsed time and the source's own
+// status (rates, drops, latency).
 #pragma once
 
 #include <chrono>
 #include <functional>
 #include <ostream>
+#include <string>
 
 #include "rgbdi/common/measurement_sink.h"
 #include "rgbdi/system/slam_system.h"
@@ -18,6 +21,10 @@ class ProgressReporter : public MeasurementSink {
   /// `fraction` returns the part of the input read so far (0..1), e.g. RawlogSource::progress.
   ProgressReporter(SlamSystem& system, std::ostream& os, bool quiet, double interval_s,
                    std::function<double()> fraction);
+
+  /// Live mode: the line shows the wall time since the start and `status()` instead of the
+  /// percentage and the ETA. `status` is called from the feeding thread.
+  void setLiveStatus(std::function<std::string()> status);
 
   void feedImu(const ImuSample& imu) override;
   void feedRgbd(const RgbdFrame& frame) override;
@@ -39,6 +46,7 @@ class ProgressReporter : public MeasurementSink {
   bool quiet_;
   double interval_s_;
   std::function<double()> fraction_;
+  std::function<std::string()> live_status_;
   Clock::time_point start_, last_;
   bool on_screen_ = false;
   double t0_, t_last_;

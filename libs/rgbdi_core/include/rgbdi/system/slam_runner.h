@@ -8,6 +8,8 @@
 #include <ostream>
 #include <string>
 
+#include "rgbdi/system/run_common.h"
+
 namespace rgbdi::system {
 
 struct SlamRunOptions {
@@ -21,12 +23,6 @@ struct SlamRunOptions {
   bool save_simplemap = false;  ///< also write keyframes.simplemap (keyframe observations + poses)
   bool threaded = true;  ///< stages on their own threads (false: sequential, identical outputs)
   const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C: stop reading, write what we have
-};
-
-/// A problem with the inputs that the user must fix (missing file, bad config, unwritable output).
-class UserError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
 };
 
 /// Runs and writes DIR/trajectory{,_online,_odometry}{,_cam}.tum, keyframes.tum,

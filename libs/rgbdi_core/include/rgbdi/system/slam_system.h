@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -39,6 +40,8 @@
 
 namespace rgbdi::system {
 
+struct FrameRecord;
+
 struct SlamSystemOptions {
   bool use_depth = true;  ///< false: monocular-inertial baseline (depth ignored everywhere)
   bool threaded = true;   ///< stages on their own threads (false: all inline, same result)
@@ -48,6 +51,9 @@ struct SlamSystemOptions {
   /// A saved map to start in (nullptr: a new map). Needs loop closure ([loop] enable).
   std::shared_ptr<const map::MapData> map;
   bool localize_only = false;  ///< with a map: the map stays as loaded (it does not grow)
+  /// Called on the odometry thread for every frame pose as it is produced (live latency
+  /// figures); must be quick and thread-safe towards its owner.
+  std::function<void(const FrameRecord&)> on_pose;
 };
 
 /// One processed image as the outputs need it.

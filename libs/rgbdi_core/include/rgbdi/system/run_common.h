@@ -1,0 +1,48 @@
+// What the offline and the live rgbdi-slam runs share: the checks before a run (configuration,
+// ground truth, output directory) and everything after the stream has ended (stream problems on
+// the console, evaluation, every output file, summary.json, the report). Both runners call these
+// so that a live run writes exactly what an offline run writes.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+
+#include "rgbdi/common/types.h"
+#include "rgbdi/io/stream_diagnostics.h"
+#include "rgbdi/system/slam_summary.h"
+#include "rgbdi/system/slam_system.h"
+#include "rgbdi/system/system_config.h"
+
+namespace rgbdi::system {
+
+/// A problem with the inputs that the user must fix (missing file, bad config, unwritable output).
+class UserError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The run's configuration ("" = built-in defaults); ConfigError becomes UserError.
+SystemConfig loadRunConfig(const std::string& path);
+/// Ground truth (TUM) or an empty trajectory for ""; throws UserError.
+Trajectory readGroundTruth(const std::string& path);
+/// Creates `dir` and checks that it is writable; throws UserError.
+void prepareOutputDir(const std::string& dir);
+
+struct RunOutputOptions {
+  std::string out_dir;
+  std::string gt_path;          ///< named in the report ("" = none)
+  bool save_simplemap = false;  ///< also keyframes.simplemap (needs keep_observations)
+};
+
+/// After endOfStream: prints every stream problem once, evaluates against `gt` (skipped when
+/// empty), writes every output and DIR/summary.json (`extra`'s keys added at its top level),
+/// prints the report and, when there is no pose, why. `run.stream_diagnostics` is filled from
+/// `diagnostics`. Returns the summary as written.
+nlohmann::json finishRun(const SlamSystem& system, RunInfo run,
+                         const io::StreamDiagnostics& diagnostics, const Trajectory& gt,
+                         const RunOutputOptions& options, const nlohmann::json& extra,
+                         std::ostream& log);
+
+}  // namespace rgbdi::system
