@@ -20,9 +20,10 @@ void onSignal(int) { g_stop.store(true); }
 const char* const kUsage =
     "usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
     "                  [--no-depth] [--no-loop] [--save-simplemap] [--sequential] [--quiet]\n"
+    "                  [--load-map DIR/map [--localize-only]] [--no-save-map]\n"
     "       rgbdi-slam --live SENSORS.ini --out DIR [--config FILE] [--duration S]\n"
     "                  [--record RAW.rawlog] [--no-depth] [--no-loop] [--save-simplemap]\n"
-    "                  [--quiet]\n"
+    "                  [--load-map DIR/map [--localize-only]] [--no-save-map] [--quiet]\n"
     "  -i, --input FILE  MRPT rawlog with CObservation3DRangeScan (colour+depth) and\n"
     "                    CObservationIMU (rawlog-convert makes one from bags and TUM folders)\n"
     "  --live FILE       live sensors, MRPT rawlog-grabber layout: one section per sensor,\n"
@@ -39,6 +40,13 @@ const char* const kUsage =
     "  --duration S      --live: stop after S seconds of wall time\n"
     "  --record FILE     --live: also write the stream as delivered to SLAM (dropped images\n"
     "                    excluded) as a rawlog, images in <FILE stem>_Images/, for --input\n"
+    "  --load-map DIR    start in a saved map (a run's OUT/map): the run is 'not localised'\n"
+    "                    until it relocalises in the map, then every output is in the map's\n"
+    "                    frame (trajectory.tum holds only poses in it); new keyframes extend\n"
+    "                    the map, saved again as one map (doc/maps.md)\n"
+    "  --localize-only   with --load-map: the map stays as loaded (not extended, not saved)\n"
+    "  --no-save-map     do not write OUT/map/ (saved by default: keyframes with ORB\n"
+    "                    descriptors and points, pose graph, points.ply, map.bt)\n"
     "  --no-depth        monocular-inertial baseline: ignore depth\n"
     "  --no-loop         no loop closure (odometry and mapping only; [loop] enable = false)\n"
     "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
@@ -74,6 +82,10 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     a.has_duration = true;
   });
   cl.value("--record", &l.record_path);
+  cl.value("--load-map", &o.map.load_dir);
+  cl.flag("--localize-only", &o.map.localize_only);
+  bool no_save_map = false;
+  cl.flag("--no-save-map", &no_save_map);
   cl.flag("--no-depth", &o.no_depth);
   cl.flag("--no-loop", &o.no_loop);
   cl.flag("--save-simplemap", &o.save_simplemap);
@@ -96,7 +108,13 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     if (a.has_duration) throw rgbdi::UsageError("--duration is for --live");
     if (!l.record_path.empty()) throw rgbdi::UsageError("--record is for --live");
   }
+  if (o.map.localize_only && o.map.load_dir.empty())
+    throw rgbdi::UsageError("--localize-only needs --load-map DIR/map");
+  if (!o.map.load_dir.empty() && o.no_loop)
+    throw rgbdi::UsageError("--load-map needs loop closure (relocalisation is a loop to the map)");
+  o.map.save = !no_save_map;
   o.threaded = !a.sequential;
+  l.map = o.map;
   l.out_dir = o.out_dir;
   l.config_path = o.config_path;
   l.no_depth = o.no_depth;

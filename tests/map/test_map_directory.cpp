@@ -73,6 +73,8 @@ MapData syntheticMap(std::uint64_t seed, int places = 9, int keypoints = 30) {
   mf.camera.cy = 241.25;
   mf.camera.dist = {0.1234567890123, -0.25, 1e-4, -2e-4, 0.0123};
   mf.T_body_cam = randomPose(rng);
+  mf.has_groundtruth_alignment = true;
+  mf.T_groundtruth_world = randomPose(rng);
   mf.descriptor_type = "ORB-256";
   mf.descriptor_bytes = 32;
   mf.next_segment = 2;
@@ -158,6 +160,8 @@ void expectSameMap(const MapData& a, const MapData& b) {
   EXPECT_EQ(x.camera.cy, y.camera.cy);
   EXPECT_EQ(x.camera.dist, y.camera.dist);
   EXPECT_EQ(x.T_body_cam.matrix(), y.T_body_cam.matrix());
+  EXPECT_EQ(x.has_groundtruth_alignment, y.has_groundtruth_alignment);
+  EXPECT_EQ(x.T_groundtruth_world.matrix(), y.T_groundtruth_world.matrix());
   EXPECT_EQ(x.descriptor_type, y.descriptor_type);
   EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
   EXPECT_EQ(x.next_keyframe_id, y.next_keyframe_id);

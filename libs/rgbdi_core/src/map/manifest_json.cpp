@@ -100,6 +100,8 @@ std::string manifestToJson(const ManifestContent& content) {
   j["next_segment"] = m.next_segment;
   j["sessions"] = m.sessions;
   j["index_parameters"] = m.index_parameters;
+  j["T_groundtruth_world"] =
+      m.has_groundtruth_alignment ? poseToJson(m.T_groundtruth_world) : json();
   j["world_frame"] = m.world_frame;
   j["pose_convention"] = m.pose_convention;
   const MapCounts& c = content.counts;
@@ -154,6 +156,11 @@ ManifestContent parseManifest(const std::string& text, const std::string& path) 
   m.next_segment = top.get<int>("next_segment");
   m.sessions = top.get<int>("sessions");
   m.index_parameters = top.get<std::string>("index_parameters");
+  if (j.contains("T_groundtruth_world") && !j.at("T_groundtruth_world").is_null()) {
+    m.has_groundtruth_alignment = true;
+    m.T_groundtruth_world =
+        poseFromJson(top.at("T_groundtruth_world"), "T_groundtruth_world", path);
+  }
   m.world_frame = top.get<std::string>("world_frame");
   m.pose_convention = top.get<std::string>("pose_convention");
 

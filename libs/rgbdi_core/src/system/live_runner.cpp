@@ -186,6 +186,8 @@ LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log) {
   so.live = true;
   so.keep_observations = opt.save_simplemap;
   so.on_pose = [&latency](const FrameRecord& r) { latency.posed(r.t_image, wallNow()); };
+  so.map = loadRunMap(opt.map, cfg);
+  so.localize_only = opt.map.localize_only;
   SlamSystem system(cfg, so);
   ProgressReporter progress(system, log, opt.quiet, cfg.output.progress_interval_s, nullptr);
   progress.setLiveStatus([&] {
@@ -242,7 +244,7 @@ LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log) {
       << ", stamp to pose p50 " << ms(pl.stamp_to_pose.p50_s) << " ms p95 "
       << ms(pl.stamp_to_pose.p95_s) << " ms max " << ms(pl.stamp_to_pose.max_s) << " ms\n";
   result.summary = finishRun(system, run, source->diagnostics(), Trajectory(),
-                             RunOutputOptions{opt.out_dir, "", opt.save_simplemap},
+                             RunOutputOptions{opt.out_dir, "", opt.save_simplemap, opt.map},
                              nlohmann::json{{"live", live}}, log);
   return result;
 }

@@ -1,5 +1,8 @@
 #include "rgbdi/system/run_common.h"
 
+#include "rgbdi/loop/loop_features.h"
+#include "rgbdi/map/map_directory.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -52,6 +55,71 @@ void prepareOutputDir(const std::string& dir) {
   fs::remove(probe, ec);
 }
 
+std::shared_ptr<const map::MapData> loadRunMap(const MapRunOptions& options,
+                                               const SystemConfig& cfg) {
+  if (options.load_dir.empty()) {
+    if (options.localize_only) throw UserError("--localize-only needs --load-map DIR/map");
+    return nullptr;
+  }
+  if (!cfg.loop.enable)
+    throw UserError("--load-map needs loop closure (relocalisation is a loop to the map): "
+                    "drop --no-loop / set [loop] enable = true");
+  try {
+    auto m = std::make_shared<const map::MapData>(map::loadMap(options.load_dir));
+    // The colour camera of the configuration; a stream that brings its own intrinsics is
+    // checked again when the first keyframe arrives.
+    if (cfg.camera.camera.valid())
+      map::checkCompatible(m->manifest, cfg.camera.camera, cfg.extrinsic.T_body_cam,
+                           loop::kLoopDescriptorType, options.load_dir);
+    return m;
+  } catch (const map::MapError& e) {
+    throw UserError(e.what());
+  }
+}
+
+namespace {
+/// Saves the run's map as DIR/map/ (after endOfStream: every stage thread has stopped).
+void saveRunMap(const SlamSystem& system, const RunOutputOptions& options,
+                const RunEvaluation& evaluation, RunInfo& run, std::ostream& log) {
+  if (!options.map.save) {
+    run.map_save_note = "not saved (--no-save-map)";
+    return;
+  }
+  if (options.map.localize_only) {
+    run.map_save_note = "not saved: --localize-only leaves the loaded map as it was";
+    return;
+  }
+  if (!system.loopCloser()) {
+    run.map_save_note = "not saved: loop closure did not run (a map needs its place keyframes)";
+    return;
+  }
+  std::size_t dropped = 0;
+  map::MapData m = system.mapToSave(&dropped);
+  if (const map::MapData* loaded = system.loadedMap()) {
+    m.manifest.has_groundtruth_alignment = loaded->manifest.has_groundtruth_alignment;
+    m.manifest.T_groundtruth_world = loaded->manifest.T_groundtruth_world;
+  } else if (evaluation.final_posyaw) {
+    m.manifest.has_groundtruth_alignment = true;
+    m.manifest.T_groundtruth_world = evaluation.final_posyaw->alignment.rigid();
+  }
+  map::MapExtras extras;
+  extras.point_map = &system.mapper().pointMap();
+  extras.occupancy = system.mapper().occupancy();
+  const std::string dir = options.out_dir + "/map";
+  try {
+    map::saveMap(dir, m, extras);
+  } catch (const map::MapError& e) {
+    run.map_save_note = std::string("not saved: ") + e.what();
+    log << "rgbdi-slam: map " << run.map_save_note << "\n";
+    return;
+  }
+  run.map_saved_to = dir;
+  if (dropped > 0)
+    run.map_save_note = std::to_string(dropped) +
+                        " keyframes of segments never joined to the map's frame were left out";
+}
+}  // namespace
+
 nlohmann::json finishRun(const SlamSystem& system, RunInfo run,
                          const io::StreamDiagnostics& diagnostics, const Trajectory& gt,
                          const RunOutputOptions& options, const nlohmann::json& extra,
@@ -63,6 +131,8 @@ nlohmann::json finishRun(const SlamSystem& system, RunInfo run,
 
   RunEvaluation evaluation;
   if (!gt.empty()) evaluation = evaluateRun(system, gt);
+  saveRunMap(system, options, evaluation, run, log);
+  run.map_loaded_from = options.map.load_dir;
   const Trajectory gt_in_est = groundTruthInEstimateFrame(gt, evaluation);
   nlohmann::json outputs = writeSlamOutputs(
       system, options.out_dir, gt_in_est.empty() ? nullptr : &gt_in_est, options.save_simplemap);

@@ -30,6 +30,8 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   so.use_depth = !opt.no_depth;
   so.threaded = opt.threaded;
   so.keep_observations = opt.save_simplemap;
+  so.map = loadRunMap(opt.map, cfg);
+  so.localize_only = opt.map.localize_only;
   SlamSystem system(cfg, so);
   ProgressReporter progress(system, log, opt.quiet, cfg.output.progress_interval_s,
                             [&] { return source->progress(); });
@@ -49,7 +51,7 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   run.stream_t_last = progress.lastStamp();
   run.frames = progress.framesSeen();
   return finishRun(system, run, source->diagnostics(), gt,
-                   RunOutputOptions{opt.out_dir, opt.gt_path, opt.save_simplemap},
+                   RunOutputOptions{opt.out_dir, opt.gt_path, opt.save_simplemap, opt.map},
                    nlohmann::json::object(), log);
 }
 

@@ -8,16 +8,40 @@
 
 namespace rgbdi::system {
 
+namespace {
+eval::EvalResult evaluateThrough(const Trajectory& gt, const Trajectory& est,
+                                 const Eigen::Isometry3d& T_gt_world) {
+  Trajectory moved;
+  moved.reserve(est.size());
+  for (const StampedPose& p : est)
+    moved.push_back(StampedPose::fromIsometry(p.t, T_gt_world * p.isometry()));
+  eval::EvalOptions eo;
+  eo.align = eval::AlignMode::None;
+  return eval::evaluate(gt, moved, eo);
+}
+}  // namespace
+
 RunEvaluation evaluateRun(const SlamSystem& sys, const Trajectory& gt) {
   RunEvaluation ev;
   try {
+    const Trajectory final_traj = sys.finalTrajectory();
+    if (sys.hasMap() && final_traj.empty())
+      throw std::runtime_error(
+          "the run never relocalised in the loaded map: no pose in the map's frame "
+          "(trajectory.tum is empty; the odometry alone is in trajectory_odometry.tum)");
     eval::EvalOptions eo;
     eo.align = eval::AlignMode::PosYaw;
-    ev.final_posyaw = eval::evaluate(gt, sys.finalTrajectory(), eo);
+    ev.final_posyaw = eval::evaluate(gt, final_traj, eo);
     ev.online = eval::evaluate(gt, sys.onlineTrajectory(), eo);
     ev.odometry = eval::evaluate(gt, sys.odometryTrajectory(), eo);
     eo.align = eval::AlignMode::Sim3;
-    ev.final_sim3 = eval::evaluate(gt, sys.finalTrajectory(), eo);
+    ev.final_sim3 = eval::evaluate(gt, final_traj, eo);
+    const map::MapData* m = sys.loadedMap();
+    if (m && m->manifest.has_groundtruth_alignment) {
+      ev.final_in_map = evaluateThrough(gt, final_traj, m->manifest.T_groundtruth_world);
+      ev.online_in_map =
+          evaluateThrough(gt, sys.onlineTrajectory(), m->manifest.T_groundtruth_world);
+    }
   } catch (const std::exception& e) {
     ev.error = e.what();
   }
@@ -164,6 +188,10 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
     s["evaluation_sim3"] = eval::toJson(*ev.final_sim3);
     s["evaluation_online"] = eval::toJson(*ev.online);
     s["evaluation_odometry"] = eval::toJson(*ev.odometry);
+    if (ev.final_in_map) {
+      s["evaluation_in_map_frame"] = eval::toJson(*ev.final_in_map);
+      s["evaluation_online_in_map_frame"] = eval::toJson(*ev.online_in_map);
+    }
   } else if (!ev.error.empty()) {
     s["evaluation_error"] = ev.error;
   }
@@ -181,6 +209,10 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
     os << std::fixed << std::setprecision(4) << "ATE RMSE [m]   final (trajectory.tum) "
        << ev.final_posyaw->ate.rmse << "   online (trajectory_online.tum) " << ev.online->ate.rmse
        << "   odometry (trajectory_odometry.tum) " << ev.odometry->ate.rmse << "\n";
+    if (ev.final_in_map)
+      os << "ATE RMSE [m] in the map's frame (through the map's ground-truth alignment, none "
+            "of its own)   final "
+         << ev.final_in_map->ate.rmse << "   online " << ev.online_in_map->ate.rmse << "\n";
     os.unsetf(std::ios::floatfield);
   } else if (!ev.error.empty()) {
     os << "Evaluation failed: " << ev.error << "\n";
@@ -191,6 +223,17 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
      << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets, "
      << (s["loop"].contains("active_loops") ? s["loop"]["active_loops"].get<std::uint64_t>() : 0)
      << " loops" << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
+  const nlohmann::json& ms = s["map_session"];
+  if (!ms["loaded_from"].is_null()) {
+    os << "Map " << ms["loaded_from"].get<std::string>() << " (" << ms["mode"].get<std::string>()
+       << "): " << ms["state"].get<std::string>();
+    if (!ms["relocalised_at_s"].is_null())
+      os << ", relocalised " << std::setprecision(3) << ms["relocalised_at_s"].get<double>()
+         << " s after the start";
+    os << "\n";
+  }
+  if (!ms["saved_to"].is_null()) os << "Map saved to " << ms["saved_to"].get<std::string>() << "\n";
+  if (!ms["note"].is_null()) os << "Map: " << ms["note"].get<std::string>() << "\n";
   if (!s["read_error"].is_null())
     os << "Input ended early: " << s["read_error"].get<std::string>() << "\n";
   os << "Outputs:\n";

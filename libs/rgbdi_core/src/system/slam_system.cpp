@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rgbdi/io/mrpt_conversions.h"
+#include "rgbdi/map/map_directory.h"
 
 namespace rgbdi::system {
 
@@ -343,25 +344,9 @@ double SlamSystem::firstRelocalisationTime() const {
 }
 
 void SlamSystem::loadMap(const PinholeCamera& camera) {
-  const map::MapManifest& m = options_.map->manifest;
-  auto differs = [](double a, double b) { return std::abs(a - b) > 1e-6 * std::max(1.0, std::abs(a)); };
-  bool same = m.camera.width == camera.width && m.camera.height == camera.height &&
-              !differs(m.camera.fx, camera.fx) && !differs(m.camera.fy, camera.fy) &&
-              !differs(m.camera.cx, camera.cx) && !differs(m.camera.cy, camera.cy);
-  for (std::size_t i = 0; i < camera.dist.size(); ++i)
-    same = same && !differs(m.camera.dist[i], camera.dist[i]);
-  if (!same)
-    throw std::invalid_argument(
-        "the loaded map was built with another colour camera calibration (map: " +
-        std::to_string(m.camera.width) + "x" + std::to_string(m.camera.height) +
-        " fx " + std::to_string(m.camera.fx) + "; this run: " + std::to_string(camera.width) +
-        "x" + std::to_string(camera.height) + " fx " + std::to_string(camera.fx) + ")");
-  if (!m.T_body_cam.isApprox(cfg_.extrinsic.T_body_cam, 1e-6))
-    throw std::invalid_argument(
-        "the loaded map was built with another camera-IMU extrinsic ([extrinsic] T_body_cam)");
-  if (m.descriptor_type != loop::kLoopDescriptorType)
-    throw std::invalid_argument("the loaded map holds " + m.descriptor_type +
-                                " descriptors; this build uses " + loop::kLoopDescriptorType);
+  // The stream's camera may differ from the configuration's (checked before the run).
+  map::checkCompatible(options_.map->manifest, camera, cfg_.extrinsic.T_body_cam,
+                       loop::kLoopDescriptorType, "the loaded map");
   closer_->loadMap(options_.map->places);
 }
 

@@ -35,6 +35,11 @@ struct MapManifest {
   /// Informational: the place-index parameters of the run that saved it (INI "key = value"
   /// lines of [loop] place_*); the index is rebuilt with the loading run's parameters.
   std::string index_parameters;
+  /// When the map was built by a run evaluated against ground truth (--gt): the map frame in
+  /// the ground truth's frame (position + yaw alignment of that run's final trajectory). A
+  /// later run in this map is then evaluated through it, with no alignment of its own.
+  bool has_groundtruth_alignment = false;
+  Eigen::Isometry3d T_groundtruth_world = Eigen::Isometry3d::Identity();
   std::string world_frame = "z up, gravity along -z, metres";
   std::string pose_convention = "T_a_b maps points of frame b into frame a";
 };

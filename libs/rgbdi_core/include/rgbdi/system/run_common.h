@@ -4,6 +4,10 @@
 // so that a live run writes exactly what an offline run writes.
 #pragma once
 
+#include <memory>
+
+#include "rgbdi/map/map_data.h"
+
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <stdexcept>
@@ -30,10 +34,24 @@ Trajectory readGroundTruth(const std::string& path);
 /// Creates `dir` and checks that it is writable; throws UserError.
 void prepareOutputDir(const std::string& dir);
 
+/// The map options of a run (rgbdi-slam --load-map, --localize-only, --no-save-map).
+struct MapRunOptions {
+  std::string load_dir;       ///< saved map to start in ("" = a new map)
+  bool localize_only = false;  ///< with load_dir: the map stays as loaded and is not saved again
+  bool save = true;            ///< write DIR/map/ at the end (doc/maps.md)
+};
+
+/// Reads the saved map of `options.load_dir` (nullptr when none) and checks it against the
+/// run's configuration (calibration, descriptor type, loop closure on); throws UserError naming
+/// the file and what is wrong.
+std::shared_ptr<const map::MapData> loadRunMap(const MapRunOptions& options,
+                                               const SystemConfig& cfg);
+
 struct RunOutputOptions {
   std::string out_dir;
   std::string gt_path;          ///< named in the report ("" = none)
   bool save_simplemap = false;  ///< also keyframes.simplemap (needs keep_observations)
+  MapRunOptions map;            ///< DIR/map/ saved after every thread has stopped
 };
 
 /// After endOfStream: prints every stream problem once, evaluates against `gt` (skipped when

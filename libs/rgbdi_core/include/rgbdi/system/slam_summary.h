@@ -29,6 +29,9 @@ struct RunInfo {
 /// Sim(3) of the final one for the scale).
 struct RunEvaluation {
   std::optional<eval::EvalResult> final_posyaw, final_sim3, online, odometry;
+  /// With a loaded map that knows its ground-truth alignment: final and online trajectories
+  /// mapped through it, no alignment of their own (the ATE in the map's frame).
+  std::optional<eval::EvalResult> final_in_map, online_in_map;
   std::string error;  ///< why the evaluation failed (empty otherwise)
 };
 
