@@ -342,3 +342,33 @@ TEST(PlaceRecognizer, TheSameInputGivesTheSameCandidates) {
   }
   EXPECT_GT(total, 20u);  // the second lap found the first
 }
+
+TEST(PlaceRecognizer, CandidatesOfAnUnrelatedPartSkipTheConsistencyCheck) {
+  // A map (segment 0) along 0..30 m; a new part (segment 1) starts at 10 m. With consistency 3,
+  // its candidates in the unrelated segment 0 come from the first queried keyframe on; without
+  // the predicate only from the third.
+  for (bool with_predicate : {false, true}) {
+    PlaceRecognitionOptions o = appearanceOnly();
+    o.consistency_keyframes = 3;
+    PlaceRecognizer rec(o);
+    std::uint64_t id = 0;
+    double t = 0.0, travel = 0.0;
+    for (double s = 0.0; s <= 30.0; s += 0.3, t += 0.5, travel += 0.3)
+      rec.insert(keyframe(id++, t, travel, s));
+    t += 20.0;
+    travel += 5.0;
+    std::vector<bool> has;
+    for (int r = 0; r < 4; ++r, t += 0.5, travel += 0.3) {
+      const auto unrelated = [](int segment) { return segment == 0; };
+      const LoopKeyframe k = keyframe(id++, t, travel, 10.0 + 0.3 * r, {0, 0, 0}, 1);
+      const std::vector<PlaceCandidate> c =
+          with_predicate ? rec.process(k, unrelated) : rec.process(k);
+      has.push_back(!appearanceIds(c).empty());
+    }
+    // Keyframe 0 of the part has no predecessor of its own view: no query either way.
+    const std::vector<bool> expected =
+        with_predicate ? std::vector<bool>{false, true, true, true}
+                       : std::vector<bool>{false, false, false, true};
+    EXPECT_EQ(has, expected) << "predicate " << with_predicate;
+  }
+}

@@ -75,7 +75,10 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   kf.T_world_body = graph_.pose(kf.id);  // the segment's current drift applied
 
   const auto t_rec = Clock::now();
-  const std::vector<PlaceCandidate> candidates = recognizer_.process(kf);
+  const std::vector<PlaceCandidate> candidates =
+      recognizer_.process(kf, [this, &kf](int segment) {
+        return segment != kf.segment && !graph_.connected(segment, kf.segment);
+      });
   stats_.recognition_ms_total += msSince(t_rec);
   stats_.candidates += candidates.size();
 

@@ -59,7 +59,8 @@ void PlaceRecognizer::insert(const LoopKeyframe& kf) {
   previous_streaks_.clear();             // a rebuilt map has no query history
 }
 
-std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
+std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
+                                                     const std::function<bool(int)>& unrelated) {
   checkNewer(kf, "PlaceRecognizer::process");
   const PlaceKeys keys = index_.keys(kf.descriptors);  // validates before anything changes
   const std::size_t end = eligibleEnd(kf);
@@ -91,7 +92,8 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf) {
             length = std::max(length, s.length + 1);
         length = std::min(length, options_.consistency_keyframes);
         streaks.push_back({t, length});
-        if (length >= options_.consistency_keyframes)
+        const bool joining = unrelated && unrelated(records_[slotOf(m.id)].segment);
+        if (joining || length >= options_.consistency_keyframes)
           out.push_back({m.id, m.score, normalised, false});
       }
     }

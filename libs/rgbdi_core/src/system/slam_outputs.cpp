@@ -1,5 +1,7 @@
 #include "rgbdi/system/slam_outputs.h"
 
+#include <set>
+
 #include <cmath>
 
 #include "rgbdi/mapping/map_export.h"
@@ -38,6 +40,14 @@ output::PoseGraph slamPoseGraph(const SlamSystem& sys) {
         1.0 / (oo.graph_rotation_sigma_rad * oo.graph_rotation_sigma_rad),
         1.0 / (oo.graph_rotation_sigma_rad * oo.graph_rotation_sigma_rad),
         1.0 / (go.loop_sigma_yaw_deg * deg * go.loop_sigma_yaw_deg * deg);
+    // Loops into a loaded map bring the map keyframes they reach as nodes (at their map poses).
+    std::set<std::uint64_t> map_nodes;
+    const map::MapData* loaded = sys.loadedMap();
+    for (const loop::LoopRecord& l : lc->loops())
+      if (!l.rolled_back && loaded && l.constraint.from_id < sys.firstKeyframeId())
+        map_nodes.insert(l.constraint.from_id);
+    for (const loop::LoopKeyframe& p : loaded ? loaded->places : std::vector<loop::LoopKeyframe>{})
+      if (map_nodes.count(p.id)) g.nodes.push_back({p.id, p.t, p.T_world_body});
     for (const loop::LoopRecord& l : lc->loops()) {
       if (l.rolled_back) continue;
       output::PoseGraphEdge e;

@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -79,7 +80,13 @@ class PlaceRecognizer {
   /// candidates nearest first; no id twice), then adds kf. kf.id must be larger than every id
   /// processed so far, and kf.t and kf.travelled_m not smaller (std::invalid_argument
   /// otherwise, nothing changed).
-  std::vector<PlaceCandidate> process(const LoopKeyframe& kf);
+  ///
+  /// `unrelated(segment)`, when given, names segments whose frame is not yet related to kf's:
+  /// their appearance candidates skip the temporal consistency check, because joining such a
+  /// part is confirmed by several verified matches instead (LoopCloser's relocalisation rule),
+  /// and waiting for consistent queries first would delay every relocalisation.
+  std::vector<PlaceCandidate> process(const LoopKeyframe& kf,
+                                      const std::function<bool(int)>& unrelated = {});
   /// Adds kf without querying (rebuilding from a loaded map, in id order).
   void insert(const LoopKeyframe& kf);
   /// Corrected body poses after a pose-graph solve (only the positions are kept). Throws
