@@ -345,8 +345,8 @@ TEST(PlaceRecognizer, TheSameInputGivesTheSameCandidates) {
 
 TEST(PlaceRecognizer, CandidatesOfAnUnrelatedPartSkipTheConsistencyCheck) {
   // A map (segment 0) along 0..30 m; a new part (segment 1) starts at 10 m. With consistency 3,
-  // its candidates in the unrelated segment 0 come from the first queried keyframe on; without
-  // the predicate only from the third.
+  // its candidates in the unrelated segment 0 come from its first keyframe on; without the
+  // predicate only from the fourth (first queried at the second, consistent at the fourth).
   for (bool with_predicate : {false, true}) {
     PlaceRecognitionOptions o = appearanceOnly();
     o.consistency_keyframes = 3;
@@ -365,9 +365,10 @@ TEST(PlaceRecognizer, CandidatesOfAnUnrelatedPartSkipTheConsistencyCheck) {
           with_predicate ? rec.process(k, unrelated) : rec.process(k);
       has.push_back(!appearanceIds(c).empty());
     }
-    // Keyframe 0 of the part has no predecessor of its own view: no query either way.
+    // Keyframe 0 of the part has no predecessor of its own: without the predicate it is not
+    // queried (no reference score); with it, it proposes the unrelated part's best matches.
     const std::vector<bool> expected =
-        with_predicate ? std::vector<bool>{false, true, true, true}
+        with_predicate ? std::vector<bool>{true, true, true, true}
                        : std::vector<bool>{false, false, false, true};
     EXPECT_EQ(has, expected) << "predicate " << with_predicate;
   }

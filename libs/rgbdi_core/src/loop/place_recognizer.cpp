@@ -69,21 +69,30 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
   double reference = 0.0;
   if (!records_.empty()) {
     // The predecessor shows nearly the same view: its score is what "same place" scores now.
-    reference = index_.similarity(keys, records_.back().id);
+    // Only a predecessor of kf's own segment can serve: another segment's last keyframe shows
+    // another place (a loaded map's last keyframe, the view before a reset).
+    const bool own_predecessor = records_.back().segment == kf.segment;
+    reference = own_predecessor ? index_.similarity(keys, records_.back().id) : 0.0;
     const double self = index_.selfSimilarity(keys);
     ++stats_.queried;
-    if (!(reference > 0.0) || reference < options_.min_reference_ratio * self) {
+    const bool no_reference = !(reference > 0.0) || reference < options_.min_reference_ratio * self;
+    if (no_reference) {
       ++stats_.no_reference;
       reference = 0.0;
-    } else {
+    }
+    // Without a reference only joining candidates (unrelated parts, confirmed later by several
+    // verified matches) are proposed: the first keyframe of a part can already relocalise it.
+    const bool first_of_part = !own_predecessor && unrelated;
+    if (!no_reference || first_of_part) {
       const std::uint64_t last_id = end > 0 ? records_[end - 1].id : 0;
       const std::vector<PlaceMatch> matches =
           end == 0 ? std::vector<PlaceMatch>()
                    : index_.query(keys, static_cast<std::size_t>(options_.top_k),
                                   [last_id](std::uint64_t id) { return id <= last_id; });
       for (const PlaceMatch& m : matches) {
-        const double normalised = m.score / reference;
-        if (normalised < options_.min_normalised_score) continue;
+        const bool joining = unrelated && unrelated(records_[slotOf(m.id)].segment);
+        const double normalised = reference > 0.0 ? m.score / reference : 0.0;
+        if (reference > 0.0 ? normalised < options_.min_normalised_score : !joining) continue;
         ++stats_.above_threshold;
         const double t = records_[slotOf(m.id)].t;
         int length = 1;
@@ -92,7 +101,6 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
             length = std::max(length, s.length + 1);
         length = std::min(length, options_.consistency_keyframes);
         streaks.push_back({t, length});
-        const bool joining = unrelated && unrelated(records_[slotOf(m.id)].segment);
         if (joining || length >= options_.consistency_keyframes)
           out.push_back({m.id, m.score, normalised, false});
       }

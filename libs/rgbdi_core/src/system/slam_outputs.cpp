@@ -1,5 +1,6 @@
 #include "rgbdi/system/slam_outputs.h"
 
+#include <map>
 #include <set>
 
 #include <cmath>
@@ -118,10 +119,11 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
   }
   if (cfg.output.write_scene) {
     std::vector<mapping::SceneSegment> loop_lines;
+    std::map<std::uint64_t, Eigen::Vector3d> node_position;  // ids: a loaded map's included
+    for (const auto& n : graph.nodes) node_position[n.id] = n.T_world_body.translation();
     for (const output::PoseGraphEdge& e : graph.edges) {
       if (e.kind != "loop") continue;
-      loop_lines.emplace_back(sys.keyframePose(e.from).translation(),
-                              sys.keyframePose(e.to).translation());
+      loop_lines.emplace_back(node_position.at(e.from), node_position.at(e.to));
     }
     out["scene"] = dir + "/scene.3Dscene";
     mapping::writeScene(out["scene"], map.pointMap(), final_body, map.store(), cfg.mapping.scene,

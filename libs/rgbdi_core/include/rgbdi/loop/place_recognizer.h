@@ -84,7 +84,9 @@ class PlaceRecognizer {
   /// `unrelated(segment)`, when given, names segments whose frame is not yet related to kf's:
   /// their appearance candidates skip the temporal consistency check, because joining such a
   /// part is confirmed by several verified matches instead (LoopCloser's relocalisation rule),
-  /// and waiting for consistent queries first would delay every relocalisation.
+  /// and waiting for consistent queries first would delay every relocalisation. The first
+  /// keyframe of a segment (no predecessor of its own to normalise by) then proposes the
+  /// unrelated parts' best matches without a score threshold.
   std::vector<PlaceCandidate> process(const LoopKeyframe& kf,
                                       const std::function<bool(int)>& unrelated = {});
   /// Adds kf without querying (rebuilding from a loaded map, in id order).
