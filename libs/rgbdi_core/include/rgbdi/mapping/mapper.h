@@ -27,7 +27,7 @@ namespace rgbdi::mapping {
 /// What one correct() call did.
 struct MapCorrection {
   std::size_t keyframes_moved = 0;  ///< keyframes whose pose changed
-  RebuildReport rebuild;            ///< the point-map rebuild (empty when nothing moved)
+  RebuildReport rebuild;            ///< the point-map update (empty when nothing moved)
   double milliseconds = 0.0;        ///< wall-clock time of the whole correction
 };
 
@@ -53,8 +53,8 @@ class Mapper {
 
   /// Moves keyframes to corrected camera poses (id, T_world_cam); ids not in the store are
   /// ignored (keyframes the mapper has not received yet), and so are corrections smaller than
-  /// correction_min_shift_m / correction_min_rotation_deg. Rebuilds the point map when any
-  /// keyframe moved (isolated leaves are dropped, see PointMap::rebuild).
+  /// correction_min_shift_m / correction_min_rotation_deg. Updates the point map for the moved
+  /// keyframes only (PointMap::update: the result of a full rebuild, isolated leaves dropped).
   MapCorrection correct(const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses);
 
   /// Brings the occupancy map up to the corrected poses (once, at the end of a run).
