@@ -59,7 +59,6 @@ struct PointMapState {
   /// Cells (packed, see cellOf) where points were added or removed, or leaves dropped, since the
   /// isolated-leaf rule last ran; may hold duplicates.
   std::vector<std::uint64_t> dirty_cells;
-  std::uint32_t cell_stamp = 0;  ///< payload marking the cells evaluated by one pass
   PointMapStats stats;
   RebuildReport last_rebuild;
   std::uint64_t built_pose_revision = 0;

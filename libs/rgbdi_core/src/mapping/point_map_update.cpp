@@ -5,15 +5,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "mapping/cell_count_table.h"
 #include "mapping/point_map_impl.h"
 #include "rgbdi/mapping/point_map.h"
 
 namespace rgbdi::mapping {
 namespace {
 
+using detail::CellCountTable;
 using detail::kNone;
 using detail::LeafRecord;
-using detail::PointLeafNode;
 using detail::PointMapState;
 using detail::PointSource;
 
@@ -24,74 +25,64 @@ struct LeafLists {
   std::vector<char> dead;           ///< by point: left the map during this update
 };
 
-/// Sum of the point counts of the (up to 8) leaves of a cell node.
-std::uint32_t cellCount(const PointMapState& m, PointLeafNode* cell) {
-  std::uint32_t n = 0;
-  for (unsigned c = 0; c < 8; ++c)
-    if (m.tree.nodeChildExists(cell, c))
-      n += m.leaves[m.tree.getNodeChild(cell, c)->getValue()].count;
-  return n;
+/// Splits a packed cell (PointMapState::cellOf) into its coordinates.
+void unpack(std::uint64_t cell, int& cx, int& cy, int& cz) {
+  cx = static_cast<int>((cell >> 32) & 0xffff);
+  cy = static_cast<int>((cell >> 16) & 0xffff);
+  cz = static_cast<int>(cell & 0xffff);
 }
 
-/// The first leaf key of the cell (cx, cy, cz); false outside the key range.
-bool cellKey(int cx, int cy, int cz, octomap::OcTreeKey& key) {
-  constexpr int kMax = 1 << 15;
-  if (cx < 0 || cy < 0 || cz < 0 || cx >= kMax || cy >= kMax || cz >= kMax) return false;
-  key = octomap::OcTreeKey(static_cast<octomap::key_type>(2 * cx),
-                           static_cast<octomap::key_type>(2 * cy),
-                           static_cast<octomap::key_type>(2 * cz));
-  return true;
+std::uint64_t pack(int cx, int cy, int cz) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cx)) << 32) |
+         (static_cast<std::uint64_t>(static_cast<std::uint16_t>(cy)) << 16) |
+         static_cast<std::uint64_t>(static_cast<std::uint16_t>(cz));
 }
 
 /// The isolated-leaf rule where it can have changed: every cell within one cell of a dirty
 /// cell is evaluated once (its 3 x 3 x 3 neighbourhood count against min_count, on the map as
 /// it is before any drop of this pass, as rebuild() does), or every cell when most are dirty.
-/// Returns the cell nodes whose leaves must go.
-std::vector<PointLeafNode*> isolatedCells(PointMapState& m, std::uint32_t min_count) {
-  std::vector<PointLeafNode*> failing;
-  if (++m.cell_stamp == detail::kNoLeaf) m.cell_stamp = 0;
-  const std::uint32_t stamp = m.cell_stamp;
-  auto evaluate = [&](PointLeafNode* cell, int cx, int cy, int cz) {
-    if (cell->getValue() == stamp) return;
-    cell->setValue(stamp);
-    std::uint32_t n = cellCount(m, cell);  // its own cell first: usually enough
+/// Marks the cells whose leaves must go in `table` and returns their number.
+std::size_t markIsolatedCells(PointMapState& m, CellCountTable& table, std::uint32_t min_count) {
+  std::size_t isolated = 0;
+  auto evaluate = [&](CellCountTable::Entry& e) {
+    e.evaluated = 1;
+    std::uint32_t n = e.count;  // its own cell first: usually enough
+    if (n >= min_count) return;
+    int cx, cy, cz;
+    unpack(e.cell, cx, cy, cz);
     for (int dx = -1; dx <= 1 && n < min_count; ++dx)
       for (int dy = -1; dy <= 1 && n < min_count; ++dy)
         for (int dz = -1; dz <= 1 && n < min_count; ++dz) {
           if (dx == 0 && dy == 0 && dz == 0) continue;
-          octomap::OcTreeKey key;
-          if (!cellKey(cx + dx, cy + dy, cz + dz, key)) continue;
-          if (PointLeafNode* nb = m.tree.findCell(key)) n += cellCount(m, nb);
+          if (const CellCountTable::Entry* nb = table.find(pack(cx + dx, cy + dy, cz + dz)))
+            n += nb->count;
         }
-    if (n < min_count) failing.push_back(cell);
+    if (n < min_count) {
+      e.isolated = 1;
+      ++isolated;
+    }
   };
-
   std::vector<std::uint64_t>& dirty = m.dirty_cells;
   std::sort(dirty.begin(), dirty.end());
   dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
-  // Dilating a dirty cell costs 27 look-ups; evaluating all cells about 2 per leaf.
-  const bool everywhere = dirty.size() * 27 > m.leaves.size() * 2;
-  if (everywhere) {
-    for (const LeafRecord& l : m.leaves) {
-      if (l.count == 0) continue;
-      PointLeafNode* cell = m.tree.findCell(l.key);
-      evaluate(cell, l.key[0] >> 1, l.key[1] >> 1, l.key[2] >> 1);
-    }
-    return failing;
+  // Dilating a dirty cell costs 27 look-ups; evaluating every cell costs up to 27 per sparse
+  // cell (a table of S slots holds S / 4 to S / 2 cells).
+  if (dirty.size() * 27 > table.slots().size() / 2) {
+    for (CellCountTable::Entry& e : table.slots())
+      if (e.cell != CellCountTable::kEmpty) evaluate(e);
+    return isolated;
   }
-  for (std::uint64_t packed : dirty) {
-    const int cx = static_cast<int>((packed >> 32) & 0xffff);
-    const int cy = static_cast<int>((packed >> 16) & 0xffff);
-    const int cz = static_cast<int>(packed & 0xffff);
+  for (std::uint64_t cell : dirty) {
+    int cx, cy, cz;
+    unpack(cell, cx, cy, cz);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
-          octomap::OcTreeKey key;
-          if (!cellKey(cx + dx, cy + dy, cz + dz, key)) continue;
-          if (PointLeafNode* cell = m.tree.findCell(key)) evaluate(cell, cx + dx, cy + dy, cz + dz);
+          CellCountTable::Entry* e = table.find(pack(cx + dx, cy + dy, cz + dz));
+          if (e != nullptr && !e->evaluated) evaluate(*e);
         }
   }
-  return failing;
+  return isolated;
 }
 
 }  // namespace
@@ -218,26 +209,31 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
   // 4. The isolated-leaf rule where anything changed since it last ran.
   for (LeafRecord& l : m.leaves) l.dirty = false;
   const auto min_count = static_cast<std::uint32_t>(m.options.min_points_per_leaf_rebuild);
-  std::vector<PointLeafNode*> failing;
-  if (min_count > 0) failing = isolatedCells(m, min_count);
+  std::size_t isolated = 0;
+  CellCountTable table(min_count > 0 ? m.leaves.size() : 0);
+  if (min_count > 0) {
+    for (const LeafRecord& l : m.leaves)
+      if (l.count > 0) table.add(PointMapState::cellOf(l.key), l.count);
+    isolated = markIsolatedCells(m, table, min_count);
+  }
   m.dirty_cells.clear();
-  for (PointLeafNode* cell : failing)
-    for (unsigned c = 0; c < 8; ++c) {
-      if (!m.tree.nodeChildExists(cell, c)) continue;
-      const std::uint32_t leaf = m.tree.getNodeChild(cell, c)->getValue();
-      LeafRecord& rec = m.leaves[leaf];
-      ++report.sparse_leaves_removed;
-      report.sparse_points_removed += rec.count;
-      for (std::uint32_t j = lists.head[leaf]; j != kNone; j = lists.next[j])
-        if (!lists.dead[j]) {
-          lists.dead[j] = 1;
-          drops.push_back(m.point_src[j]);
-        }
-      rec.count = 0;
-      removed[leaf] = 1;
-      erase_keys.push_back(rec.key);
-      m.dirty_cells.push_back(PointMapState::cellOf(rec.key));  // for the next pass
-    }
+  for (std::size_t leaf = 0; isolated > 0 && leaf < m.leaves.size(); ++leaf) {
+    LeafRecord& rec = m.leaves[leaf];
+    if (rec.count == 0) continue;
+    const std::uint64_t cell = PointMapState::cellOf(rec.key);
+    if (!table.find(cell)->isolated) continue;
+    ++report.sparse_leaves_removed;
+    report.sparse_points_removed += rec.count;
+    for (std::uint32_t j = lists.head[leaf]; j != kNone; j = lists.next[j])
+      if (!lists.dead[j]) {
+        lists.dead[j] = 1;
+        drops.push_back(m.point_src[j]);
+      }
+    rec.count = 0;
+    removed[leaf] = 1;
+    erase_keys.push_back(rec.key);
+    m.dirty_cells.push_back(cell);  // the drop changes the neighbours' counts: the next pass
+  }
   for (const octomap::OcTreeKey& k : erase_keys) m.tree.eraseLeaf(k);
 
   // 5. Compact leaves and points.

@@ -41,31 +41,9 @@ PointLeafNode* PointOctree::touchLeaf(const octomap::OcTreeKey& key) {
   return node;
 }
 
-PointLeafNode* PointOctree::findCell(const octomap::OcTreeKey& key) {
-  if (root == nullptr) return nullptr;
-  const unsigned shift = tree_depth - kCachedLevel;
-  const bool same_block = lookup_block_ != nullptr &&
-                          (key[0] >> shift) == (lookup_block_key_[0] >> shift) &&
-                          (key[1] >> shift) == (lookup_block_key_[1] >> shift) &&
-                          (key[2] >> shift) == (lookup_block_key_[2] >> shift);
-  PointLeafNode* node = same_block ? lookup_block_ : root;
-  // Stops one level above the leaves (bit 0 selects the leaf within the cell).
-  for (int bit = static_cast<int>(same_block ? shift : tree_depth) - 1; bit >= 1; --bit) {
-    const unsigned child = octomap::computeChildIdx(key, bit);
-    if (!nodeChildExists(node, child)) return nullptr;
-    node = getNodeChild(node, child);
-    if (bit == static_cast<int>(shift)) {
-      lookup_block_ = node;
-      lookup_block_key_ = key;
-    }
-  }
-  return node;
-}
-
 bool PointOctree::eraseLeaf(const octomap::OcTreeKey& key) {
   if (root == nullptr) return false;
-  cached_block_ = nullptr;  // the cached ancestors may be deleted below
-  lookup_block_ = nullptr;
+  cached_block_ = nullptr;  // the cached ancestor may be deleted below
   std::array<PointLeafNode*, 17> path{};  // root .. leaf (tree_depth is 16)
   std::array<unsigned, 17> child_of{};
   path[0] = root;
@@ -95,7 +73,6 @@ bool PointOctree::eraseLeaf(const octomap::OcTreeKey& key) {
 
 void PointOctree::clearAll() {
   cached_block_ = nullptr;
-  lookup_block_ = nullptr;
   clear();
 }
 

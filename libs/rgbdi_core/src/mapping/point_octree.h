@@ -33,10 +33,6 @@ class PointOctree : public octomap::OcTreeBase<PointLeafNode> {
 
   /// The leaf node (finest depth) of `key`, created with its missing ancestors if needed.
   PointLeafNode* touchLeaf(const octomap::OcTreeKey& key);
-  /// The node one level above the leaves (a "cell": 2 x 2 x 2 leaves) that holds the leaf of
-  /// `key`, or nullptr when no leaf of that cell exists. Its children are leaves; its own
-  /// payload is free for the caller (PointMap stamps evaluated cells with it).
-  PointLeafNode* findCell(const octomap::OcTreeKey& key);
   /// Deletes the leaf of `key` and every ancestor left without children (the root included:
   /// the tree is then empty). Returns false when there is no such leaf.
   bool eraseLeaf(const octomap::OcTreeKey& key);
@@ -51,8 +47,6 @@ class PointOctree : public octomap::OcTreeBase<PointLeafNode> {
   static constexpr unsigned kCachedLevel = 11;  // levels below the root: 2^5 leaves per block side
   PointLeafNode* cached_block_ = nullptr;
   octomap::OcTreeKey cached_block_key_;
-  PointLeafNode* lookup_block_ = nullptr;  // the same for findCell (neighbour lookups)
-  octomap::OcTreeKey lookup_block_key_;
 };
 
 }  // namespace rgbdi::mapping::detail
