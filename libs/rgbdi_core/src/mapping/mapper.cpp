@@ -31,6 +31,7 @@ void Mapper::addKeyframe(Keyframe k, const RgbdFrame& frame) {
     adding_ids_.push_back(k.id);
   }
   if (occupancy_) occupancy_->insertPoints(k.points, k.T_world_cam);
+  insertions_.push_back({k.id, k.t, k.points.size()});
   store_.add(std::move(k));
   ++stats_.keyframes;
   stats_.keyframes_adding_points = adding_ids_.size();
@@ -84,6 +85,7 @@ void Mapper::finish() {
 
 std::size_t Mapper::memoryBytes() const {
   return points_.memoryBytes() + store_.memoryBytes() +
+         insertions_.capacity() * sizeof(KeyframeInsertion) +
          (occupancy_ ? occupancy_->memoryBytes() : 0);
 }
 

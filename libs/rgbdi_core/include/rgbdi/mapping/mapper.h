@@ -31,6 +31,13 @@ struct MapCorrection {
   double milliseconds = 0.0;        ///< wall-clock time of the whole correction
 };
 
+/// Points a keyframe added to the map when it was inserted (later drops not subtracted).
+struct KeyframeInsertion {
+  std::uint64_t id = 0;
+  double t = 0.0;  ///< [s] keyframe stamp
+  std::size_t points = 0;
+};
+
 struct MapperStats {
   std::size_t keyframes = 0;
   std::size_t keyframes_adding_points = 0;
@@ -65,6 +72,8 @@ class Mapper {
   /// nullptr when built without occupancy.
   const OccupancyMap* occupancy() const { return occupancy_.get(); }
   const MapperStats& stats() const { return stats_; }
+  /// Every addKeyframe call in order: how the map grew (e.g. points added per lap).
+  const std::vector<KeyframeInsertion>& insertions() const { return insertions_; }
   /// Heap bytes of the point octree + keyframe store + occupancy map.
   std::size_t memoryBytes() const;
 
@@ -79,6 +88,7 @@ class Mapper {
   ViewpointIndex viewpoints_;
   std::vector<std::uint64_t> adding_ids_;  ///< keyframes that added points (viewpoints), by id
   MapperStats stats_;
+  std::vector<KeyframeInsertion> insertions_;
 };
 
 }  // namespace rgbdi::mapping
