@@ -37,6 +37,7 @@ std::vector<char> PointMapState::dropSparseLeaves(std::uint32_t min_count, Rebui
     if (n < min_count) {
       ++report.sparse_leaves_removed;
       report.sparse_points_removed += leaves[i].count;
+      cells.add(cellOf(leaves[i].key), -static_cast<std::int64_t>(leaves[i].count));
       dropped_cells.push_back(cellOf(leaves[i].key));
       tree.eraseLeaf(leaves[i].key);
     } else {
@@ -48,12 +49,12 @@ std::vector<char> PointMapState::dropSparseLeaves(std::uint32_t min_count, Rebui
   for (std::size_t i = 0; i < leaves.size(); ++i)
     if (new_index[i] != kNoLeaf) {
       leaves[i].node->setValue(new_index[i]);
-      leaves[i].dirty = false;
       kept_leaves.push_back(leaves[i]);
     }
   leaves.swap(kept_leaves);
   // The drops change their neighbours' counts: the next pass looks there again.
   dirty_cells.swap(dropped_cells);
+  ++pass;  // every leaf is clean
 
   std::vector<char> survives(points.size(), 0);
   std::size_t out = 0;
@@ -244,7 +245,7 @@ std::size_t PointMap::memoryBytes() const {
          m.point_src.capacity() * sizeof(PointSource) + m.scratch.capacity() * sizeof(MapPoint) +
          m.ordinal_id.capacity() * sizeof(std::uint64_t) +
          m.ordinal_of.size() * (sizeof(std::uint64_t) + sizeof(std::uint32_t) + 2 * sizeof(void*)) +
-         m.dirty_cells.capacity() * sizeof(std::uint64_t);
+         m.dirty_cells.capacity() * sizeof(std::uint64_t) + m.cells.bytes();
 }
 
 }  // namespace rgbdi::mapping

@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mapping/cell_count_table.h"
 #include "mapping/depth_grid_sampler.h"
 #include "mapping/point_octree.h"
 #include "rgbdi/mapping/map_point.h"
@@ -26,7 +27,8 @@ struct LeafRecord {
   PointLeafNode* node = nullptr;
   octomap::OcTreeKey key;
   std::uint32_t count = 0;
-  bool dirty = false;  ///< points added or removed since the isolated-leaf rule last ran
+  /// == PointMapState::pass: points added or removed since the isolated-leaf rule last ran
+  std::uint32_t dirty_pass = 0;
 };
 
 /// Origin of a map point: keyframe (an ordinal of PointMapState::ordinal_id) and the index of
@@ -59,6 +61,8 @@ struct PointMapState {
   /// Cells (packed, see cellOf) where points were added or removed, or leaves dropped, since the
   /// isolated-leaf rule last ran; may hold duplicates.
   std::vector<std::uint64_t> dirty_cells;
+  std::uint32_t pass = 1;  ///< number of the next pass of the isolated-leaf rule
+  CellCountTable cells;    ///< points per cell, kept up to date
   PointMapStats stats;
   RebuildReport last_rebuild;
   std::uint64_t built_pose_revision = 0;
@@ -78,9 +82,15 @@ struct PointMapState {
 
   void markDirty(std::uint32_t leaf) {
     LeafRecord& l = leaves[leaf];
-    if (l.dirty) return;
-    l.dirty = true;
+    if (l.dirty_pass == pass) return;
+    l.dirty_pass = pass;
     dirty_cells.push_back(cellOf(l.key));
+  }
+
+  /// Takes `n` points off the leaf's count (the caller removes the points themselves).
+  void removeCounts(std::uint32_t leaf, std::uint32_t n) {
+    leaves[leaf].count -= n;
+    cells.add(cellOf(leaves[leaf].key), -static_cast<std::int64_t>(n));
   }
 
   /// Finds or creates the leaf of p_world; kNone when p_world is beyond the octree's extent.
@@ -91,7 +101,7 @@ struct PointMapState {
     std::uint32_t leaf = node->getValue();
     if (leaf == kNoLeaf) {
       leaf = static_cast<std::uint32_t>(leaves.size());
-      leaves.push_back({node, key, 0, false});
+      leaves.push_back({node, key, 0, 0});
       node->setValue(leaf);
     }
     return leaf;
@@ -100,6 +110,7 @@ struct PointMapState {
   void appendPoint(std::uint32_t leaf, const Eigen::Vector3d& p_world, const Rgb& rgb,
                    PointSource src) {
     ++leaves[leaf].count;
+    cells.add(cellOf(leaves[leaf].key), 1);
     points.push_back({p_world.cast<float>(), rgb});
     point_leaf.push_back(leaf);
     point_src.push_back(src);
@@ -123,6 +134,7 @@ struct PointMapState {
     point_src.clear();
     untracked_points = 0;
     dirty_cells.clear();
+    cells.clear();
   }
 
   /// The isolated-leaf rule over every leaf (rebuild()): drops the leaves whose neighbourhood

@@ -41,11 +41,13 @@ std::uint64_t pack(int cx, int cy, int cz) {
 /// The isolated-leaf rule where it can have changed: every cell within one cell of a dirty
 /// cell is evaluated once (its 3 x 3 x 3 neighbourhood count against min_count, on the map as
 /// it is before any drop of this pass, as rebuild() does), or every cell when most are dirty.
-/// Marks the cells whose leaves must go in `table` and returns their number.
-std::size_t markIsolatedCells(PointMapState& m, CellCountTable& table, std::uint32_t min_count) {
-  std::size_t isolated = 0;
+/// Returns the cells whose leaves must go.
+std::vector<std::uint64_t> isolatedCells(PointMapState& m, std::uint32_t min_count) {
+  std::vector<std::uint64_t> isolated;
+  CellCountTable& table = m.cells;
+  const std::uint32_t stamp = m.pass;
   auto evaluate = [&](CellCountTable::Entry& e) {
-    e.evaluated = 1;
+    e.stamp = stamp;
     std::uint32_t n = e.count;  // its own cell first: usually enough
     if (n >= min_count) return;
     int cx, cy, cz;
@@ -57,19 +59,16 @@ std::size_t markIsolatedCells(PointMapState& m, CellCountTable& table, std::uint
           if (const CellCountTable::Entry* nb = table.find(pack(cx + dx, cy + dy, cz + dz)))
             n += nb->count;
         }
-    if (n < min_count) {
-      e.isolated = 1;
-      ++isolated;
-    }
+    if (n < min_count) isolated.push_back(e.cell);
   };
   std::vector<std::uint64_t>& dirty = m.dirty_cells;
   std::sort(dirty.begin(), dirty.end());
   dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
-  // Dilating a dirty cell costs 27 look-ups; evaluating every cell costs up to 27 per sparse
-  // cell (a table of S slots holds S / 4 to S / 2 cells).
-  if (dirty.size() * 27 > table.slots().size() / 2) {
+  // Dilating a dirty cell costs 27 look-ups, evaluating a cell 1 to 27 (about 8 on a map of
+  // single-keyframe surfaces); the table holds slots / 4 to slots / 2 cells.
+  if (dirty.size() * 27 > table.slots().size() * 2) {
     for (CellCountTable::Entry& e : table.slots())
-      if (e.cell != CellCountTable::kEmpty) evaluate(e);
+      if (e.cell != CellCountTable::kEmpty && e.count > 0) evaluate(e);
     return isolated;
   }
   for (std::uint64_t cell : dirty) {
@@ -79,7 +78,7 @@ std::size_t markIsolatedCells(PointMapState& m, CellCountTable& table, std::uint
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
           CellCountTable::Entry* e = table.find(pack(cx + dx, cy + dy, cz + dz));
-          if (e != nullptr && !e->evaluated) evaluate(*e);
+          if (e != nullptr && e->stamp != stamp) evaluate(*e);
         }
   }
   return isolated;
@@ -140,7 +139,7 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
     const std::uint32_t leaf = m.point_leaf[j];
     if (moved[s.ordinal]) {
       lists.dead[j] = 1;
-      --m.leaves[leaf].count;
+      m.removeCounts(leaf, 1);
       m.markDirty(leaf);
     } else {
       lists.next[j] = lists.head[leaf];
@@ -185,7 +184,7 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
         }
         lists.dead[last] = 1;
         drops.push_back(m.point_src[last]);
-        --m.leaves[leaf].count;
+        m.removeCounts(leaf, 1);
       }
       lists.next.push_back(lists.head[leaf]);
       lists.head[leaf] = static_cast<std::uint32_t>(m.points.size());
@@ -207,31 +206,34 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
   erase_keys.clear();
 
   // 4. The isolated-leaf rule where anything changed since it last ran.
-  for (LeafRecord& l : m.leaves) l.dirty = false;
   const auto min_count = static_cast<std::uint32_t>(m.options.min_points_per_leaf_rebuild);
-  std::size_t isolated = 0;
-  CellCountTable table(min_count > 0 ? m.leaves.size() : 0);
-  if (min_count > 0) {
-    for (const LeafRecord& l : m.leaves)
-      if (l.count > 0) table.add(PointMapState::cellOf(l.key), l.count);
-    isolated = markIsolatedCells(m, table, min_count);
-  }
+  std::vector<std::uint64_t> isolated;
+  if (min_count > 0) isolated = isolatedCells(m, min_count);
+  ++m.pass;  // every leaf is clean
   m.dirty_cells.clear();
-  for (std::size_t leaf = 0; isolated > 0 && leaf < m.leaves.size(); ++leaf) {
-    LeafRecord& rec = m.leaves[leaf];
-    if (rec.count == 0) continue;
-    const std::uint64_t cell = PointMapState::cellOf(rec.key);
-    if (!table.find(cell)->isolated) continue;
-    ++report.sparse_leaves_removed;
-    report.sparse_points_removed += rec.count;
-    for (std::uint32_t j = lists.head[leaf]; j != kNone; j = lists.next[j])
-      if (!lists.dead[j]) {
-        lists.dead[j] = 1;
-        drops.push_back(m.point_src[j]);
-      }
-    rec.count = 0;
-    removed[leaf] = 1;
-    erase_keys.push_back(rec.key);
+  for (std::uint64_t cell : isolated) {
+    int cx, cy, cz;
+    unpack(cell, cx, cy, cz);
+    for (int i = 0; i < 8; ++i) {  // the cell's leaves
+      const octomap::OcTreeKey key(static_cast<octomap::key_type>(2 * cx + (i & 1)),
+                                   static_cast<octomap::key_type>(2 * cy + ((i >> 1) & 1)),
+                                   static_cast<octomap::key_type>(2 * cz + ((i >> 2) & 1)));
+      const detail::PointLeafNode* node = m.tree.search(key);
+      if (node == nullptr || node->getValue() >= m.leaves.size()) continue;
+      const std::uint32_t leaf = node->getValue();
+      LeafRecord& rec = m.leaves[leaf];
+      if (rec.key != key || rec.count == 0) continue;
+      ++report.sparse_leaves_removed;
+      report.sparse_points_removed += rec.count;
+      for (std::uint32_t j = lists.head[leaf]; j != kNone; j = lists.next[j])
+        if (!lists.dead[j]) {
+          lists.dead[j] = 1;
+          drops.push_back(m.point_src[j]);
+        }
+      m.removeCounts(leaf, rec.count);
+      removed[leaf] = 1;
+      erase_keys.push_back(rec.key);
+    }
     m.dirty_cells.push_back(cell);  // the drop changes the neighbours' counts: the next pass
   }
   for (const octomap::OcTreeKey& k : erase_keys) m.tree.eraseLeaf(k);
