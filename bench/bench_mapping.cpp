@@ -216,10 +216,10 @@ class Bench {
                ra.rejected_full_leaf == rb.rejected_full_leaf;
       }
       const double per_m = 1e6 / static_cast<double>(std::max<std::size_t>(map_points, 1));
-      std::cout << std::fixed << std::setprecision(1) << "| " << moved_kf << " of " << n << " (" << 100.0 * share
-                << " %) | " << moved_points << " | " << map_points << " | " << update_ms << " | "
-                << update_ms * per_m << " | " << rebuild_ms << " | " << rebuild_ms * per_m << " | "
-                << (same ? "yes" : "NO") << " |\n";
+      std::cout << std::fixed << std::setprecision(1) << "| " << moved_kf << " of " << n << " ("
+                << 100.0 * share << " %) | " << moved_points << " | " << map_points << " | "
+                << update_ms << " | " << update_ms * per_m << " | " << rebuild_ms << " | "
+                << rebuild_ms * per_m << " | " << (same ? "yes" : "NO") << " |\n";
     }
   }
 
