@@ -198,6 +198,30 @@ RunResult runOnce(const Args& a, const system::SystemConfig& cfg, bool loop_on,
               << map.stats().corrections << ", max " << map.stats().correction_ms_max << " ms";
   }
   std::cout << "\n";
+  if (const loop::LoopCloser* lc = sys.loopCloser()) {
+    // Each active loop against the ground truth (nearest pose in time, body frame).
+    auto nearest = [&](double t) {
+      const auto it = std::lower_bound(gt.begin(), gt.end(), t,
+                                       [](const StampedPose& s, double x) { return s.t < x; });
+      if (it == gt.end()) return gt.back().isometry();
+      if (it != gt.begin() && std::abs((it - 1)->t - t) < std::abs(it->t - t))
+        return (it - 1)->isometry();
+      return it->isometry();
+    };
+    double worst_m = 0.0, worst_deg = 0.0;
+    for (const loop::LoopRecord& l : lc->loops()) {
+      if (l.rolled_back || gt.empty()) continue;
+      const auto& kfs = sys.keyframeStates();
+      const Eigen::Isometry3d T_true = nearest(kfs.at(l.constraint.from_id).state.t_imu).inverse() *
+                                       nearest(kfs.at(l.constraint.to_id).state.t_imu);
+      const Eigen::Isometry3d E = T_true.inverse() * l.constraint.T_from_to;
+      worst_m = std::max(worst_m, E.translation().norm());
+      worst_deg = std::max(worst_deg,
+                           std::abs(std::atan2(E.linear()(1, 0), E.linear()(0, 0))) * 180.0 / M_PI);
+    }
+    std::cout << std::setprecision(3) << "  active loops vs ground truth: worst " << worst_m
+              << " m, " << worst_deg << " deg yaw\n";
+  }
 
   if (lap_m > 0.0) {
     const Odometer odo(gt);
