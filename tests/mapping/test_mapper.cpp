@@ -31,6 +31,11 @@ TEST(Mapper, AKeyframeFromAMappedViewpointAddsNoPointsButIsStored) {
   EXPECT_EQ(m.store().size(), 2u);
   EXPECT_TRUE(m.store().get(1).points.empty());
   EXPECT_EQ(m.stats().keyframes_adding_points, 1u);
+  ASSERT_EQ(m.insertions().size(), 2u);
+  EXPECT_EQ(m.insertions()[0].id, 0u);
+  EXPECT_EQ(m.insertions()[0].points, points);
+  EXPECT_EQ(m.insertions()[1].points, 0u);
+  EXPECT_DOUBLE_EQ(m.insertions()[1].t, 1.0);
   EXPECT_THROW(m.addKeyframe(keyframeAt(1, Eigen::Vector3d::Zero()), f), std::invalid_argument);
   ASSERT_NE(m.occupancy(), nullptr);
   EXPECT_GT(m.occupancy()->leafCount(), 0u);

@@ -206,6 +206,22 @@ LoopUpdate LoopCloser::finish() {
   return update;
 }
 
+int LoopCloser::addExternalLoop(std::uint64_t from_id, std::uint64_t to_id,
+                                const Eigen::Isometry3d& T_from_to) {
+  LoopRecord r;
+  r.edge_id = graph_.addLoopEdge(from_id, to_id, T_from_to);
+  r.constraint.from_id = from_id;
+  r.constraint.to_id = to_id;
+  r.constraint.T_from_to = T_from_to;
+  r.external = true;
+  const auto it = slot_of_.find(to_id);
+  r.t_query = it == slot_of_.end() ? 0.0 : keyframes_[it->second].t;
+  loops_.push_back(r);
+  ++stats_.external;
+  solve_pending_ = true;
+  return r.edge_id;
+}
+
 void LoopCloser::solve(LoopUpdate& update) {
   const auto t_solve = Clock::now();
   const PoseGraphSolveReport rep = graph_.solve();

@@ -28,11 +28,12 @@ void Mapper::addKeyframe(Keyframe k, const RgbdFrame& frame) {
   // A keyframe seen from where the map was already seen adds no points (bounded memory on
   // repeated routes); it is still stored with its features for the pose graph.
   if (frame.hasDepth() && !viewpoints_.covered(k.T_world_cam)) {
-    k.points = points_.insertKeyframe(frame, k.T_world_cam);
+    k.points = points_.insertKeyframe(frame, k.T_world_cam, k.id);
     viewpoints_.add(k.T_world_cam);
     adding_ids_.push_back(k.id);
   }
   if (occupancy_) occupancy_->insertPoints(k.points, k.T_world_cam);
+  insertions_.push_back({k.id, k.t, k.points.size()});
   store_.add(std::move(k));
   ++stats_.keyframes;
   stats_.keyframes_adding_points = adding_ids_.size();
@@ -47,7 +48,7 @@ void Mapper::restore(const KeyframeStore& saved) {
       throw std::invalid_argument("Mapper::restore: keyframe " + std::to_string(k.id) +
                                   " appears twice");
     if (!k.points.empty()) {
-      k.points = points_.insertPoints(k.points, k.T_world_cam);
+      k.points = points_.insertPoints(k.points, k.T_world_cam, k.id);
       viewpoints_.add(k.T_world_cam);
       adding_ids_.push_back(k.id);
     }
@@ -64,6 +65,7 @@ MapCorrection Mapper::correct(
   // Corrections below the thresholds leave a keyframe where it is: re-inserting every point
   // for a millimetre would cost a rebuild and change nothing the map resolves.
   const double min_cos_half = std::cos(0.5 * options_.correction_min_rotation_deg * M_PI / 180.0);
+  std::vector<std::uint64_t> moved;
   for (const auto& [id, T] : poses) {
     if (!store_.contains(id)) continue;
     const Eigen::Isometry3d& old = store_.get(id).T_world_cam;
@@ -72,10 +74,12 @@ MapCorrection Mapper::correct(
         std::abs(Eigen::Quaterniond(old.rotation()).dot(Eigen::Quaterniond(T.rotation())));
     if (shift < options_.correction_min_shift_m && cos_half > min_cos_half) continue;
     store_.setPose(id, T);
+    moved.push_back(id);
     ++c.keyframes_moved;
   }
   if (c.keyframes_moved == 0) return c;
-  c.rebuild = points_.rebuild(store_);
+  // Only the moved keyframes' points are re-inserted (the same map as a full rebuild).
+  c.rebuild = points_.update(store_, moved);
   rebuildViewpoints();
   occupancy_outdated_ = occupancy_ != nullptr;
   c.milliseconds = msSince(t0);
@@ -101,6 +105,7 @@ void Mapper::finish() {
 
 std::size_t Mapper::memoryBytes() const {
   return points_.memoryBytes() + store_.memoryBytes() +
+         insertions_.capacity() * sizeof(KeyframeInsertion) +
          (occupancy_ ? occupancy_->memoryBytes() : 0);
 }
 

@@ -71,8 +71,9 @@ nlohmann::json loopSummary(const SlamSystem& sys) {
   j["verified"] = st.verified;
   j["rejected"] = rejected;
   j["accepted"] = st.accepted;
+  j["external"] = st.external;
   j["rolled_back"] = st.rolled_back;
-  j["active_loops"] = st.accepted - st.rolled_back;
+  j["active_loops"] = st.accepted + st.external - st.rolled_back;
   j["solves"] = st.solves;
   j["timing_ms"] = {{"features_per_keyframe", st.features_ms_total / n_kf},
                     {"recognition_per_keyframe", st.recognition_ms_total / n_kf},

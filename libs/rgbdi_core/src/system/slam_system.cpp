@@ -233,7 +233,8 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     solved = closer_->process(std::move(lk)).solved;
     T_world_body = closer_->pose(p.id);
-    progress_loops_.store(closer_->stats().accepted - closer_->stats().rolled_back);
+    const loop::LoopStats& ls = closer_->stats();
+    progress_loops_.store(ls.accepted + ls.external - ls.rolled_back);
     if (options_.map)
       progress_map_state_.store(static_cast<int>(closer_->connectedToOrigin(p.state.segment)
                                                      ? MapState::kLocalised

@@ -32,6 +32,7 @@ struct LoopRecord {
   bool by_proximity = false;  ///< proposed by the pose search, not by appearance
   double t_query = 0.0;       ///< [s] stamp of the query keyframe
   bool rolled_back = false;   ///< removed by a later solve (its residual exceeded the gate)
+  bool external = false;      ///< added by addExternalLoop, not found by the closer
 };
 
 /// One relocalisation: a part joined to another by verified loops.
@@ -50,7 +51,8 @@ struct LoopStats {
   std::uint64_t verified = 0;                                       ///< geometric verifications run
   std::array<std::uint64_t, kAllLoopRejections.size()> rejected{};  ///< by LoopRejection
   std::uint64_t accepted = 0;
-  std::uint64_t rolled_back = 0;
+  std::uint64_t external = 0;     ///< loops added by addExternalLoop (not in accepted)
+  std::uint64_t rolled_back = 0;  ///< accepted or external loops removed by a solve
   std::uint64_t solves = 0;
   std::uint64_t joins = 0;                 ///< relocalisations (see JoinRecord)
   std::uint64_t join_matches_weak = 0;     ///< joining matches with too few PnP inliers
@@ -92,6 +94,19 @@ class LoopCloser {
   LoopUpdate process(LoopKeyframe kf);
   /// Solves the graph if loops were accepted since the last solve (end of the run).
   LoopUpdate finish();
+
+  /// Adds a loop edge that place recognition and verification did not produce: the test hook
+  /// the system tests use to inject a wrong loop and check that it is rolled back, and a way
+  /// for a tool that knows a revisit to add it. T_from_to maps points of the `to` body frame
+  /// into the `from` body frame (only x, y, z and yaw are used). The edge is solved with the
+  /// next solve like an accepted loop (after solve_interval_keyframes more keyframes, or by
+  /// finish()) and rolled back by the same gate; it appears in loops() with `external` set and
+  /// is counted in stats().external. Call it from the thread that owns the closer (in a
+  /// SlamSystem: between feeds of a sequential run). Returns the edge id; throws
+  /// std::invalid_argument like PoseGraph4Dof::addLoopEdge (unknown node, from == to, a pose
+  /// that is not finite and rigid).
+  int addExternalLoop(std::uint64_t from_id, std::uint64_t to_id,
+                      const Eigen::Isometry3d& T_from_to);
 
   /// Correction of `segment` (T_corrected * T_odom^-1); identity for a segment not seen yet.
   Eigen::Isometry3d drift(int segment) const;

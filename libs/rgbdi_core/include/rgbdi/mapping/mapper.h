@@ -27,8 +27,15 @@ namespace rgbdi::mapping {
 /// What one correct() call did.
 struct MapCorrection {
   std::size_t keyframes_moved = 0;  ///< keyframes whose pose changed
-  RebuildReport rebuild;            ///< the point-map rebuild (empty when nothing moved)
+  RebuildReport rebuild;            ///< the point-map update (empty when nothing moved)
   double milliseconds = 0.0;        ///< wall-clock time of the whole correction
+};
+
+/// Points a keyframe added to the map when it was inserted (later drops not subtracted).
+struct KeyframeInsertion {
+  std::uint64_t id = 0;
+  double t = 0.0;  ///< [s] keyframe stamp
+  std::size_t points = 0;
 };
 
 struct MapperStats {
@@ -59,8 +66,8 @@ class Mapper {
 
   /// Moves keyframes to corrected camera poses (id, T_world_cam); ids not in the store are
   /// ignored (keyframes the mapper has not received yet), and so are corrections smaller than
-  /// correction_min_shift_m / correction_min_rotation_deg. Rebuilds the point map when any
-  /// keyframe moved (isolated leaves are dropped, see PointMap::rebuild).
+  /// correction_min_shift_m / correction_min_rotation_deg. Updates the point map for the moved
+  /// keyframes only (PointMap::update: the result of a full rebuild, isolated leaves dropped).
   MapCorrection correct(const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses);
 
   /// Brings the occupancy map up to the corrected poses (once, at the end of a run).
@@ -71,6 +78,8 @@ class Mapper {
   /// nullptr when built without occupancy.
   const OccupancyMap* occupancy() const { return occupancy_.get(); }
   const MapperStats& stats() const { return stats_; }
+  /// Every addKeyframe call in order: how the map grew (e.g. points added per lap).
+  const std::vector<KeyframeInsertion>& insertions() const { return insertions_; }
   /// Heap bytes of the point octree + keyframe store + occupancy map.
   std::size_t memoryBytes() const;
 
@@ -85,6 +94,7 @@ class Mapper {
   ViewpointIndex viewpoints_;
   std::vector<std::uint64_t> adding_ids_;  ///< keyframes that added points (viewpoints), by id
   MapperStats stats_;
+  std::vector<KeyframeInsertion> insertions_;
 };
 
 }  // namespace rgbdi::mapping

@@ -7,17 +7,20 @@
 // only the points the map holds. After keyframe poses change (pose-graph update, loop closure,
 // reload), rebuild() re-inserts every keyframe's kept points at the corrected poses and discards
 // the isolated leaves: fewer than min_points_per_leaf_rebuild points within the 3 x 3 x 3 cells
-// of twice the leaf size around the leaf, from the map and from the keyframes. Memory is bounded by the scene: points <= leaves x max_points_per_leaf.
+// of twice the leaf size around the leaf, from the map and from the keyframes. update() gives the
+// same result touching only the keyframes that moved (the cost of a loop grows with what the loop
+// moved, not with the map). Memory is bounded by the scene: points <= leaves x
+// max_points_per_leaf.
 //
 // Typical use:
 //   PointMap map(options);
-//   kf.points = map.insertKeyframe(frame, kf.T_world_cam);  store.add(kf);
-//   ... store.setPose(id, corrected) for each keyframe ...;  map.rebuild(store);
+//   kf.points = map.insertKeyframe(frame, kf.T_world_cam, kf.id);  store.add(kf);
+//   ... store.setPose(id, corrected) for the moved keyframes ...;  map.update(store, moved_ids);
+//   (or map.rebuild(store): same result, re-inserts everything; the only way after a reload)
 //   writePly("map.ply", map);
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -45,17 +48,20 @@ struct PointMapStats {
 /// What one rebuild() did.
 struct RebuildReport {
   std::size_t keyframes = 0;
-  std::size_t input_points = 0;          ///< kept points of all keyframes before the rebuild
-  std::size_t rejected_full_leaf = 0;    ///< no longer fit at the corrected poses
+  std::size_t input_points = 0;        ///< kept points of all keyframes before the rebuild
+  std::size_t rejected_full_leaf = 0;  ///< no longer fit at the corrected poses
   std::size_t outside_extent = 0;
-  std::size_t sparse_leaves_removed = 0; ///< isolated leaves (see rebuild())
+  std::size_t sparse_leaves_removed = 0;  ///< isolated leaves (see rebuild())
   std::size_t sparse_points_removed = 0;
-  std::size_t kept_points = 0;           ///< map size after the rebuild
-  double seconds = 0.0;                  ///< wall-clock time of the rebuild
+  std::size_t kept_points = 0;  ///< map size after the rebuild
+  double seconds = 0.0;         ///< wall-clock time of the rebuild
 };
 
 class PointMap {
  public:
+  /// keyframe_id of points whose keyframe the map does not know (then only rebuild() applies).
+  static constexpr std::uint64_t kUntrackedKeyframe = ~std::uint64_t{0};
+
   /// Validates the options (throws ConfigError).
   explicit PointMap(const MappingOptions& options);
   ~PointMap();
@@ -71,16 +77,33 @@ class PointMap {
   /// world) and returns the accepted ones in the colour camera frame, to be kept by the keyframe.
   /// Throws std::invalid_argument naming the frame when it cannot be used or the pose is not a
   /// finite rigid transform.
-  std::vector<MapPoint> insertKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam);
+  /// With a keyframe id (inserted once per id) the map remembers which keyframe each point came
+  /// from, which update() needs; the returned points must become that keyframe's kept points.
+  std::vector<MapPoint> insertKeyframe(const RgbdFrame& frame, const Eigen::Isometry3d& T_world_cam,
+                                       std::uint64_t keyframe_id);
+  std::vector<MapPoint> insertKeyframe(const RgbdFrame& frame,
+                                       const Eigen::Isometry3d& T_world_cam);
   /// Inserts points given in the camera frame; returns the accepted ones (in input order).
   std::vector<MapPoint> insertPoints(const std::vector<MapPoint>& points_cam,
-                                     const Eigen::Isometry3d& T_world_cam);
+                                     const Eigen::Isometry3d& T_world_cam,
+                                     std::uint64_t keyframe_id = kUntrackedKeyframe);
 
   /// Rebuilds the map from the keyframes' kept points at their current poses (in id order),
   /// drops points that no longer fit and isolated leaves (fewer than min_points_per_leaf_rebuild
-  /// points in the 3 x 3 x 3 cells of twice the leaf size around the leaf), and removes the dropped points from the
-  /// keyframes too.
+  /// points in the 3 x 3 x 3 cells of twice the leaf size around the leaf), and removes the dropped
+  /// points from the keyframes too.
   RebuildReport rebuild(KeyframeStore& store);
+  /// The same result as rebuild(store) when only the keyframes in `moved_ids` changed pose since
+  /// their points were placed (ids the map holds no points of are skipped): their points leave
+  /// their leaves and are re-inserted at the new poses; a full leaf keeps its first
+  /// max_points_per_leaf points in (keyframe id, point index) order, the order rebuild() inserts
+  /// them in; the isolated-leaf rule is evaluated around the cells where points were added or
+  /// removed since it last ran (insertions included), which covers every leaf whose verdict can
+  /// differ. Leaves, their points and every keyframe's kept points equal rebuild()'s; the order
+  /// of points() differs. Throws std::logic_error when a point was inserted without a keyframe
+  /// id, or the map and the store disagree (a keyframe's point count, a keyframe not in the
+  /// store); std::invalid_argument for a moved id not in the store.
+  RebuildReport update(KeyframeStore& store, const std::vector<std::uint64_t>& moved_ids);
   /// True when setPose() was called on the store since this map was last rebuilt from it (or
   /// since construction). A store just read by KeyframeStore::load always needs rebuild().
   bool isOutdated(const KeyframeStore& store) const;

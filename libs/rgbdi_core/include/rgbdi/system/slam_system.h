@@ -101,6 +101,10 @@ class SlamSystem : public MeasurementSink {
   const mapping::Mapper& mapper() const { return *mapper_; }
   /// nullptr when loop closure is off ([loop] enable = false) or no keyframe was made.
   const loop::LoopCloser* loopCloser() const { return closer_.get(); }
+  /// The same, writable, for test hooks (LoopCloser::addExternalLoop). The loop-closing stage
+  /// owns it: use it only between feeds of a sequential run (SlamSystemOptions::threaded =
+  /// false) or after endOfStream. nullptr before the first keyframe.
+  loop::LoopCloser* mutableLoopCloser() { return closer_.get(); }
   const VioSystem& odometry() const { return vio_; }
   /// The loaded map (nullptr when the run started a new one).
   const map::MapData* loadedMap() const { return options_.map.get(); }
