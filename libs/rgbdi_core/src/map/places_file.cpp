@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "map/descriptor_codec.h"
+#include "mapping/descriptor_codec.h"
 #include "map/file_io.h"
 #include "mapping/byte_codec.h"
 #include "mapping/pose_check.h"
@@ -48,7 +48,7 @@ void writePlacesFile(const std::string& path, const std::vector<loop::LoopKeyfra
     writePose(w, p.T_world_body_odom);
     writePose(w, p.T_world_body);
     w.f64(p.travelled_m);
-    writeDescriptors(w, p.descriptors);
+    mapping::detail::writeDescriptors(w, p.descriptors);
     file.write(w.bytes());
   }
   file.close();
@@ -95,7 +95,7 @@ std::vector<loop::LoopKeyframe> readPlacesFile(const std::string& path) {
     p.travelled_m = r.f64("the distance travelled");
     if (!std::isfinite(p.travelled_m) || p.travelled_m < 0.0)
       fail("distance travelled is not a finite non-negative number");
-    p.descriptors = readDescriptors(r, fail);
+    p.descriptors = mapping::detail::readDescriptors(r, fail);
     places.push_back(std::move(p));
   }
   context = "end of file";

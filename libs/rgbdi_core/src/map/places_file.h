@@ -4,7 +4,7 @@
 //   "RGBDIPLC" | u32 version (kPlacesFileVersion) | u64 place count | records...
 //   record: u32 'PLCE' | u64 id | i32 segment | f64 t | 12 x f64 T_world_body_odom (rows of
 //           [R | t]) | 12 x f64 T_world_body | f64 travelled_m | descriptor block
-//           (descriptor_codec.h)
+//           (mapping/descriptor_codec.h, shared with the keyframe file)
 // Poses are stored as full matrices so that a round trip is bit-exact.
 #pragma once
 

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "mapping/byte_codec.h"
+#include "mapping/descriptor_codec.h"
 #include "mapping/pose_check.h"
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/mapping/keyframe_store.h"
@@ -29,10 +30,6 @@ constexpr char kMagic[8] = {'R', 'G', 'B', 'D', 'I', 'K', 'F', 'S'};
 constexpr std::uint32_t kRecordTag = 0x4D52464Bu;  // "KFRM" in file byte order
 constexpr std::size_t kFeatureBytes = 8 + 2 * 8 + 1 + 3 * 8;
 constexpr std::size_t kPointBytes = 3 * 4 + 3;
-constexpr std::size_t kKeypointBytes = 2 * 4;
-constexpr std::size_t kKeypointPointBytes = 3 * 4;
-/// Longest accepted descriptor type name (a corrupt length must not allocate gigabytes).
-constexpr std::uint32_t kMaxTypeLength = 256;
 
 void writeKeyframe(detail::ByteWriter& w, const Keyframe& k) {
   w.u32(kRecordTag);
@@ -51,19 +48,7 @@ void writeKeyframe(detail::ByteWriter& w, const Keyframe& k) {
     for (int i = 0; i < 3; ++i) w.f64(f.p_cam[i]);
   }
 
-  const DescriptorSet& d = k.descriptors;
-  w.u32(static_cast<std::uint32_t>(d.type.size()));
-  w.raw(d.type.data(), d.type.size());
-  w.u32(d.bytes_per_descriptor);
-  w.u32(static_cast<std::uint32_t>(d.keypoints_uv.size()));
-  for (const Eigen::Vector2f& uv : d.keypoints_uv) {
-    w.f32(uv.x());
-    w.f32(uv.y());
-  }
-  w.raw(d.data.data(), d.data.size());
-  w.u32(static_cast<std::uint32_t>(d.keypoints_p_cam.size()));
-  for (const Eigen::Vector3f& p : d.keypoints_p_cam)
-    for (int i = 0; i < 3; ++i) w.f32(p[i]);
+  detail::writeDescriptors(w, k.descriptors);
 
   w.u32(static_cast<std::uint32_t>(k.points.size()));
   for (const MapPoint& p : k.points) {
@@ -87,7 +72,7 @@ void KeyframeStore::save(const std::string& path) const {
     // 32-bit counts in the file: refuse rather than wrap (never reached by real keyframes).
     const std::size_t limit = 0xFFFFFFFFu;
     if (k.features.size() > limit || k.points.size() > limit ||
-        k.descriptors.keypoints_uv.size() > limit || k.descriptors.type.size() > kMaxTypeLength)
+        k.descriptors.keypoints_uv.size() > limit || k.descriptors.type.size() > detail::kMaxDescriptorTypeLength)
       throw IoError(path + ": keyframe " + std::to_string(k.id) +
                     " has more features/points/descriptors than the file format holds");
   }
@@ -160,35 +145,7 @@ KeyframeStore KeyframeStore::load(const std::string& path) {
         fail("feature " + std::to_string(f.id) + " has a non-finite coordinate");
     }
 
-    DescriptorSet& d = k.descriptors;
-    const std::uint32_t type_length = r.u32("the descriptor type length");
-    if (type_length > kMaxTypeLength)
-      fail("descriptor type name of " + std::to_string(type_length) + " bytes (corrupt file)");
-    d.type.resize(type_length);
-    r.raw(d.type.data(), type_length, "the descriptor type");
-    d.bytes_per_descriptor = r.u32("the descriptor size");
-    const std::uint32_t nk = r.u32("the keypoint count");
-    r.needRecords(nk, kKeypointBytes + d.bytes_per_descriptor, "keypoints");
-    d.keypoints_uv.resize(nk);
-    for (Eigen::Vector2f& uv : d.keypoints_uv) {
-      uv.x() = r.f32("a keypoint pixel");
-      uv.y() = r.f32("a keypoint pixel");
-      if (!uv.allFinite()) fail("a keypoint has a non-finite pixel position");
-    }
-    d.data.resize(static_cast<std::size_t>(nk) * d.bytes_per_descriptor);
-    r.raw(d.data.data(), d.data.size(), "the descriptors");
-    const std::uint32_t n3 = r.u32("the keypoint point count");
-    if (n3 != 0 && n3 != nk)
-      fail(std::to_string(n3) + " keypoint points for " + std::to_string(nk) +
-           " keypoints (must be 0 or equal)");
-    r.needRecords(n3, kKeypointPointBytes, "keypoint points");
-    d.keypoints_p_cam.resize(n3);
-    for (Eigen::Vector3f& p : d.keypoints_p_cam) {
-      for (int i = 0; i < 3; ++i) p[i] = r.f32("a keypoint point");
-      // A point is either known (finite) or marked absent (all NaN); anything else is damage.
-      if (!p.allFinite() && !(std::isnan(p.x()) && std::isnan(p.y()) && std::isnan(p.z())))
-        fail("a keypoint point is neither finite nor absent (all NaN)");
-    }
+    k.descriptors = detail::readDescriptors(r, fail);
 
     const std::uint32_t np = r.u32("the point count");
     r.needRecords(np, kPointBytes, "points");

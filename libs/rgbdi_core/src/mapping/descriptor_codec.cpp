@@ -1,10 +1,10 @@
-#include "map/descriptor_codec.h"
+#include "mapping/descriptor_codec.h"
 
 #include <cmath>
 
-namespace rgbdi::map::detail {
+namespace rgbdi::mapping::detail {
 
-void writeDescriptors(mapping::detail::ByteWriter& w, const mapping::DescriptorSet& d) {
+void writeDescriptors(ByteWriter& w, const DescriptorSet& d) {
   w.u32(static_cast<std::uint32_t>(d.type.size()));
   w.raw(d.type.data(), d.type.size());
   w.u32(d.bytes_per_descriptor);
@@ -19,9 +19,9 @@ void writeDescriptors(mapping::detail::ByteWriter& w, const mapping::DescriptorS
     for (int i = 0; i < 3; ++i) w.f32(p[i]);
 }
 
-mapping::DescriptorSet readDescriptors(mapping::detail::ByteReader& r,
+DescriptorSet readDescriptors(ByteReader& r,
                                        const std::function<void(const std::string&)>& fail) {
-  mapping::DescriptorSet d;
+  DescriptorSet d;
   const std::uint32_t type_length = r.u32("the descriptor type length");
   if (type_length > kMaxDescriptorTypeLength)
     fail("descriptor type name of " + std::to_string(type_length) + " bytes (corrupt file)");
@@ -53,4 +53,4 @@ mapping::DescriptorSet readDescriptors(mapping::detail::ByteReader& r,
   return d;
 }
 
-}  // namespace rgbdi::map::detail
+}  // namespace rgbdi::mapping::detail
