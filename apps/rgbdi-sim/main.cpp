@@ -29,7 +29,8 @@ using rgbdi::kExitUsage;
 const char* const kUsage =
     "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
     "                 [--fps N] [--seed N] [--variant N] [--config FILE] [--time-offset S]\n"
-    "                 [--aliased-walls] [--bag [--bag-compression none|bz2|lz4]]\n"
+    "                 [--aliased-walls] [--blackout START:DURATION]\n"
+    "                 [--bag [--bag-compression none|bz2|lz4]]\n"
     "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
     "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag])\n"
@@ -45,6 +46,8 @@ const char* const kUsage =
     "                     the same as share/config.ini)\n"
     "  --time-offset      camera-IMU time offset [s]: images stamped t_imu - offset\n"
     "  --aliased-walls    the room's +x wall repeats the -x wall (perceptual aliasing)\n"
+    "  --blackout         frames from START for DURATION seconds (sequence time, e.g. 20:3)\n"
+    "                     are black with no depth: a forced tracking loss; IMU unaffected\n"
     "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
     "  --bag-compression  chunk compression of the bag (default none)\n"
     "  --version          print the version\n"
@@ -69,6 +72,7 @@ double number(const std::string& option, const std::string& text) {
 struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
+  double blackout_start = 0.0, blackout_duration = 0.0;
   long long seed = -1;
   int variant = -1;
   bool has_time_offset = false, bag = false, aliased_walls = false;
@@ -108,6 +112,15 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     a.has_time_offset = true;
   });
   cl.flag("--aliased-walls", &a.aliased_walls);
+  cl.value("--blackout", [&](const std::string& v) {
+    const auto colon = v.find(':');
+    if (colon == std::string::npos)
+      throw UsageError("--blackout needs START:DURATION in seconds, got '" + v + "'");
+    a.blackout_start = number("--blackout start", v.substr(0, colon));
+    a.blackout_duration = number("--blackout duration", v.substr(colon + 1));
+    if (a.blackout_start < 0.0 || a.blackout_duration <= 0.0)
+      throw UsageError("--blackout: START must be >= 0 and DURATION > 0, got '" + v + "'");
+  });
   cl.flag("--bag", &a.bag);
   cl.value("--bag-compression", &a.bag_compression);
   const auto outcome = cl.parse(argc, argv);
@@ -141,6 +154,10 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   if (a.variant >= 0) o.profile.variant = a.variant;
   if (a.has_time_offset) o.time_offset_s = a.time_offset;
   if (a.aliased_walls) o.scene.aliased_walls = true;
+  if (a.blackout_duration > 0.0) {
+    o.blackout_start_s = a.blackout_start;
+    o.blackout_duration_s = a.blackout_duration;
+  }
   return o;
 }
 

@@ -303,5 +303,34 @@ TEST(ProfileScenes, TexturedStructureIsNearTheCameraAlongEveryVariantPath) {
       expectTexturedStructureNearTheCamera(name, variant);
 }
 
+
+TEST(SimulatedSequence, BlackoutFramesAreBlackWithoutDepthAndOnlyThose) {
+  SimOptions o = shortOptions();
+  o.blackout_start_s = 2.0;
+  o.blackout_duration_s = 1.0;
+  const SimulatedSequence seq(o);
+  const SimulatedSequence plain(shortOptions());
+  // At 5 Hz: frames 10..14 are exposed in [2 s, 3 s).
+  for (std::size_t i : {9u, 10u, 12u, 14u, 15u}) {
+    const RgbdFrame f = seq.renderFrame(i);
+    const bool black = i >= 10 && i < 15;
+    EXPECT_EQ(seq.inBlackout(i), black) << i;
+    EXPECT_EQ(f.t, plain.frameStamp(i));
+    EXPECT_EQ(f.rgb.type(), CV_8UC3);
+    EXPECT_EQ(f.depth.type(), CV_16UC1);
+    EXPECT_EQ(f.rgb.size(), plain.renderFrame(i).rgb.size());
+    if (black) {
+      EXPECT_EQ(cv::countNonZero(f.rgb.reshape(1)), 0) << i;
+      EXPECT_EQ(cv::countNonZero(f.depth), 0) << i;
+    } else {
+      const RgbdFrame p = plain.renderFrame(i);
+      EXPECT_EQ(cv::norm(f.rgb, p.rgb, cv::NORM_INF), 0.0) << i;
+      EXPECT_EQ(cv::norm(f.depth, p.depth, cv::NORM_INF), 0.0) << i;
+    }
+  }
+  // The IMU is unaffected.
+  EXPECT_EQ(seq.imuSample(500).acc, plain.imuSample(500).acc);
+}
+
 }  // namespace
 }  // namespace rgbdi::sim

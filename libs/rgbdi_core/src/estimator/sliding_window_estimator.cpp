@@ -535,12 +535,26 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
       return out;
     }
     status_ = EstimatorStatus::kTracking;
+    last_sighted_t_ = t;
     out.just_initialised = true;
     prior_.reset();
     features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
     for (std::size_t k = 0; k < window_.size(); ++k) assignMotionFieldVelocities(k);
     if (window_.size() >= 2) optimise(&out);
   } else {
+    if (static_cast<int>(frame.features.size()) >= opt_.fail_min_features) {
+      last_sighted_t_ = t;
+    } else if (opt_.fail_max_blind_s > 0.0 && t - last_sighted_t_ > opt_.fail_max_blind_s) {
+      logFmt(mrpt::system::LVL_WARN,
+             "t=%.3f: fewer than %d features for %.2f s: tracking lost, re-initialising\n", t,
+             opt_.fail_min_features, t - last_sighted_t_);
+      ++stats_.resets;
+      ++stats_.blind_resets;
+      reset(true);
+      out.reset = true;
+      out.status = status_;
+      return out;
+    }
     if (opt_.update_rate_hz > 0.0 && t - window_.back().t < 0.9 / opt_.update_rate_hz) {
       // Between estimator updates: the causal pose is the IMU propagation of the newest state.
       const double t0 = threadCpuSeconds();

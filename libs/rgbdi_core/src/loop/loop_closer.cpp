@@ -75,15 +75,15 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   kf.T_world_body = graph_.pose(kf.id);  // the segment's current drift applied
 
   const auto t_rec = Clock::now();
-  const std::vector<PlaceCandidate> candidates =
-      recognizer_.process(kf, [this, &kf](int segment) {
-        return segment != kf.segment && !graph_.connected(segment, kf.segment);
-      });
+  const std::vector<PlaceCandidate> candidates = recognizer_.process(kf, [this, &kf](int segment) {
+    return segment != kf.segment && !graph_.connected(segment, kf.segment);
+  });
   stats_.recognition_ms_total += msSince(t_rec);
   stats_.candidates += candidates.size();
 
   const auto t_ver = Clock::now();
   int verified = 0;
+  bool join_matched = false;
   for (const PlaceCandidate& c : candidates) {
     if (c.by_proximity) ++stats_.candidates_by_proximity;
     if (verified >= options_.max_verified_candidates) break;
@@ -101,9 +101,10 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
       continue;
     }
     if (!related) {
-      // One joining match per keyframe: the confirmations must come from other keyframes.
-      offerJoin(kf, cand, v, c.by_proximity, update);
-      break;
+      // Every joining candidate is verified: two places matching equally well is what
+      // tells an aliased view (tryJoin below refuses to choose).
+      join_matched = addJoinMatch(kf, cand, v, c.by_proximity) || join_matched;
+      continue;
     }
     LoopRecord r;
     r.constraint = v.constraint;
@@ -115,6 +116,7 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
     ++update.accepted;
     ++stats_.accepted;
   }
+  if (join_matched) tryJoin(kf, update);
   stats_.verification_ms_total += msSince(t_ver);
 
   if (update.accepted > 0) solve_pending_ = true;
@@ -129,8 +131,8 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   return update;
 }
 
-bool LoopCloser::offerJoin(const LoopKeyframe& kf, const LoopKeyframe& cand,
-                           const LoopVerification& v, bool by_proximity, LoopUpdate& update) {
+bool LoopCloser::addJoinMatch(const LoopKeyframe& kf, const LoopKeyframe& cand,
+                              const LoopVerification& v, bool by_proximity) {
   if (v.constraint.pnp_inliers < options_.relocalize_min_inliers) {
     ++stats_.join_matches_weak;
     return false;
@@ -158,27 +160,54 @@ bool LoopCloser::offerJoin(const LoopKeyframe& kf, const LoopKeyframe& cand,
                        pending_joins_.end());
   stats_.join_matches_dropped += n_before - pending_joins_.size();
   pending_joins_.push_back(p);
+  return true;
+}
 
-  // The matches that agree with the newest one on where the part goes.
+bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
+  // Whether two pending matches put the part in the same place (judged at kf's position).
   const Eigen::Vector3d x = kf.T_world_body.translation();
   const double max_yaw = options_.relocalize_max_disagreement_deg * M_PI / 180.0;
-  std::vector<std::size_t> agreeing;
-  for (std::size_t i = 0; i < pending_joins_.size(); ++i) {
-    const PendingJoin& q = pending_joins_[i];
-    if (q.target_component != target) continue;
-    const Eigen::Isometry3d E = p.A.inverse() * q.A;
+  const auto agree = [&](const PendingJoin& a, const PendingJoin& b) {
+    if (a.target_component != b.target_component) return false;
+    const Eigen::Isometry3d E = a.A.inverse() * b.A;
     const double yaw = std::abs(std::atan2(E.linear()(1, 0), E.linear()(0, 0)));
-    if ((q.A * x - p.A * x).norm() <= options_.relocalize_max_disagreement_m && yaw <= max_yaw)
-      agreeing.push_back(i);
+    return (a.A * x - b.A * x).norm() <= options_.relocalize_max_disagreement_m && yaw <= max_yaw;
+  };
+  // The matches agreeing with one of kf's own matches, counted by distinct query keyframe: the
+  // confirmations must come from other keyframes. The best such cluster is the candidate join.
+  std::vector<std::size_t> best;
+  int best_keyframes = 0;
+  for (std::size_t i = 0; i < pending_joins_.size(); ++i) {
+    if (pending_joins_[i].query_index != stats_.keyframes) continue;  // not one of kf's
+    std::vector<std::size_t> cluster;
+    std::vector<std::uint64_t> queries;
+    for (std::size_t k = 0; k < pending_joins_.size(); ++k) {
+      if (!agree(pending_joins_[i], pending_joins_[k])) continue;
+      cluster.push_back(k);
+      if (std::find(queries.begin(), queries.end(), pending_joins_[k].query_index) == queries.end())
+        queries.push_back(pending_joins_[k].query_index);
+    }
+    if (static_cast<int>(queries.size()) > best_keyframes) {
+      best_keyframes = static_cast<int>(queries.size());
+      best = std::move(cluster);
+    }
   }
-  if (static_cast<int>(agreeing.size()) < options_.relocalize_consistent_keyframes) return false;
+  if (best_keyframes < options_.relocalize_consistent_keyframes) return false;
+  // A pending match that puts the part elsewhere makes the place ambiguous (a repeated texture,
+  // identical rooms): wait until only one alignment is seen, or the matches age out.
+  for (std::size_t k = 0; k < pending_joins_.size(); ++k)
+    if (std::find(best.begin(), best.end(), k) == best.end() &&
+        pending_joins_[k].target_component == pending_joins_[best.front()].target_component) {
+      ++stats_.joins_ambiguous;
+      return false;
+    }
 
   JoinRecord j;
   j.segment = kf.segment;
-  j.to_segment = target;
+  j.to_segment = pending_joins_[best.front()].target_component;
   j.t_query = kf.t - t_shift_;
   j.query_id = kf.id;
-  for (std::size_t i : agreeing) {
+  for (std::size_t i : best) {
     LoopRecord r = pending_joins_[i].record;
     r.edge_id =
         graph_.addLoopEdge(r.constraint.from_id, r.constraint.to_id, r.constraint.T_from_to);
@@ -187,7 +216,7 @@ bool LoopCloser::offerJoin(const LoopKeyframe& kf, const LoopKeyframe& cand,
     ++stats_.accepted;
     ++j.loop_edges;
   }
-  stats_.join_matches_dropped += pending_joins_.size() - agreeing.size();
+  stats_.join_matches_dropped += pending_joins_.size() - best.size();
   pending_joins_.clear();
   joins_.push_back(j);
   ++stats_.joins;

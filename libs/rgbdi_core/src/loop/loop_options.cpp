@@ -29,6 +29,7 @@ LoopOptions LoopOptions::load(IniReader& ini) {
                                                     o.relocalize_max_disagreement_deg, 0.0, 180.0);
   o.relocalize_window_keyframes =
       ini.getInt(s, "relocalize_window_keyframes", o.relocalize_window_keyframes, 1, 1000);
+  o.relocalize_from_window = ini.getBool(s, "relocalize_from_window", o.relocalize_from_window);
   if (o.relocalize_window_keyframes < o.relocalize_consistent_keyframes)
     ini.fail(s, "relocalize_window_keyframes",
              std::to_string(o.relocalize_window_keyframes) +

@@ -80,10 +80,13 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
       ++stats_.no_reference;
       reference = 0.0;
     }
-    // Without a reference only joining candidates (unrelated parts, confirmed later by several
-    // verified matches) are proposed: the first keyframe of a part can already relocalise it.
-    const bool first_of_part = !own_predecessor && unrelated;
-    if (!no_reference || first_of_part) {
+    // Joining candidates (parts not related to kf's: a loaded map, a segment before a reset)
+    // are proposed by score rank alone, without the reference: joining is confirmed by several
+    // verified matches with more inliers, and the reference fails exactly when relocalisation
+    // matters most: at rest the predecessor is the same image and outscores every other view;
+    // the first keyframe of a part has no predecessor of its own.
+    const bool may_join = static_cast<bool>(unrelated);
+    if (!no_reference || may_join) {
       const std::uint64_t last_id = end > 0 ? records_[end - 1].id : 0;
       const std::vector<PlaceMatch> matches =
           end == 0 ? std::vector<PlaceMatch>()
@@ -92,7 +95,8 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
       for (const PlaceMatch& m : matches) {
         const bool joining = unrelated && unrelated(records_[slotOf(m.id)].segment);
         const double normalised = reference > 0.0 ? m.score / reference : 0.0;
-        if (reference > 0.0 ? normalised < options_.min_normalised_score : !joining) continue;
+        if (!joining && !(reference > 0.0 && normalised >= options_.min_normalised_score))
+          continue;
         ++stats_.above_threshold;
         const double t = records_[slotOf(m.id)].t;
         int length = 1;

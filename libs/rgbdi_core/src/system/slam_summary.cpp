@@ -107,6 +107,9 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
   const double t_reloc = sys.firstRelocalisationTime();
   j["relocalised_at_s"] =
       t_reloc >= 0 && have_t ? nlohmann::json(t_reloc - run.stream_t0) : nlohmann::json();
+  const double t_online = sys.firstOnlinePoseInMapTime();
+  j["online_in_map_from_s"] =
+      t_online >= 0 && have_t ? nlohmann::json(t_online - run.stream_t0) : nlohmann::json();
   nlohmann::json joins = nlohmann::json::array();
   if (lc)
     for (const loop::JoinRecord& jr : lc->joins())
@@ -118,6 +121,7 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
   j["joins"] = joins;
   if (lc)
     j["join_matches"] = {{"too_few_inliers", lc->stats().join_matches_weak},
+                         {"ambiguous_decisions", lc->stats().joins_ambiguous},
                          {"unconfirmed", lc->stats().join_matches_dropped}};
   j["first_keyframe_id"] = sys.firstKeyframeId();
   j["saved_to"] = run.map_saved_to.empty() ? nlohmann::json() : nlohmann::json(run.map_saved_to);
@@ -229,8 +233,11 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
     os << "Map " << ms["loaded_from"].get<std::string>() << " (" << ms["mode"].get<std::string>()
        << "): " << ms["state"].get<std::string>();
     if (!ms["relocalised_at_s"].is_null())
-      os << ", relocalised " << std::setprecision(3) << ms["relocalised_at_s"].get<double>()
-         << " s after the start";
+      os << ", relocalised on the view " << std::setprecision(3)
+         << ms["relocalised_at_s"].get<double>() << " s after the start";
+    if (!ms["online_in_map_from_s"].is_null())
+      os << ", online poses in the map's frame from " << std::setprecision(3)
+         << ms["online_in_map_from_s"].get<double>() << " s";
     os << "\n";
   }
   if (!ms["saved_to"].is_null()) os << "Map saved to " << ms["saved_to"].get<std::string>() << "\n";

@@ -40,6 +40,11 @@ SlamSystem::SlamSystem(const SystemConfig& cfg, const SlamSystemOptions& options
       [this](const estimator::FrameEstimate& est, const RgbdFrame& f) { onFrame(est, f); });
   vio_.setKeyframeCallback([this](const estimator::KeyframeState& kf, const RgbdFrame& f,
                                   const frontend::FeatureFrame& ff) { onKeyframe(kf, f, ff); });
+  frame_segment_placed_ = !options.map;  // a run without a map starts in the origin's frame
+  if (cfg.loop.enable && cfg.loop.relocalize_from_window)
+    vio_.setEarlyKeyframes([this](int estimator_segment) {
+      return estimator_segment + segment_offset_ == frame_segment_ && !frame_segment_placed_;
+    });
   const bool t = options.threaded;
   const std::size_t cap = options.queue_capacity;
   map_stage_ = std::make_unique<StageWorker<MapPacket>>(
@@ -147,7 +152,10 @@ void SlamSystem::handleMeasurement(io::Measurement& m) {
 }
 
 void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) {
-  if (est.reset) ++frame_segment_;  // the estimator starts a new segment at every reset
+  if (est.reset) {
+    ++frame_segment_;  // the estimator starts a new segment at every reset
+    frame_segment_placed_ = false;
+  }
   if (!est.has_pose) return;
   FrameRecord r;
   r.t_imu = est.t_imu;
@@ -157,6 +165,7 @@ void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) 
   bool in_origin = false;
   r.T_world_body_online = onlineDrift(frame_segment_, &in_origin) * est.T_world_body;
   r.online_in_map = options_.map && in_origin;
+  if (in_origin) frame_segment_placed_ = true;
   frames_.push_back(r);
   if (options_.on_pose) options_.on_pose(frames_.back());
 }
@@ -341,6 +350,12 @@ double SlamSystem::firstRelocalisationTime() const {
   if (!hasMap() || !closer_) return -1.0;
   for (const loop::JoinRecord& j : closer_->joins())
     if (j.to_segment == 0) return j.t_query;
+  return -1.0;
+}
+
+double SlamSystem::firstOnlinePoseInMapTime() const {
+  for (const FrameRecord& r : frames_)
+    if (r.online_in_map) return r.t_imu;
   return -1.0;
 }
 

@@ -84,6 +84,7 @@ void VioSystem::processReady(bool flush) {
     recent_frames_.push_back(std::move(p));
     pending_.pop_front();
     emitKeyframes(estimator_->takeFinishedKeyframes());
+    emitEarlyKeyframes();
     // Only frames that are window slots can still become keyframes: keep their images and
     // nothing else (the window may span many seconds when the robot moves slowly, so keeping
     // every frame since the oldest slot would grow memory with time).
@@ -96,16 +97,30 @@ void VioSystem::processReady(bool flush) {
   }
 }
 
+const VioSystem::Pending* VioSystem::recentFrame(std::uint64_t frame_index) const {
+  for (const auto& f : recent_frames_)
+    if (f.frame.index == frame_index) return &f;
+  return nullptr;
+}
+
 void VioSystem::emitKeyframes(std::vector<estimator::KeyframeState> kfs) {
   for (auto& kf : kfs) {
     keyframes_.push_back(kf);
     if (!keyframe_cb_) continue;
-    for (const auto& f : recent_frames_) {
-      if (f.frame.index == kf.frame_index) {
-        keyframe_cb_(kf, f.frame, f.features);
-        break;
-      }
-    }
+    if (const Pending* f = recentFrame(kf.frame_index)) keyframe_cb_(kf, f->frame, f->features);
+  }
+}
+
+void VioSystem::emitEarlyKeyframes() {
+  if (!early_wanted_ || !keyframe_cb_) return;
+  const std::vector<estimator::KeyframeState> window = estimator_->windowKeyframes();
+  // The newest slot and the one before it may still be dropped (not a keyframe after all).
+  if (window.size() < 3 || !early_wanted_(window.front().segment)) return;
+  for (std::size_t i = 0; i + 2 < window.size(); ++i) {
+    const estimator::KeyframeState& kf = window[i];
+    if (kf.t_imu <= last_early_t_) continue;
+    last_early_t_ = kf.t_imu;
+    if (const Pending* f = recentFrame(kf.frame_index)) keyframe_cb_(kf, f->frame, f->features);
   }
 }
 

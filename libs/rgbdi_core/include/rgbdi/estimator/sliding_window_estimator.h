@@ -66,6 +66,7 @@ struct KeyframeState {
 struct EstimatorStats {
   int frames = 0;
   int resets = 0;
+  int blind_resets = 0;  ///< of which: no features for longer than fail_max_blind_s
   int static_initialisations = 0;
   int moving_initialisations = 0;  ///< from motion (depth-aided PnP or visual SfM)
   int visual_initialisations = 0;  ///< of which visual SfM (no depth)
@@ -156,6 +157,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
+  double last_sighted_t_ = 0.0;  ///< [s] newest frame with fail_min_features features
   double last_preintegration_ms_ = 0.0;  ///< [ms] CPU time of the newest slot's pre-integration
   std::vector<KeyframeState> finished_keyframes_;
   /// States of the window's keyframes after the last successful update: handed out at a reset,

@@ -57,6 +57,8 @@ struct LoopStats {
   std::uint64_t joins = 0;                 ///< relocalisations (see JoinRecord)
   std::uint64_t join_matches_weak = 0;     ///< joining matches with too few PnP inliers
   std::uint64_t join_matches_dropped = 0;  ///< joining matches that no later keyframe confirmed
+  /// Join decisions refused because pending matches put the part in two places (aliasing).
+  std::uint64_t joins_ambiguous = 0;
   double features_ms_total = 0.0;     ///< ORB extraction (done by the caller, added by it)
   double recognition_ms_total = 0.0;  ///< index query + insertion
   double verification_ms_total = 0.0;
@@ -155,9 +157,12 @@ class LoopCloser {
   bool shift_set_ = false;
 
   void solve(LoopUpdate& update);
-  /// Handles an accepted match between unrelated parts; true when it completed a join.
-  bool offerJoin(const LoopKeyframe& kf, const LoopKeyframe& cand, const LoopVerification& v,
-                 bool by_proximity, LoopUpdate& update);
+  /// Keeps an accepted match between unrelated parts as a pending join (false: too weak).
+  bool addJoinMatch(const LoopKeyframe& kf, const LoopKeyframe& cand, const LoopVerification& v,
+                    bool by_proximity);
+  /// After kf's joining matches were added: joins kf's part when enough of its keyframes agree
+  /// on one alignment and no pending match points elsewhere; true when it joined.
+  bool tryJoin(const LoopKeyframe& kf, LoopUpdate& update);
 };
 
 }  // namespace rgbdi::loop

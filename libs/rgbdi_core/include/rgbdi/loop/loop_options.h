@@ -38,6 +38,10 @@ struct LoopOptions {
   double relocalize_max_disagreement_deg = 3.0;  ///< [deg]
   /// ... among matches of at most this many of the part's latest loop keyframes.
   int relocalize_window_keyframes = 6;  ///< [count]
+  /// A part not yet joined (known so by the odometry thread) hands its keyframes to loop
+  /// closing as soon as they are sure to stay keyframes, with the window's current pose, not
+  /// when they leave the window: relocalisation a window (about 10 keyframes) earlier.
+  bool relocalize_from_window = true;
 
   LoopFeatureOptions features;
   PlaceRecognitionOptions place;

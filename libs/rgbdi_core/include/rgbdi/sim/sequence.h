@@ -46,8 +46,13 @@ struct SimOptions {
   double config_noise_inflation = 2.0;
   /// Render frames on a second thread while the consumer works on the previous one.
   bool prefetch_frames = true;
+  /// A forced tracking loss (lens covered, lights out): frames exposed in [start, start +
+  /// duration) of the sequence's time are black with no depth; the IMU is unaffected.
+  double blackout_start_s = 0.0;     ///< [s] since the first IMU sample
+  double blackout_duration_s = 0.0;  ///< [s] 0 = none
 
-  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls and
+  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls,
+  /// blackout_start_s, blackout_duration_s and
   /// the keys of
   /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
   /// [extrinsic]. The profile kind is not read (command line).
@@ -89,8 +94,11 @@ class SimulatedSequence {
   /// IMU-clock time at which frame i is exposed, and its (camera-clock) stamp.
   double frameExposureTime(std::size_t i) const;
   double frameStamp(std::size_t i) const { return frameExposureTime(i) - options_.time_offset_s; }
+  /// Whether frame i is exposed during the blackout.
+  bool inBlackout(std::size_t i) const;
   /// Renders frame i: colour with photometric noise, depth with D435-like noise in mm, both
-  /// cameras the configured colour camera (cam_color = cam_depth, depth aligned).
+  /// cameras the configured colour camera (cam_color = cam_depth, depth aligned). A frame in
+  /// the blackout is all black with depth 0 (no measurement).
   RgbdFrame renderFrame(std::size_t i) const;
   /// Same rendering without any noise: rgb CV_8UC3, depth CV_32FC1 in metres (0 = no hit).
   void renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const;
@@ -110,6 +118,8 @@ class SimulatedSequence {
   void pump(MeasurementSink& sink, const std::atomic<bool>* stop = nullptr) const;
 
  private:
+  void checkFrameIndex(std::size_t i) const;  ///< throws std::out_of_range
+
   SimOptions options_;
   MotionProfile profile_;
   std::unique_ptr<Scene> scene_;

@@ -120,8 +120,13 @@ class SlamSystem : public MeasurementSink {
   /// With a map: the run's state now (kNoMap otherwise).
   MapState mapState() const;
   bool hasMap() const { return options_.map != nullptr; }
-  /// [s] stamp (IMU clock) of the first relocalisation in the loaded map; < 0 when none.
+  /// [s] stamp (IMU clock) of the keyframe whose match relocalised the run in the loaded map
+  /// (the view that was recognised); < 0 when none.
   double firstRelocalisationTime() const;
+  /// [s] stamp (IMU clock) of the first frame whose online pose was in the map's frame: when a
+  /// robot running this had its pose in the map (the match above plus the time to find and
+  /// confirm it); < 0 when none.
+  double firstOnlinePoseInMapTime() const;
   /// Frame segment -> joined to the origin (the loaded map, or the run's first segment).
   bool segmentInOrigin(int segment) const;
   /// The map this run leaves (after endOfStream): the loaded map (if any) plus the run's
@@ -174,6 +179,9 @@ class SlamSystem : public MeasurementSink {
   std::vector<KeyframePacket> keyframe_states_;  ///< without images (kept for the outputs)
   std::vector<mrpt::obs::CObservation::Ptr> observations_;
   int frame_segment_ = 0;
+  /// Whether the odometry thread knows frame_segment_ to be placed in the origin's frame (from
+  /// the drift entries it reads at defined points): until then keyframes go out early.
+  bool frame_segment_placed_ = false;
   double travelled_m_ = 0.0;
   double last_keyframe_t_ = -1e300;
   Eigen::Vector3d last_keyframe_p_ = Eigen::Vector3d::Zero();

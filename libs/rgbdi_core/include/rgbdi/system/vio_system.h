@@ -44,6 +44,15 @@ class VioSystem : public MeasurementSink {
   using KeyframeCallback = std::function<void(const estimator::KeyframeState&, const RgbdFrame&,
                                               const frontend::FeatureFrame&)>;
   void setKeyframeCallback(KeyframeCallback cb) { keyframe_cb_ = std::move(cb); }
+  /// While `wanted(segment)` holds for the window's segment, the keyframe callback also gets the
+  /// window keyframes that can no longer be dropped (all but the two newest slots) as soon as
+  /// they are there, with the window's current pose, instead of when they leave the window. A
+  /// part of the run not yet placed in a map relocalises from what it sees now, not a window
+  /// later. Such a keyframe is handed out again when it leaves: the receiver skips keyframes
+  /// it has (by time).
+  void setEarlyKeyframes(std::function<bool(int segment)> wanted) {
+    early_wanted_ = std::move(wanted);
+  }
   /// All keyframes handed out so far (oldest first).
   const std::vector<estimator::KeyframeState>& keyframes() const { return keyframes_; }
 
@@ -70,6 +79,8 @@ class VioSystem : public MeasurementSink {
   };
   void processReady(bool flush);
   void emitKeyframes(std::vector<estimator::KeyframeState> kfs);
+  void emitEarlyKeyframes();
+  const Pending* recentFrame(std::uint64_t frame_index) const;
 
   SystemConfig cfg_;
   bool use_depth_;
@@ -82,6 +93,8 @@ class VioSystem : public MeasurementSink {
   std::size_t frames_received_ = 0, frames_dropped_ = 0;
   std::function<void(const estimator::FrameEstimate&, const RgbdFrame&)> frame_cb_;
   KeyframeCallback keyframe_cb_;
+  std::function<bool(int)> early_wanted_;
+  double last_early_t_ = -1e300;
   std::vector<estimator::KeyframeState> keyframes_;
   /// Recent frames by index, so a keyframe leaving the window can be handed out with its images
   /// (bounded: the window spans at most this many frames).

@@ -36,6 +36,9 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.config_noise_inflation =
       ini.getDouble(s, "config_noise_inflation", o.config_noise_inflation, 1.0, 100.0);
   o.scene.aliased_walls = ini.getBool(s, "aliased_walls", o.scene.aliased_walls);
+  o.blackout_start_s = ini.getDouble(s, "blackout_start_s", o.blackout_start_s, 0.0, 1.0e6);
+  o.blackout_duration_s =
+      ini.getDouble(s, "blackout_duration_s", o.blackout_duration_s, 0.0, 1.0e6);
   return o;
 }
 
@@ -45,6 +48,9 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
                                 std::to_string(options.fps) + ")");
   if (!options.camera.camera.valid())
     throw std::invalid_argument("SimulatedSequence: invalid camera intrinsics");
+  if (!(options.blackout_start_s >= 0.0) || !(options.blackout_duration_s >= 0.0) ||
+      !std::isfinite(options.blackout_start_s + options.blackout_duration_s))
+    throw std::invalid_argument("SimulatedSequence: blackout start and duration must be >= 0");
   if (options.start_time_s - options.time_offset_s <= 0.0)
     throw std::invalid_argument("SimulatedSequence: start_time_s - time_offset_s must be positive");
   // The dataset extrinsic is given to 7 digits (not exactly orthonormal): use the nearest
@@ -79,21 +85,38 @@ Eigen::Isometry3d SimulatedSequence::cameraPose(double t_imu) const {
   return trajectory().pose(t_imu - options_.start_time_s) * options_.extrinsic.T_body_cam;
 }
 
-void SimulatedSequence::renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const {
+void SimulatedSequence::checkFrameIndex(std::size_t i) const {
   if (i >= frame_count_)
     throw std::out_of_range("SimulatedSequence: frame " + std::to_string(i) + " of " +
                             std::to_string(frame_count_));
+}
+
+void SimulatedSequence::renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const {
+  checkFrameIndex(i);
   renderer_->render(cameraPose(frameExposureTime(i)), rgb, depth_m);
+}
+
+bool SimulatedSequence::inBlackout(std::size_t i) const {
+  const double t = static_cast<double>(i) / options_.fps;
+  return options_.blackout_duration_s > 0.0 && t >= options_.blackout_start_s &&
+         t < options_.blackout_start_s + options_.blackout_duration_s;
 }
 
 RgbdFrame SimulatedSequence::renderFrame(std::size_t i) const {
   RgbdFrame f;
-  cv::Mat depth_m;
-  renderIdeal(i, f.rgb, depth_m);
-  // One generator per frame, seeded from (seed, frame): frames are independent of order.
-  std::mt19937_64 rng(CounterRng(options_.seed, kFrameNoiseStream).bits(i));
-  f.depth = applyDepthNoise(depth_m, options_.depth_noise, rng);
-  applyColorNoise(f.rgb, options_.color_noise, rng);
+  if (inBlackout(i)) {
+    checkFrameIndex(i);
+    const int w = options_.camera.camera.width, h = options_.camera.camera.height;
+    f.rgb = cv::Mat::zeros(h, w, CV_8UC3);
+    f.depth = cv::Mat::zeros(h, w, CV_16UC1);
+  } else {
+    cv::Mat depth_m;
+    renderIdeal(i, f.rgb, depth_m);
+    // One generator per frame, seeded from (seed, frame): frames are independent of order.
+    std::mt19937_64 rng(CounterRng(options_.seed, kFrameNoiseStream).bits(i));
+    f.depth = applyDepthNoise(depth_m, options_.depth_noise, rng);
+    applyColorNoise(f.rgb, options_.color_noise, rng);
+  }
   f.t = frameStamp(i);
   f.index = i;
   f.depth_unit_m = 1e-3;

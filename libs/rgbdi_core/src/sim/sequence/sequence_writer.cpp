@@ -169,6 +169,9 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "start_time_s", iniNumber(o.start_time_s), "[s]");
   iniLine(os, "aliased_walls", o.scene.aliased_walls ? "true" : "false",
           "[bool] the +x wall repeats the -x wall (perceptual aliasing)");
+  iniLine(os, "blackout_start_s", iniNumber(o.blackout_start_s), "[s] since the start");
+  iniLine(os, "blackout_duration_s", iniNumber(o.blackout_duration_s),
+          "[s] frames black with no depth (0 = none)");
   iniLine(os, "duration_s", iniNumber(seq.duration()), "[s]");
   iniLine(os, "speed", toString(p.speed), "slow|normal|fast");
   iniLine(os, "speed_m_s", iniNumber(p.speed_m_s), "[m/s] 0 = profile default");

@@ -1,0 +1,194 @@
+// Time to first relocalisation in a saved map, on every simulator profile (issue 12). Per
+// profile a first run maps the profile's path (variant 0, default duration: at least one lap);
+// its map stays in memory (the same MapData rgbdi-slam saves and --load-map reads). Second runs
+// start in that map on other paths of the same world (variant 1: another start, driven the
+// other way round; variant 2: another start, same direction) and one run in another world (other
+// seed: other textures) must never relocalise. Printed per second run, as a markdown table:
+//   - "view at": when the recognised view was seen (the joining keyframe), s after the start;
+//   - "online from": when the online pose (what a robot has) was first in the map's frame;
+//   - ATE in the map's frame: the run's trajectory.tum poses mapped through the FIRST run's
+//     alignment to ground truth only (no alignment of their own), and of its online poses;
+//   - the worst error of the joining loop edges against ground truth (map keyframe at its
+//     first-run time, query keyframe at its time in the second run): a wrong join shows here;
+//   - wall time of the second run (threaded, offline mode, as fast as it goes).
+//
+//   bench_relocalise [--profiles a,b,...] [--fps N] [--duration S] [--variants 1,2]
+//                    [--seed N] [--other-seed N]
+// --duration is the second runs' length (default 10 s); the first run uses the profile's own.
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/eval/evaluate.h"
+#include "rgbdi/loop/loop_closer.h"
+#include "rgbdi/sim/profiles.h"
+#include "rgbdi/sim/sequence.h"
+#include "rgbdi/sim/sequence_writer.h"
+#include "rgbdi/system/slam_system.h"
+
+using namespace rgbdi;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Args {
+  std::vector<std::string> profiles = {"handheld", "wheeled_circle", "wheeled_slopes",
+                                       "tracked_slopes"};
+  std::vector<int> variants = {1, 2};
+  double fps = 15.0, duration = 10.0;
+  std::uint64_t seed = 1, other_seed = 7;
+};
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+sim::SimOptions simOptions(const std::string& profile, int variant, double duration_s, double fps,
+                           std::uint64_t seed) {
+  auto ini = IniReader::empty();
+  sim::SimOptions so = sim::SimOptions::load(ini);
+  so.profile.kind = sim::parseProfileKind(profile);
+  so.profile.variant = variant;
+  so.profile.duration_s = duration_s;
+  so.fps = fps;
+  so.seed = seed;
+  return so;
+}
+
+struct Session {
+  std::unique_ptr<sim::SimulatedSequence> seq;
+  std::unique_ptr<system::SlamSystem> sys;
+  double wall_s = 0.0;
+};
+
+Session runSession(const sim::SimOptions& so, std::shared_ptr<const map::MapData> map) {
+  Session s;
+  s.seq = std::make_unique<sim::SimulatedSequence>(so);
+  auto ini = IniReader::fromText(sim::slamConfigText(*s.seq), "generated config.ini");
+  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  system::SlamSystemOptions opt;
+  opt.map = std::move(map);
+  s.sys = std::make_unique<system::SlamSystem>(cfg, opt);
+  const auto t0 = Clock::now();
+  s.seq->pump(*s.sys);
+  s.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return s;
+}
+
+double ateThrough(const Trajectory& gt, const Trajectory& est, const Eigen::Isometry3d& T_gt_map) {
+  if (est.empty()) return -1.0;
+  Trajectory moved;
+  moved.reserve(est.size());
+  for (const StampedPose& p : est)
+    moved.push_back(StampedPose::fromIsometry(p.t, T_gt_map * p.isometry()));
+  eval::EvalOptions eo;
+  eo.align = eval::AlignMode::None;
+  return eval::evaluate(gt, moved, eo).ate.rmse;
+}
+
+std::string seconds(double t) {
+  if (t < 0.0) return "never";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2) << t;
+  return os.str();
+}
+
+std::string cm(double m) {
+  if (m < 0.0) return "-";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2) << 100.0 * m;
+  return os.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    const bool has = i + 1 < argc;
+    if (k == "--profiles" && has) {
+      a.profiles = splitList(argv[++i]);
+    } else if (k == "--variants" && has) {
+      a.variants.clear();
+      for (const std::string& v : splitList(argv[++i])) a.variants.push_back(std::stoi(v));
+    } else if (k == "--fps" && has) {
+      a.fps = std::stod(argv[++i]);
+    } else if (k == "--duration" && has) {
+      a.duration = std::stod(argv[++i]);
+    } else if (k == "--seed" && has) {
+      a.seed = std::stoull(argv[++i]);
+    } else if (k == "--other-seed" && has) {
+      a.other_seed = std::stoull(argv[++i]);
+    } else {
+      std::cerr << "usage: bench_relocalise [--profiles a,b,...] [--fps N] [--duration S] "
+                   "[--variants 1,2] [--seed N] [--other-seed N]\n";
+      return 2;
+    }
+  }
+
+  std::cout << "| profile | second run | view at [s] | online from [s] | joins | ATE map frame "
+               "[cm] | ATE online [cm] | worst join edge [cm] | wall [s] |\n"
+               "|---|---|---|---|---|---|---|---|---|\n";
+  for (const std::string& profile : a.profiles) {
+    const Session first = runSession(simOptions(profile, 0, 0.0, a.fps, a.seed), nullptr);
+    eval::EvalOptions eo;
+    eo.align = eval::AlignMode::PosYaw;
+    const eval::EvalResult ev =
+        eval::evaluate(first.seq->bodyTrajectory(), first.sys->finalTrajectory(), eo);
+    const Eigen::Isometry3d T_gt_map = ev.alignment.rigid();
+    const auto map = std::make_shared<const map::MapData>(first.sys->mapToSave());
+    std::cout << "| " << profile << " | first run (map): " << seconds(first.seq->duration())
+              << " s, " << map->places.size() << " place keyframes | | | | " << cm(ev.ate.rmse)
+              << " | | | " << seconds(first.wall_s) << " |\n";
+    std::unordered_map<std::uint64_t, double> map_t;  // map keyframe id -> first-run stamp
+    for (const loop::LoopKeyframe& k : map->places) map_t[k.id] = k.t;
+
+    struct Second {
+      std::string label;
+      sim::SimOptions so;
+    };
+    std::vector<Second> seconds_runs;
+    for (int v : a.variants)
+      seconds_runs.push_back(
+          {"variant " + std::to_string(v), simOptions(profile, v, a.duration, a.fps, a.seed)});
+    seconds_runs.push_back({"other world (seed " + std::to_string(a.other_seed) + ")",
+                            simOptions(profile, 0, a.duration, a.fps, a.other_seed)});
+    for (const Second& r : seconds_runs) {
+      const Session s = runSession(r.so, map);
+      const double t0 = s.seq->frameStamp(0);
+      const double t_view = s.sys->firstRelocalisationTime();
+      const double t_online = s.sys->firstOnlinePoseInMapTime();
+      const auto* lc = s.sys->loopCloser();
+      const Trajectory gt = s.seq->bodyTrajectory();
+      double worst_edge = -1.0;
+      if (lc)
+        for (const loop::LoopRecord& lr : lc->loops()) {
+          const auto it = map_t.find(lr.constraint.from_id);
+          if (it == map_t.end()) continue;  // a loop within the run
+          const Eigen::Isometry3d T_gt = first.seq->groundTruth(it->second).T_world_body.inverse() *
+                                         s.seq->groundTruth(lr.t_query).T_world_body;
+          const double e = (T_gt.inverse() * lr.constraint.T_from_to).translation().norm();
+          worst_edge = std::max(worst_edge, e);
+        }
+      std::cout << "| " << profile << " | " << r.label << " | "
+                << seconds(t_view < 0 ? -1.0 : t_view - t0) << " | "
+                << seconds(t_online < 0 ? -1.0 : t_online - t0) << " | "
+                << (lc ? lc->joins().size() : 0) << " | "
+                << cm(ateThrough(gt, s.sys->finalTrajectory(), T_gt_map)) << " | "
+                << cm(ateThrough(gt, s.sys->onlineTrajectory(), T_gt_map)) << " | "
+                << cm(worst_edge) << " | " << seconds(s.wall_s) << " |" << std::endl;
+    }
+  }
+  return 0;
+}
