@@ -72,8 +72,8 @@ endfunction()
 # rgbdi_add_test_costs(FILE): ctest COST of the discovered tests from FILE (lines "<seconds>
 # <test name>", '#' comments; scripts/test-costs.sh writes it from a run's measured times).
 # ctest -j starts the costliest tests first, so the suite does not end with one long test
-# running alone; on a machine without ctest's own cost data (a clean CI build) these figures
-# are all it has. RUN_SERIAL tests get a cost above every other: ctest starts a serial test
+# running alone. A clean CI tree has no timing data of its own, and where ctest has some (a
+# developer's build tree) a test's COST property takes precedence over it. RUN_SERIAL tests get a cost above every other: ctest starts a serial test
 # only on an idle machine, so they run first instead of waiting for the parallel tests to drain.
 # Call it after every rgbdi_add_test of the directory (its include file runs after theirs).
 function(rgbdi_add_test_costs FILE)
