@@ -5,9 +5,10 @@
 // --duration end the run with their documented status and every output written; sensors that
 // cannot be opened are named. Functional checks only: no wall time is asserted.
 //
-// The sequence is 320x240 at 10 Hz so that a loaded 2-core machine follows it in real time
-// (the accuracy comparison needs the live run to see nearly every image; 30 Hz 640x480 figures
-// are bench_live's job). The real-time test is RUN_SERIAL in CI (see tests/CMakeLists.txt).
+// The sequence is 320x240 at 10 Hz (live_camera_320x240.ini) so that a loaded 2-core machine
+// follows it in real time (the accuracy comparison needs the live run to see nearly every
+// image; 30 Hz 640x480 figures are bench_live's job). The real-time test is RUN_SERIAL in CI
+// (see tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -40,21 +41,12 @@ nlohmann::json readJson(const std::string& path) {
 
 std::string slam() { return binDir() + "/rgbdi-slam"; }
 
-/// The 30 s sequence shared by the tests of this file.
+/// The 30 s sequence shared by the tests of this file (rendered once per build: every test runs
+/// in its own process, and this file's tests run alone on the machine).
 const std::string& sequenceDir() {
-  static const std::string dir = [] {
-    const std::string d = makeTempDir("rgbdi_live_seq");
-    std::ofstream(d + "/camera.ini") << "[camera]\nwidth = 320\nheight = 240\nfx = 308.3\n"
-                                        "fy = 308.3\ncx = 162.1\ncy = 119.7\n";
-    std::string out;
-    const int rc = runCommand(binDir() +
-                                  "/rgbdi-sim --profile wheeled_slopes --duration 30 "
-                                  "--fps 10 --config " +
-                                  d + "/camera.ini --out " + d + "/seq 2>&1",
-                              &out);
-    if (rc != 0) throw std::runtime_error("rgbdi-sim failed: " + out);
-    return d + "/seq";
-  }();
+  static const std::string dir = rgbdi::test::cachedSimSequence(
+      "--profile wheeled_slopes --duration 30 --fps 10 --config " + rgbdi::test::sourceDir() +
+      "/tests/apps/live_camera_320x240.ini");
   return dir;
 }
 

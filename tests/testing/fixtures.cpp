@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 namespace rgbdi::test {
@@ -41,9 +43,8 @@ std::string makeTempDir(const std::string& prefix) {
   static std::atomic<int> counter{0};
   namespace fs = std::filesystem;
   for (int attempt = 0; attempt < 1000; ++attempt) {
-    const fs::path p = fs::temp_directory_path() /
-                       (prefix + "_" + std::to_string(::getpid()) + "_" +
-                        std::to_string(counter++));
+    const fs::path p = fs::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()) +
+                                                    "_" + std::to_string(counter++));
     if (fs::create_directory(p)) return p.string();
   }
   throw std::runtime_error("cannot create temp dir for " + prefix);
@@ -61,16 +62,36 @@ int runCommand(const std::string& cmd, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+namespace {
+/// The content of the file named by `--config FILE` (or `--config=FILE`) in `args`, "" if none.
+std::string configFileContent(const std::string& args) {
+  std::istringstream words(args);
+  std::string word, path;
+  while (words >> word) {
+    if (word == "--config") {
+      words >> path;
+    } else if (word.rfind("--config=", 0) == 0) {
+      path = word.substr(9);
+    }
+  }
+  if (path.empty()) return "";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cachedSimSequence: cannot read --config " + path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+}  // namespace
+
 std::string cachedSimSequence(const std::string& args) {
   namespace fs = std::filesystem;
   const std::string sim = binDir() + "/rgbdi-sim";
   struct stat st {};
   if (::stat(sim.c_str(), &st) != 0) throw std::runtime_error("rgbdi-sim not built: " + sim);
-  // The key names the arguments and the simulator build, so a rebuilt simulator never serves an
-  // old sequence.
-  const std::string key = std::to_string(std::hash<std::string>{}(args)) + "_" +
-                          std::to_string(static_cast<long long>(st.st_mtime)) + "_" +
-                          std::to_string(static_cast<long long>(st.st_size));
+  // The key names the arguments (with the content of their --config file) and the simulator
+  // build, so neither an edited config nor a rebuilt simulator ever serves an old sequence.
+  const std::string key =
+      std::to_string(std::hash<std::string>{}(args + "\n" + configFileContent(args))) + "_" +
+      std::to_string(static_cast<long long>(st.st_mtime)) + "_" +
+      std::to_string(static_cast<long long>(st.st_size));
   const fs::path root = fs::path(binDir()).parent_path() / "test-cache";
   fs::create_directories(root);
   const fs::path dir = root / key;

@@ -23,21 +23,21 @@ std::string makeTempDir(const std::string& prefix);
 /// Runs a shell command, returns its exit status; stdout+stderr captured into `output`.
 int runCommand(const std::string& cmd, std::string* output = nullptr);
 /// The directory of a sequence written by `rgbdi-sim ARGS --out DIR`, generated once per build of
-/// rgbdi-sim and shared by every test process that asks for the same arguments (ctest runs each
-/// test in its own process; rendering dominates the cost of the app tests). The directory is
-/// read-only by convention: tests write their outputs elsewhere. Generation is guarded by a file
-/// lock and published by a rename, so concurrent tests never see a partial sequence. Throws with
-/// the simulator's output when it fails.
+/// rgbdi-sim (and content of the file ARGS name with --config) and shared by every test process
+/// that asks for the same arguments (ctest runs each test in its own process; rendering dominates
+/// the cost of the app tests). The directory is read-only by convention: tests write their outputs
+/// elsewhere. Generation is guarded by a file lock and published by a rename, so concurrent tests
+/// never see a partial sequence. Throws with the simulator's output when it fails.
 std::string cachedSimSequence(const std::string& args);
 
 }  // namespace rgbdi::test
 
 /// Use at the top of a test that needs a fixture: fails under CI when it is missing, skips
 /// (with a message) on a developer machine without ../shared/data.
-#define RGBDI_REQUIRE_FIXTURE(path)                                                    \
-  do {                                                                                 \
-    if (!std::ifstream(path).good()) {                                                 \
+#define RGBDI_REQUIRE_FIXTURE(path)                                                 \
+  do {                                                                              \
+    if (!std::ifstream(path).good()) {                                              \
       if (::rgbdi::test::inCi()) FAIL() << "fixture missing (CI is set): " << path; \
-      GTEST_SKIP() << "fixture missing: " << path;                                     \
-    }                                                                                  \
+      GTEST_SKIP() << "fixture missing: " << path;                                  \
+    }                                                                               \
   } while (0)
