@@ -117,7 +117,8 @@ class PointMap {
   const std::vector<WorldPoint>& points() const;
   /// Number of points in the leaf containing p_world (0 when there is none).
   std::size_t pointsInLeafAt(const Eigen::Vector3d& p_world) const;
-  /// Centre of the leaf containing p_world (for tests and tools).
+  /// Centre of the leaf containing p_world (for tests and tools). Throws std::invalid_argument
+  /// beyond the map's extent.
   Eigen::Vector3d leafCenterAt(const Eigen::Vector3d& p_world) const;
 
   const PointMapStats& stats() const;

@@ -1,0 +1,109 @@
+// A flat open-addressing hash table from 64-bit keys to 32-bit indices (linear probing, load
+// kept under one half, deletion by backward shift so no tombstones accumulate). The point map
+// finds a leaf by its packed OctoMap key in one or two probes of contiguous arrays, where an
+// octree descent chases one pointer per level (16 at 2 cm). Internal to the mapping stage.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace rgbdi::mapping::detail {
+
+class KeyIndexTable {
+ public:
+  /// Reserved: never a key of the table.
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+  KeyIndexTable() { reset(16); }
+
+  void clear() { reset(16); }
+  std::size_t size() const { return used_; }
+  std::size_t bytes() const {
+    return keys_.capacity() * sizeof(std::uint64_t) + values_.capacity() * sizeof(std::uint32_t);
+  }
+
+  /// The value of `key`, or nullptr.
+  std::uint32_t* find(std::uint64_t key) {
+    for (std::size_t i = home(key);; i = (i + 1) & mask_) {
+      if (keys_[i] == key) return &values_[i];
+      if (keys_[i] == kEmpty) return nullptr;
+    }
+  }
+  const std::uint32_t* find(std::uint64_t key) const {
+    return const_cast<KeyIndexTable*>(this)->find(key);
+  }
+
+  /// The value of `key`, inserting `value` when the key is absent; `added` says which.
+  std::uint32_t& findOrInsert(std::uint64_t key, std::uint32_t value, bool& added) {
+    for (std::size_t i = home(key);; i = (i + 1) & mask_) {
+      if (keys_[i] == key) {
+        added = false;
+        return values_[i];
+      }
+      if (keys_[i] == kEmpty) {
+        if (2 * (used_ + 1) > keys_.size()) {
+          grow();
+          return findOrInsert(key, value, added);
+        }
+        ++used_;
+        keys_[i] = key;
+        values_[i] = value;
+        added = true;
+        return values_[i];
+      }
+    }
+  }
+
+  /// Removes `key`; false when it is absent. Later entries of the probe run move back into the
+  /// hole when their home slot allows it, so lookups never need tombstones.
+  bool erase(std::uint64_t key) {
+    std::size_t i = home(key);
+    while (keys_[i] != key) {
+      if (keys_[i] == kEmpty) return false;
+      i = (i + 1) & mask_;
+    }
+    for (std::size_t j = (i + 1) & mask_; keys_[j] != kEmpty; j = (j + 1) & mask_) {
+      const std::size_t h = home(keys_[j]);
+      // Entry j may fill hole i only if its home is not cyclically in (i, j].
+      const bool home_in_between = i <= j ? (i < h && h <= j) : (i < h || h <= j);
+      if (home_in_between) continue;
+      keys_[i] = keys_[j];
+      values_[i] = values_[j];
+      i = j;
+    }
+    keys_[i] = kEmpty;
+    --used_;
+    return true;
+  }
+
+ private:
+  void reset(std::size_t n) {
+    keys_.assign(n, kEmpty);
+    values_.assign(n, 0);
+    mask_ = n - 1;
+    shift_ = 64;
+    for (std::size_t s = n; s > 1; s >>= 1) --shift_;
+    used_ = 0;
+  }
+  std::size_t home(std::uint64_t k) const {
+    return static_cast<std::size_t>((k * 0x9e3779b97f4a7c15ull) >> shift_);  // Fibonacci hashing
+  }
+  void grow() {
+    std::vector<std::uint64_t> old_keys;
+    std::vector<std::uint32_t> old_values;
+    old_keys.swap(keys_);
+    old_values.swap(values_);
+    reset(2 * old_keys.size());
+    bool added = false;
+    for (std::size_t i = 0; i < old_keys.size(); ++i)
+      if (old_keys[i] != kEmpty) findOrInsert(old_keys[i], old_values[i], added);
+  }
+
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> values_;
+  std::size_t mask_ = 0, used_ = 0;
+  int shift_ = 60;
+};
+
+}  // namespace rgbdi::mapping::detail
