@@ -145,6 +145,7 @@ void CellBlocks::discardChanges() {
 }
 
 void CellBlocks::clear() {
+  cached_key_ = KeyIndexTable::kEmpty;
   index_.clear();
   blocks_.clear();
   changed_blocks_.clear();

@@ -59,6 +59,10 @@ class CellBlocks {
   KeyIndexTable index_;
   std::vector<Block> blocks_;
   std::vector<std::uint32_t> changed_blocks_;  ///< blocks with changed != 0
+  // The block of the last add(): a keyframe's points arrive in image order, mostly in the
+  // block of the point before.
+  std::uint64_t cached_key_ = KeyIndexTable::kEmpty;
+  std::uint32_t cached_block_ = 0;
 };
 
 }  // namespace rgbdi::mapping::detail

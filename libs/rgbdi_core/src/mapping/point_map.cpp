@@ -33,8 +33,7 @@ std::uint32_t PointMapState::leafAt(const Eigen::Vector3d& p_world) {
 }
 
 std::uint32_t PointMapState::findLeaf(const LeafKey& key) const {
-  const std::uint32_t* leaf = leaf_of_key.find(key.packed());
-  return leaf ? *leaf : kNone;
+  return leaf_of_key.find(key.packed());  // LeafIndex::kAbsent == kNone
 }
 
 void PointMapState::appendPoint(std::uint32_t leaf, const Eigen::Vector3d& p_world, const Rgb& rgb,
@@ -93,7 +92,7 @@ void PointMapState::removeEmptyLeaf(std::uint32_t leaf) {
   const auto last = static_cast<std::uint32_t>(leaves.size() - 1);
   if (last != leaf) {  // the last record fills the slot: its key and points follow
     leaves[leaf] = leaves[last];
-    *leaf_of_key.find(leaves[leaf].key) = leaf;
+    leaf_of_key.set(leaves[leaf].key, leaf);
     for (std::uint32_t j = leaves[leaf].head; j != kNone; j = point_next[j]) point_leaf[j] = leaf;
   }
   leaves.pop_back();

@@ -18,7 +18,7 @@
 
 #include "mapping/cell_blocks.h"
 #include "mapping/depth_grid_sampler.h"
-#include "mapping/key_index_table.h"
+#include "mapping/leaf_index.h"
 #include "rgbdi/mapping/map_point.h"
 #include "rgbdi/mapping/mapping_options.h"
 #include "rgbdi/mapping/point_map.h"
@@ -26,6 +26,7 @@
 namespace rgbdi::mapping::detail {
 
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+static_assert(LeafIndex::kAbsent == kNone);
 
 /// OctoMap's key convention at the finest depth (16 levels): floor(coordinate / resolution)
 /// + 32768, valid in [0, 65535]; the extent is +-655 m at 2 cm.
@@ -96,7 +97,7 @@ struct PointMapState {
   DepthGridSampler sampler;
   LeafGrid grid;
   std::uint32_t capacity;
-  KeyIndexTable leaf_of_key;  ///< packed LeafKey -> leaf record
+  LeafIndex leaf_of_key;  ///< packed LeafKey -> leaf record
   std::vector<LeafRecord> leaves;
   std::vector<WorldPoint> points;
   std::vector<std::uint32_t> point_leaf;  ///< leaf record of each point
