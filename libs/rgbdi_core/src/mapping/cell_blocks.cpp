@@ -145,7 +145,7 @@ void CellBlocks::discardChanges() {
 }
 
 void CellBlocks::clear() {
-  cached_key_ = KeyIndexTable::kEmpty;
+  cache_.clear();
   index_.clear();
   blocks_.clear();
   changed_blocks_.clear();

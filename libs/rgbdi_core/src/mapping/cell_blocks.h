@@ -59,10 +59,9 @@ class CellBlocks {
   KeyIndexTable index_;
   std::vector<Block> blocks_;
   std::vector<std::uint32_t> changed_blocks_;  ///< blocks with changed != 0
-  // The block of the last add(): a keyframe's points arrive in image order, mostly in the
-  // block of the point before.
-  std::uint64_t cached_key_ = KeyIndexTable::kEmpty;
-  std::uint32_t cached_block_ = 0;
+  // Blocks of recent add() calls: a keyframe's points arrive in image order, mostly in a
+  // block used a moment ago.
+  BlockCache cache_;
 };
 
 }  // namespace rgbdi::mapping::detail

@@ -4,6 +4,7 @@
 // octree descent chases one pointer per level (16 at 2 cm). Internal to the mapping stage.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -104,6 +105,37 @@ class KeyIndexTable {
   std::vector<std::uint32_t> values_;
   std::size_t mask_ = 0, used_ = 0;
   int shift_ = 60;
+};
+
+/// A direct-mapped cache of recently used block keys -> block indices in front of a
+/// KeyIndexTable, for keys packing three 16-bit block coordinates: the slot is picked by the
+/// two low bits of each coordinate, so the blocks around the last few looked up (the next row of
+/// a keyframe's image grid lands in them again) are found without touching the table.
+class BlockCache {
+ public:
+  BlockCache() { clear(); }
+  void clear() {
+    keys_.fill(KeyIndexTable::kEmpty);
+    values_.fill(0);
+  }
+  /// The cached value of `key`, or nullptr.
+  const std::uint32_t* find(std::uint64_t key) const {
+    const std::size_t s = slot(key);
+    return keys_[s] == key ? &values_[s] : nullptr;
+  }
+  void put(std::uint64_t key, std::uint32_t value) {
+    const std::size_t s = slot(key);
+    keys_[s] = key;
+    values_[s] = value;
+  }
+
+ private:
+  static std::size_t slot(std::uint64_t key) {
+    return static_cast<std::size_t>(((key >> 32) & 3) | (((key >> 16) & 3) << 2) |
+                                    ((key & 3) << 4));
+  }
+  std::array<std::uint64_t, 64> keys_;
+  std::array<std::uint32_t, 64> values_;
 };
 
 }  // namespace rgbdi::mapping::detail

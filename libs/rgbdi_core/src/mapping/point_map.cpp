@@ -25,23 +25,19 @@ std::uint32_t PointMapState::ordinalOf(std::uint64_t id) {
 std::uint32_t PointMapState::leafAt(const Eigen::Vector3d& p_world) {
   LeafKey key;
   if (!grid.keyOf(p_world, key)) return kNone;
-  bool added = false;
-  const std::uint32_t leaf =
-      leaf_of_key.findOrInsert(key.packed(), static_cast<std::uint32_t>(leaves.size()), added);
-  if (added) leaves.push_back({key.packed(), 0, kNone});
-  return leaf;
+  return leaves.touch(key.packed());
 }
 
 std::uint32_t PointMapState::findLeaf(const LeafKey& key) const {
-  return leaf_of_key.find(key.packed());  // LeafIndex::kAbsent == kNone
+  return leaves.find(key.packed());
 }
 
 void PointMapState::appendPoint(std::uint32_t leaf, const Eigen::Vector3d& p_world, const Rgb& rgb,
                                 PointSource src) {
   const auto j = static_cast<std::uint32_t>(points.size());
-  LeafRecord& l = leaves[leaf];
-  ++l.count;
-  cells.add(LeafKey::unpack(l.key).cell(), 1);
+  LeafBlocks::Leaf& l = leaves[leaf];
+  if (l.count++ == 0) ++leaf_count;
+  cells.add(cellOfLeaf(leaf), 1);
   points.push_back({p_world.cast<float>(), rgb});
   point_leaf.push_back(leaf);
   point_next.push_back(l.head);
@@ -56,25 +52,44 @@ void PointMapState::appendPoint(std::uint32_t leaf, const Eigen::Vector3d& p_wor
   slots[src.index] = j;
 }
 
-void PointMapState::removePoint(std::uint32_t j) {
+void PointMapState::detachPoint(std::uint32_t j) {
   // Unlink j from its leaf (lists hold at most max_points_per_leaf points).
-  LeafRecord& l = leaves[point_leaf[j]];
+  const std::uint32_t leaf = point_leaf[j];
+  LeafBlocks::Leaf& l = leaves[leaf];
   std::uint32_t* link = &l.head;
   while (*link != j) link = &point_next[*link];
   *link = point_next[j];
-  --l.count;
-  cells.add(LeafKey::unpack(l.key).cell(), -1);
+  if (--l.count == 0) --leaf_count;
+  cells.add(cellOfLeaf(leaf), -1);
+  point_leaf[j] = kNone;
+}
+
+void PointMapState::attachPoint(std::uint32_t j, std::uint32_t leaf,
+                                const Eigen::Vector3d& p_world) {
+  LeafBlocks::Leaf& l = leaves[leaf];
+  if (l.count++ == 0) ++leaf_count;
+  cells.add(cellOfLeaf(leaf), 1);
+  points[j].p_world = p_world.cast<float>();
+  point_leaf[j] = leaf;
+  point_next[j] = l.head;
+  l.head = j;
+}
+
+void PointMapState::removePoint(std::uint32_t j) {
+  if (point_leaf[j] != kNone) detachPoint(j);
   const PointSource src = point_src[j];
   if (src.ordinal == kNone)
     --untracked_points;
   else
     keyframe_slots[src.ordinal][src.index] = kNone;
-  // The last point fills the slot: relink it and tell its keyframe.
+  // The last point fills the slot: relink it (unless detached) and tell its keyframe.
   const auto last = static_cast<std::uint32_t>(points.size() - 1);
   if (last != j) {
-    link = &leaves[point_leaf[last]].head;
-    while (*link != last) link = &point_next[*link];
-    *link = j;
+    if (point_leaf[last] != kNone) {
+      std::uint32_t* link = &leaves[point_leaf[last]].head;
+      while (*link != last) link = &point_next[*link];
+      *link = j;
+    }
     points[j] = points[last];
     point_leaf[j] = point_leaf[last];
     point_next[j] = point_next[last];
@@ -87,17 +102,6 @@ void PointMapState::removePoint(std::uint32_t j) {
   point_src.pop_back();
 }
 
-void PointMapState::removeEmptyLeaf(std::uint32_t leaf) {
-  leaf_of_key.erase(leaves[leaf].key);
-  const auto last = static_cast<std::uint32_t>(leaves.size() - 1);
-  if (last != leaf) {  // the last record fills the slot: its key and points follow
-    leaves[leaf] = leaves[last];
-    leaf_of_key.set(leaves[leaf].key, leaf);
-    for (std::uint32_t j = leaves[leaf].head; j != kNone; j = point_next[j]) point_leaf[j] = leaf;
-  }
-  leaves.pop_back();
-}
-
 InsertResult PointMapState::insert(const Eigen::Vector3d& p_world, const Rgb& rgb,
                                    PointSource src) {
   const std::uint32_t leaf = leafAt(p_world);
@@ -108,8 +112,8 @@ InsertResult PointMapState::insert(const Eigen::Vector3d& p_world, const Rgb& rg
 }
 
 void PointMapState::clearGeometry() {
-  leaf_of_key.clear();
   leaves.clear();
+  leaf_count = 0;
   points.clear();
   point_leaf.clear();
   point_next.clear();
@@ -142,7 +146,6 @@ void PointMapState::dropIsolatedLeaves(std::vector<PointSource>& drops, RebuildR
         drops.push_back(point_src[j]);
         removePoint(j);
       }
-      removeEmptyLeaf(leaf);
     }
 }
 
@@ -179,7 +182,6 @@ void PointMapState::applyDrops(std::vector<PointSource>& drops, KeyframeStore& s
 }  // namespace detail
 
 using detail::InsertResult;
-using detail::LeafRecord;
 using detail::PointSource;
 
 PointMap::PointMap(const MappingOptions& options) {
@@ -307,7 +309,7 @@ void PointMap::clear() {
 }
 
 std::size_t PointMap::pointCount() const { return impl_->points.size(); }
-std::size_t PointMap::leafCount() const { return impl_->leaves.size(); }
+std::size_t PointMap::leafCount() const { return impl_->leaf_count; }
 const std::vector<WorldPoint>& PointMap::points() const { return impl_->points; }
 const PointMapStats& PointMap::stats() const { return impl_->stats; }
 const RebuildReport& PointMap::lastRebuild() const { return impl_->last_rebuild; }
@@ -331,8 +333,8 @@ std::size_t PointMap::memoryBytes() const {
   std::size_t slots = m.keyframe_slots.capacity() * sizeof(std::vector<std::uint32_t>);
   for (const std::vector<std::uint32_t>& s : m.keyframe_slots)
     slots += s.capacity() * sizeof(std::uint32_t);
-  return sizeof(PointMap) + sizeof(Impl) + m.leaf_of_key.bytes() +
-         m.leaves.capacity() * sizeof(LeafRecord) + m.points.capacity() * sizeof(WorldPoint) +
+  return sizeof(PointMap) + sizeof(Impl) + m.leaves.bytes() +
+         m.points.capacity() * sizeof(WorldPoint) +
          m.point_leaf.capacity() * sizeof(std::uint32_t) +
          m.point_next.capacity() * sizeof(std::uint32_t) +
          m.point_src.capacity() * sizeof(PointSource) + m.scratch.capacity() * sizeof(MapPoint) +

@@ -2,11 +2,11 @@
 // update after a loop (point_map_update.cpp). Internal to the mapping stage.
 //
 // Leaves are the finest cells of an OctoMap-keyed octree (key = floor(x / resolution) + 32768
-// per axis, 16 bits), found through a hash table of their packed keys: the point map only ever
-// needs the leaf of a point, never the inner nodes. Points are dense arrays; each leaf threads
-// its points in a singly linked list, each keyframe lists the map slots of its kept points, and
-// a removed point's slot is filled by the last point. So a point's removal, an eviction from a
-// full leaf and a leaf's removal cost O(points per leaf), and update() touches only what moved.
+// per axis, 16 bits), kept in hashed blocks of 4 x 4 x 4 (leaf_blocks.h): the point map only
+// ever needs the leaf of a point, never the inner nodes. Points are dense arrays; each leaf
+// threads its points in a singly linked list, each keyframe lists the map slots of its kept
+// points, and a removed point's slot is filled by the last point. So a point's removal and an
+// eviction from a full leaf cost O(points per leaf), and update() touches only what moved.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,7 +18,7 @@
 
 #include "mapping/cell_blocks.h"
 #include "mapping/depth_grid_sampler.h"
-#include "mapping/leaf_index.h"
+#include "mapping/leaf_blocks.h"
 #include "rgbdi/mapping/map_point.h"
 #include "rgbdi/mapping/mapping_options.h"
 #include "rgbdi/mapping/point_map.h"
@@ -26,7 +26,7 @@
 namespace rgbdi::mapping::detail {
 
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-static_assert(LeafIndex::kAbsent == kNone);
+static_assert(LeafBlocks::kNoLeaf == kNone);
 
 /// OctoMap's key convention at the finest depth (16 levels): floor(coordinate / resolution)
 /// + 32768, valid in [0, 65535]; the extent is +-655 m at 2 cm.
@@ -71,12 +71,6 @@ class LeafGrid {
   double resolution_, factor_;
 };
 
-struct LeafRecord {
-  std::uint64_t key = 0;       ///< packed LeafKey
-  std::uint32_t count = 0;     ///< points in the leaf
-  std::uint32_t head = kNone;  ///< first point of the leaf's list
-};
-
 /// Origin of a map point: keyframe (an ordinal of PointMapState::ordinal_id) and the index of
 /// the point in that keyframe's kept points. ordinal kNone: inserted without a keyframe id.
 struct PointSource {
@@ -97,10 +91,10 @@ struct PointMapState {
   DepthGridSampler sampler;
   LeafGrid grid;
   std::uint32_t capacity;
-  LeafIndex leaf_of_key;  ///< packed LeafKey -> leaf record
-  std::vector<LeafRecord> leaves;
+  LeafBlocks leaves;           ///< by packed LeafKey; a leaf with count 0 does not exist
+  std::size_t leaf_count = 0;  ///< leaves holding points
   std::vector<WorldPoint> points;
-  std::vector<std::uint32_t> point_leaf;  ///< leaf record of each point
+  std::vector<std::uint32_t> point_leaf;  ///< leaf of each point (kNone: detached, in update())
   std::vector<std::uint32_t> point_next;  ///< next point of the same leaf (kNone: last)
   std::vector<PointSource> point_src;     ///< origin of each point
   std::size_t untracked_points = 0;       ///< points inserted without a keyframe id
@@ -115,16 +109,23 @@ struct PointMapState {
   std::vector<MapPoint> scratch;  ///< grid samples of the current frame (reused allocation)
 
   std::uint32_t ordinalOf(std::uint64_t id);
-  /// Finds or creates the leaf of p_world; kNone when p_world is beyond the extent.
+  /// The leaf of p_world (possibly empty); kNone when p_world is beyond the extent.
   std::uint32_t leafAt(const Eigen::Vector3d& p_world);
-  /// The leaf of a key, or kNone.
+  /// The leaf of a key if it holds points, or kNone.
   std::uint32_t findLeaf(const LeafKey& key) const;
   void appendPoint(std::uint32_t leaf, const Eigen::Vector3d& p_world, const Rgb& rgb,
                    PointSource src);
-  /// Takes point j out of its leaf and out of the map (the last point fills its slot). The
-  /// leaf stays, possibly empty: removeEmptyLeaf() is the caller's choice.
+  /// Takes point j out of its leaf and out of the map (the last point fills its slot); a leaf
+  /// left without points is no leaf any more. j may be detached.
   void removePoint(std::uint32_t j);
-  void removeEmptyLeaf(std::uint32_t leaf);
+  /// Takes point j out of its leaf but keeps its slot (point_leaf kNone: detached), to be
+  /// attached again at a corrected position or removed.
+  void detachPoint(std::uint32_t j);
+  /// Puts the detached point j into `leaf` at p_world.
+  void attachPoint(std::uint32_t j, std::uint32_t leaf, const Eigen::Vector3d& p_world);
+  CellCoord cellOfLeaf(std::uint32_t leaf) const {
+    return LeafKey::unpack(leaves.keyOf(leaf)).cell();
+  }
   InsertResult insert(const Eigen::Vector3d& p_world, const Rgb& rgb, PointSource src);
   void clearGeometry();
 

@@ -13,7 +13,6 @@
 namespace rgbdi::mapping {
 
 using detail::kNone;
-using detail::LeafKey;
 using detail::PointMapState;
 using detail::PointSource;
 
@@ -56,17 +55,11 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
             [&](std::uint32_t a, std::uint32_t b) { return m.ordinal_id[a] < m.ordinal_id[b]; });
   moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
 
-  // 1. The moved keyframes' points leave the map; leaves they empty are noted (they go unless
-  // a re-inserted point lands there again: rebuild() would not create an empty leaf).
-  std::vector<std::uint64_t> emptied;
-  for (std::uint32_t o : moved) {
-    std::vector<std::uint32_t>& slots = m.keyframe_slots[o];
-    for (std::size_t i = 0; i < slots.size(); ++i) {
-      const std::uint32_t leaf = m.point_leaf[slots[i]];
-      m.removePoint(slots[i]);  // may move a later point of this keyframe: slots stay current
-      if (m.leaves[leaf].count == 0) emptied.push_back(m.leaves[leaf].key);
-    }
-  }
+  // 1. The moved keyframes' points leave their leaves but keep their slots, which they take
+  // again when re-inserted (no slot moves for them). A leaf left empty is no leaf, as in a
+  // rebuild, unless a re-inserted point lands there again.
+  for (std::uint32_t o : moved)
+    for (std::uint32_t j : m.keyframe_slots[o]) m.detachPoint(j);
 
   // 2. Re-insert them at their new poses. A full leaf keeps the points that come first in
   // (id, index) order: the arriving point replaces the leaf's last one if it comes before it.
@@ -85,6 +78,7 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
       if (leaf == kNone) {
         ++report.outside_extent;
         drops.push_back(src);
+        m.removePoint(m.keyframe_slots[o][i]);
         continue;
       }
       if (m.leaves[leaf].count >= m.capacity) {
@@ -94,17 +88,14 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
           if (before(m.point_src[last], m.point_src[j])) last = j;
         if (!before(src, m.point_src[last])) {
           drops.push_back(src);
+          m.removePoint(m.keyframe_slots[o][i]);
           continue;
         }
         drops.push_back(m.point_src[last]);
-        m.removePoint(last);
+        m.removePoint(last);  // may move a detached point: its keyframe's slots follow
       }
-      m.appendPoint(leaf, p_world, p.rgb, src);
+      m.attachPoint(m.keyframe_slots[o][i], leaf, p_world);
     }
-  }
-  for (std::uint64_t key : emptied) {
-    const std::uint32_t leaf = m.findLeaf(LeafKey::unpack(key));
-    if (leaf != kNone && m.leaves[leaf].count == 0) m.removeEmptyLeaf(leaf);
   }
 
   // 3. The isolated-leaf rule where anything changed since it last ran (insertions between
