@@ -176,6 +176,25 @@ void reportLoopUpdate(const Args& args_, const mapping::MappingOptions& base_,
               << update_ms << " | " << update_ms * per_m << " | " << rebuild_ms << " | "
               << rebuild_ms * per_m << " | " << (same ? "yes" : "NO") << " |\n";
   }
+  // What the map and the keyframes behind it hold (capacity-based estimates, as summary.json).
+  mapping::PointMap map(base_);
+  mapping::KeyframeStore store;
+  for (const mapping::Keyframe& kf : source.keyframes()) {
+    mapping::Keyframe k = kf;
+    k.points = map.insertPoints(kf.points, kf.T_world_cam, kf.id);
+    store.add(std::move(k));
+  }
+  map.update(store, {});
+  std::cout << std::setprecision(1) << "memory: map " << map.memoryBytes() / 1048576.0 << " MiB, "
+            << static_cast<double>(map.memoryBytes()) /
+                   static_cast<double>(std::max<std::size_t>(map.pointCount(), 1))
+            << " B per point (" << map.pointCount() << " points, " << map.leafCount()
+            << " leaves); keyframe store "
+            << static_cast<double>(store.memoryBytes()) / static_cast<double>(store.size())
+            << " B per keyframe (record " << sizeof(mapping::Keyframe) << " B, "
+            << sizeof(mapping::MapPoint) << " B per kept point, "
+            << sizeof(mapping::KeyframeFeature)
+            << " B per feature; these keyframes carry no features)\n";
 }
 
 class Bench {
