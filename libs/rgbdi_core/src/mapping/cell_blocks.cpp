@@ -32,13 +32,16 @@ std::uint32_t CellBlocks::findBlock(int bx, int by, int bz) const {
 }
 
 std::uint32_t CellBlocks::findOrAddBlock(int bx, int by, int bz) {
+  const std::uint64_t key = blockKey(bx, by, bz);
+  if (const std::uint32_t* cached = cache_.find(key)) return *cached;
   bool added = false;
   const std::uint32_t b =
-      index_.findOrInsert(blockKey(bx, by, bz), static_cast<std::uint32_t>(blocks_.size()), added);
+      index_.findOrInsert(key, static_cast<std::uint32_t>(blocks_.size()), added);
   if (added) {
-    blocks_.emplace_back();
-    blocks_.back().key = blockKey(bx, by, bz);
+    blocks_.emplaceBack();
+    blocks_.back().key = key;
   }
+  cache_.put(key, b);
   return b;
 }
 
@@ -152,8 +155,7 @@ void CellBlocks::clear() {
 }
 
 std::size_t CellBlocks::bytes() const {
-  return index_.bytes() + blocks_.capacity() * sizeof(Block) +
-         changed_blocks_.capacity() * sizeof(std::uint32_t);
+  return index_.bytes() + blocks_.bytes() + changed_blocks_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace rgbdi::mapping::detail

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mapping/chunked_vector.h"
 #include "mapping/key_index_table.h"
 
 namespace rgbdi::mapping::detail {
@@ -57,7 +58,7 @@ class CellBlocks {
 
   static constexpr std::uint32_t kNoBlock = ~std::uint32_t{0};
   KeyIndexTable index_;
-  std::vector<Block> blocks_;
+  ChunkedVector<Block, 256> blocks_;
   std::vector<std::uint32_t> changed_blocks_;  ///< blocks with changed != 0
   // Blocks of recent add() calls: a keyframe's points arrive in image order, mostly in a
   // block used a moment ago.

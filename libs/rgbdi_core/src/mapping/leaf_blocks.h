@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mapping/chunked_vector.h"
 #include "mapping/key_index_table.h"
 
 namespace rgbdi::mapping::detail {
@@ -47,7 +48,7 @@ class LeafBlocks {
       bool added = false;
       block = table_.findOrInsert(b, static_cast<std::uint32_t>(blocks_.size()), added);
       if (added) {
-        blocks_.emplace_back();
+        blocks_.emplaceBack();
         blocks_.back().key = b;
       }
       cache_.put(b, block);
@@ -72,7 +73,7 @@ class LeafBlocks {
     cache_.clear();
   }
   std::size_t blockCount() const { return blocks_.size(); }
-  std::size_t bytes() const { return table_.bytes() + blocks_.capacity() * sizeof(Block); }
+  std::size_t bytes() const { return table_.bytes() + blocks_.bytes(); }
 
  private:
   struct Block {
@@ -89,7 +90,7 @@ class LeafBlocks {
   }
 
   KeyIndexTable table_;
-  std::vector<Block> blocks_;
+  ChunkedVector<Block, 256> blocks_;
   // Blocks of recent touch() calls (find() reads it, never writes it: const look-ups stay safe).
   BlockCache cache_;
 };
