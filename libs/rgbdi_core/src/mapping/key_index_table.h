@@ -1,7 +1,7 @@
 // A flat open-addressing hash table from 64-bit keys to 32-bit indices (linear probing, load
-// kept under one half, deletion by backward shift so no tombstones accumulate). The point map
-// finds a leaf by its packed OctoMap key in one or two probes of contiguous arrays, where an
-// octree descent chases one pointer per level (16 at 2 cm). Internal to the mapping stage.
+// kept under one half, insert-only: the point map's blocks live until the map is cleared), and
+// a small direct-mapped cache in front of it. The point map finds its leaf and cell blocks by
+// packed block coordinates through them. Internal to the mapping stage.
 #pragma once
 
 #include <array>
@@ -54,28 +54,6 @@ class KeyIndexTable {
         return values_[i];
       }
     }
-  }
-
-  /// Removes `key`; false when it is absent. Later entries of the probe run move back into the
-  /// hole when their home slot allows it, so lookups never need tombstones.
-  bool erase(std::uint64_t key) {
-    std::size_t i = home(key);
-    while (keys_[i] != key) {
-      if (keys_[i] == kEmpty) return false;
-      i = (i + 1) & mask_;
-    }
-    for (std::size_t j = (i + 1) & mask_; keys_[j] != kEmpty; j = (j + 1) & mask_) {
-      const std::size_t h = home(keys_[j]);
-      // Entry j may fill hole i only if its home is not cyclically in (i, j].
-      const bool home_in_between = i <= j ? (i < h && h <= j) : (i < h || h <= j);
-      if (home_in_between) continue;
-      keys_[i] = keys_[j];
-      values_[i] = values_[j];
-      i = j;
-    }
-    keys_[i] = kEmpty;
-    --used_;
-    return true;
   }
 
  private:
