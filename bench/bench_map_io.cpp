@@ -77,9 +77,9 @@ map::MapData syntheticMap(int n, std::uint64_t seed) {
     for (int f = 0; f < kFeatures; ++f) {
       mapping::KeyframeFeature fe;
       fe.id = static_cast<std::uint64_t>(i * 40 + f);
-      fe.uv = Eigen::Vector2d(320 + 300 * u(rng), 240 + 220 * u(rng));
+      fe.uv = Eigen::Vector2d(320 + 300 * u(rng), 240 + 220 * u(rng)).cast<float>();
       fe.has_position = f % 4 != 0;
-      if (fe.has_position) fe.p_cam = Eigen::Vector3d(u(rng), u(rng), 3 + 2 * u(rng));
+      if (fe.has_position) fe.p_cam = Eigen::Vector3d(u(rng), u(rng), 3 + 2 * u(rng)).cast<float>();
       kf.features.push_back(fe);
     }
     for (int q = 0; q < kPoints; ++q) {

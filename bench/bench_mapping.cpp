@@ -11,6 +11,9 @@
 //           and 100 % of the keyframes (correction growing from 0 to --correction-m /
 //           --correction-deg across the moved ones, keyframes under [mapping]
 //           correction_min_* left alone, as Mapper::correct does) against a full rebuild
+//   common: [--save-keyframes FILE]  writes the capacity-5 keyframes (KeyframeStore::save)
+//   bench_mapping --loop-update-from FILE [--correction-m M] [--correction-deg DEG]
+//                                  only the --loop-update table, on keyframes saved that way
 //   bench_mapping --fixed-inputs   the per-keyframe figures on the fixed synthetic frames that the
 //                                  unit tests use (they asserted wall time until issue 14)
 //
@@ -57,6 +60,7 @@ struct Args {
   double correction_m = 0.3, correction_deg = 3.0;
   bool occupancy = true;
   bool loop_update = false;
+  std::string save_keyframes, loop_update_from;
 };
 
 constexpr int kRebuildRepeats = 3;
@@ -99,6 +103,99 @@ class KeyframeSelector {
   double distance_, angle_;
   std::optional<Eigen::Isometry3d> last_;
 };
+
+/// Map update after a loop (PointMap::update) vs a full rebuild, per million map points, on
+/// the capacity-5 keyframes (`source`) with the configured isolated-leaf rule.
+void reportLoopUpdate(const Args& args_, const mapping::MappingOptions& base_,
+                      const mapping::KeyframeStore& source) {
+  const std::size_t n = source.size();
+  std::cout << "\nmap update after a loop (capacity " << base_.max_points_per_leaf
+            << ", isolated-leaf rule " << base_.min_points_per_leaf_rebuild
+            << ", thread CPU time, minimum of " << kRebuildRepeats << ")\n";
+  std::cout << "| moved keyframes | moved points | map points | update [ms] | update [ms per M "
+               "points] | full rebuild [ms] | rebuild [ms per M points] | same map |\n"
+               "|---|---|---|---|---|---|---|---|\n";
+  const double min_cos_half = std::cos(0.5 * base_.correction_min_rotation_deg * M_PI / 180.0);
+  for (const double share : {0.1, 0.5, 1.0}) {
+    const std::size_t first = n - static_cast<std::size_t>(std::lround(share * n));
+    double update_ms = std::numeric_limits<double>::infinity(), rebuild_ms = update_ms;
+    std::size_t moved_kf = 0, moved_points = 0, map_points = 0;
+    bool same = true;
+    for (int repeat = 0; repeat < kRebuildRepeats; ++repeat) {
+      // Two identical maps as a run has them: every keyframe inserted, the isolated-leaf rule
+      // applied once (an earlier loop).
+      mapping::PointMap a(base_), b(base_);
+      mapping::KeyframeStore sa, sb;
+      for (const mapping::Keyframe& kf : source.keyframes()) {
+        mapping::Keyframe k = kf;
+        k.points = a.insertPoints(kf.points, kf.T_world_cam, kf.id);
+        sa.add(k);
+        k.points = b.insertPoints(kf.points, kf.T_world_cam, kf.id);
+        sb.add(k);
+      }
+      a.update(sa, {});
+      b.update(sb, {});
+      map_points = a.pointCount();
+      std::vector<std::uint64_t> moved;
+      moved_points = 0;
+      const double dyaw = args_.correction_deg * M_PI / 180.0;
+      for (std::size_t k = first; k < n; ++k) {
+        const double f = n - first > 1
+                             ? static_cast<double>(k - first) / static_cast<double>(n - 1 - first)
+                             : 1.0;
+        Eigen::Isometry3d C = Eigen::Isometry3d::Identity();
+        C.linear() = Eigen::AngleAxisd(f * dyaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        C.translation() = f * args_.correction_m * Eigen::Vector3d(1.0, 1.0, 0.0).normalized();
+        const mapping::Keyframe& kf = sa.at(k);
+        const Eigen::Isometry3d T = C * kf.T_world_cam;
+        const double cos_half = std::abs(
+            Eigen::Quaterniond(kf.T_world_cam.rotation()).dot(Eigen::Quaterniond(T.rotation())));
+        if ((T.translation() - kf.T_world_cam.translation()).norm() <
+                base_.correction_min_shift_m &&
+            cos_half > min_cos_half)
+          continue;
+        moved_points += kf.points.size();
+        sa.setPose(kf.id, T);
+        sb.setPose(kf.id, T);
+        moved.push_back(kf.id);
+      }
+      moved_kf = moved.size();
+      double cpu0 = threadCpuSeconds();
+      const mapping::RebuildReport ra = a.update(sa, moved);
+      update_ms = std::min(update_ms, 1e3 * (threadCpuSeconds() - cpu0));
+      cpu0 = threadCpuSeconds();
+      const mapping::RebuildReport rb = b.rebuild(sb);
+      rebuild_ms = std::min(rebuild_ms, 1e3 * (threadCpuSeconds() - cpu0));
+      same = same && ra.kept_points == rb.kept_points && a.leafCount() == b.leafCount() &&
+             ra.sparse_points_removed == rb.sparse_points_removed &&
+             ra.rejected_full_leaf == rb.rejected_full_leaf;
+    }
+    const double per_m = 1e6 / static_cast<double>(std::max<std::size_t>(map_points, 1));
+    std::cout << std::fixed << std::setprecision(1) << "| " << moved_kf << " of " << n << " ("
+              << 100.0 * share << " %) | " << moved_points << " | " << map_points << " | "
+              << update_ms << " | " << update_ms * per_m << " | " << rebuild_ms << " | "
+              << rebuild_ms * per_m << " | " << (same ? "yes" : "NO") << " |\n";
+  }
+  // What the map and the keyframes behind it hold (capacity-based estimates, as summary.json).
+  mapping::PointMap map(base_);
+  mapping::KeyframeStore store;
+  for (const mapping::Keyframe& kf : source.keyframes()) {
+    mapping::Keyframe k = kf;
+    k.points = map.insertPoints(kf.points, kf.T_world_cam, kf.id);
+    store.add(std::move(k));
+  }
+  map.update(store, {});
+  std::cout << std::setprecision(1) << "memory: map " << map.memoryBytes() / 1048576.0 << " MiB, "
+            << static_cast<double>(map.memoryBytes()) /
+                   static_cast<double>(std::max<std::size_t>(map.pointCount(), 1))
+            << " B per point (" << map.pointCount() << " points, " << map.leafCount()
+            << " leaves); keyframe store "
+            << static_cast<double>(store.memoryBytes()) / static_cast<double>(store.size())
+            << " B per keyframe (record " << sizeof(mapping::Keyframe) << " B, "
+            << sizeof(mapping::MapPoint) << " B per kept point, "
+            << sizeof(mapping::KeyframeFeature)
+            << " B per feature; these keyframes carry no features)\n";
+}
 
 class Bench {
  public:
@@ -149,84 +246,11 @@ class Bench {
     ++next_id_;
   }
 
-  /// Map update after a loop (PointMap::update) vs a full rebuild, per million map points, on
-  /// the capacity-5 keyframes with the configured isolated-leaf rule.
-  void reportLoopUpdate() const {
-    const mapping::KeyframeStore& source = variants_[1]->store;
-    const std::size_t n = source.size();
-    std::cout << "\nmap update after a loop (capacity " << base_.max_points_per_leaf
-              << ", isolated-leaf rule " << base_.min_points_per_leaf_rebuild
-              << ", thread CPU time, minimum of " << kRebuildRepeats << ")\n";
-    std::cout << "| moved keyframes | moved points | map points | update [ms] | update [ms per M "
-                 "points] | full rebuild [ms] | rebuild [ms per M points] | same map |\n"
-                 "|---|---|---|---|---|---|---|---|\n";
-    const double min_cos_half = std::cos(0.5 * base_.correction_min_rotation_deg * M_PI / 180.0);
-    for (const double share : {0.1, 0.5, 1.0}) {
-      const std::size_t first = n - static_cast<std::size_t>(std::lround(share * n));
-      double update_ms = std::numeric_limits<double>::infinity(), rebuild_ms = update_ms;
-      std::size_t moved_kf = 0, moved_points = 0, map_points = 0;
-      bool same = true;
-      for (int repeat = 0; repeat < kRebuildRepeats; ++repeat) {
-        // Two identical maps as a run has them: every keyframe inserted, the isolated-leaf rule
-        // applied once (an earlier loop).
-        mapping::PointMap a(base_), b(base_);
-        mapping::KeyframeStore sa, sb;
-        for (const mapping::Keyframe& kf : source.keyframes()) {
-          mapping::Keyframe k = kf;
-          k.points = a.insertPoints(kf.points, kf.T_world_cam, kf.id);
-          sa.add(k);
-          k.points = b.insertPoints(kf.points, kf.T_world_cam, kf.id);
-          sb.add(k);
-        }
-        a.update(sa, {});
-        b.update(sb, {});
-        map_points = a.pointCount();
-        std::vector<std::uint64_t> moved;
-        moved_points = 0;
-        const double dyaw = args_.correction_deg * M_PI / 180.0;
-        for (std::size_t k = first; k < n; ++k) {
-          const double f = n - first > 1
-                               ? static_cast<double>(k - first) / static_cast<double>(n - 1 - first)
-                               : 1.0;
-          Eigen::Isometry3d C = Eigen::Isometry3d::Identity();
-          C.linear() = Eigen::AngleAxisd(f * dyaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-          C.translation() = f * args_.correction_m * Eigen::Vector3d(1.0, 1.0, 0.0).normalized();
-          const mapping::Keyframe& kf = sa.at(k);
-          const Eigen::Isometry3d T = C * kf.T_world_cam;
-          const double cos_half = std::abs(
-              Eigen::Quaterniond(kf.T_world_cam.rotation()).dot(Eigen::Quaterniond(T.rotation())));
-          if ((T.translation() - kf.T_world_cam.translation()).norm() <
-                  base_.correction_min_shift_m &&
-              cos_half > min_cos_half)
-            continue;
-          moved_points += kf.points.size();
-          sa.setPose(kf.id, T);
-          sb.setPose(kf.id, T);
-          moved.push_back(kf.id);
-        }
-        moved_kf = moved.size();
-        double cpu0 = threadCpuSeconds();
-        const mapping::RebuildReport ra = a.update(sa, moved);
-        update_ms = std::min(update_ms, 1e3 * (threadCpuSeconds() - cpu0));
-        cpu0 = threadCpuSeconds();
-        const mapping::RebuildReport rb = b.rebuild(sb);
-        rebuild_ms = std::min(rebuild_ms, 1e3 * (threadCpuSeconds() - cpu0));
-        same = same && ra.kept_points == rb.kept_points && a.leafCount() == b.leafCount() &&
-               ra.sparse_points_removed == rb.sparse_points_removed &&
-               ra.rejected_full_leaf == rb.rejected_full_leaf;
-      }
-      const double per_m = 1e6 / static_cast<double>(std::max<std::size_t>(map_points, 1));
-      std::cout << std::fixed << std::setprecision(1) << "| " << moved_kf << " of " << n << " ("
-                << 100.0 * share << " %) | " << moved_points << " | " << map_points << " | "
-                << update_ms << " | " << update_ms * per_m << " | " << rebuild_ms << " | "
-                << rebuild_ms * per_m << " | " << (same ? "yes" : "NO") << " |\n";
-    }
-  }
-
   void report(const std::string& scene) {
     const std::size_t n = next_id_;
     if (n == 0) throw std::runtime_error("no keyframe was selected");
-    if (args_.loop_update) reportLoopUpdate();
+    if (!args_.save_keyframes.empty()) variants_[1]->store.save(args_.save_keyframes);
+    if (args_.loop_update) reportLoopUpdate(args_, base_, variants_[1]->store);
     // Loop-closure-like correction, growing along the keyframes.
     const double dyaw = args_.correction_deg * M_PI / 180.0;
     std::vector<double> rebuild_ms(variants_.size()), rebuild_cpu_ms(variants_.size());
@@ -481,6 +505,10 @@ int main(int argc, char** argv) {
         a.occupancy = false;
       else if (arg == "--loop-update")
         a.loop_update = true;
+      else if (arg == "--save-keyframes")
+        a.save_keyframes = next();
+      else if (arg == "--loop-update-from")
+        a.loop_update_from = next();
       else if (arg == "--fixed-inputs") {
         runFixedInputs();
         return 0;
@@ -494,7 +522,12 @@ int main(int argc, char** argv) {
     IniReader ini = a.config.empty() ? IniReader::empty() : IniReader::fromFile(a.config);
     mapping::MappingOptions options = mapping::MappingOptions::load(ini);
     if (a.resolution > 0.0) options.octree_resolution_m = a.resolution;
-    if (a.rawlog.empty())
+    if (!a.loop_update_from.empty()) {
+      const mapping::KeyframeStore store = mapping::KeyframeStore::load(a.loop_update_from);
+      std::cout << a.loop_update_from << ": " << store.size() << " keyframes, "
+                << store.pointCount() << " kept points\n";
+      reportLoopUpdate(a, options, store);
+    } else if (a.rawlog.empty())
       runSimulated(a, options);
     else
       runRawlog(a, ini, options);

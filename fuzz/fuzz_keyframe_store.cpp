@@ -31,9 +31,9 @@ std::vector<std::string> rgbdiFuzzSeeds() {
       kf.T_world_cam.translation() = Eigen::Vector3d(0.1 * id, 0.0, 0.2);
       KeyframeFeature feat;
       feat.id = 7 + id;
-      feat.uv = Eigen::Vector2d(3.5, 4.5);
+      feat.uv = Eigen::Vector2f(3.5f, 4.5f);
       feat.has_position = true;
-      feat.p_cam = Eigen::Vector3d(0.1, 0.2, 1.5);
+      feat.p_cam = Eigen::Vector3f(0.1f, 0.2f, 1.5f);
       kf.features.push_back(feat);
       if (variant == 1) {
         kf.descriptors.type = "BRIEF-256";

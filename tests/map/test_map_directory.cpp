@@ -117,9 +117,9 @@ MapData syntheticMap(std::uint64_t seed, int places = 9, int keypoints = 30) {
     for (int f = 0; f < 20; ++f) {
       mapping::KeyframeFeature kf;
       kf.id = 1000 + static_cast<std::uint64_t>(f);
-      kf.uv = Eigen::Vector2d(300 + 200 * u(rng), 200 + 150 * u(rng));
+      kf.uv = Eigen::Vector2d(300 + 200 * u(rng), 200 + 150 * u(rng)).cast<float>();
       kf.has_position = f % 3 != 0;
-      if (kf.has_position) kf.p_cam = Eigen::Vector3d(u(rng), u(rng), 2 + u(rng));
+      if (kf.has_position) kf.p_cam = Eigen::Vector3d(u(rng), u(rng), 2 + u(rng)).cast<float>();
       k.features.push_back(kf);
     }
     for (int q = 0; q < 50; ++q) {

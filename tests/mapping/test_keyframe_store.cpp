@@ -34,9 +34,9 @@ Keyframe randomKeyframe(std::mt19937_64& rng, std::uint64_t id) {
   for (int i = 0; i < 40; ++i) {
     KeyframeFeature f;
     f.id = 100000 + static_cast<std::uint64_t>(i) * 7 + id;
-    f.uv = Eigen::Vector2d(320 + 300 * u(rng), 240 + 200 * u(rng));
+    f.uv = Eigen::Vector2d(320 + 300 * u(rng), 240 + 200 * u(rng)).cast<float>();
     f.has_position = i % 3 != 0;
-    if (f.has_position) f.p_cam = Eigen::Vector3d(u(rng), u(rng), 2.0 + u(rng));
+    if (f.has_position) f.p_cam = Eigen::Vector3d(u(rng), u(rng), 2.0 + u(rng)).cast<float>();
     k.features.push_back(f);
   }
   k.descriptors.type = "BRIEF-256";

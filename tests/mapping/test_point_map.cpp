@@ -3,10 +3,9 @@
 // reference of the paper's rules.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <random>
 #include <tuple>
@@ -51,7 +50,8 @@ class ReferenceMap {
   ReferenceMap(double resolution, int capacity) : factor_(1.0 / resolution), capacity_(capacity) {}
   using Voxel = std::tuple<long, long, long>;
   Voxel voxel(const Eigen::Vector3d& p) const {
-    return {static_cast<long>(std::floor(p.x() * factor_)), static_cast<long>(std::floor(p.y() * factor_)),
+    return {static_cast<long>(std::floor(p.x() * factor_)),
+            static_cast<long>(std::floor(p.y() * factor_)),
             static_cast<long>(std::floor(p.z() * factor_))};
   }
   bool insert(const Eigen::Vector3d& p) {
@@ -93,7 +93,8 @@ class ReferenceMap {
 };
 
 std::vector<MapPoint> randomCloud(std::mt19937_64& rng, std::size_t n, double half_size) {
-  std::uniform_real_distribution<float> u(static_cast<float>(-half_size), static_cast<float>(half_size));
+  std::uniform_real_distribution<float> u(static_cast<float>(-half_size),
+                                          static_cast<float>(half_size));
   std::uniform_int_distribution<int> c(0, 255);
   std::vector<MapPoint> pts(n);
   for (MapPoint& p : pts) {
@@ -104,7 +105,9 @@ std::vector<MapPoint> randomCloud(std::mt19937_64& rng, std::size_t n, double ha
   return pts;
 }
 
-bool samePoint(const MapPoint& a, const MapPoint& b) { return a.p_cam == b.p_cam && a.rgb == b.rgb; }
+bool samePoint(const MapPoint& a, const MapPoint& b) {
+  return a.p_cam == b.p_cam && a.rgb == b.rgb;
+}
 
 std::string errorOf(const std::function<void()>& f) {
   try {
@@ -120,7 +123,8 @@ std::string errorOf(const std::function<void()>& f) {
 TEST(PointMap, PlaneGridPointsAreBackProjectedExactly) {
   const PinholeCamera cam = makeCamera();
   PointMap map{MappingOptions{}};
-  const std::vector<MapPoint> kept = map.insertKeyframe(planeFrame(2000, cam), Eigen::Isometry3d::Identity());
+  const std::vector<MapPoint> kept =
+      map.insertKeyframe(planeFrame(2000, cam), Eigen::Isometry3d::Identity());
   ASSERT_EQ(kept.size(), kGridPoints);
   EXPECT_EQ(map.stats().grid_points, kGridPoints);
   EXPECT_EQ(map.stats().candidates, kGridPoints);
@@ -145,25 +149,26 @@ TEST(PointMap, PlaneGridPointsAreBackProjectedExactly) {
   const std::vector<MapPoint> kept2 = moved.insertKeyframe(planeFrame(2000, cam), T);
   ASSERT_EQ(kept2.size(), kGridPoints);
   for (std::size_t i = 0; i < kGridPoints; ++i)
-    EXPECT_TRUE(moved.points()[i].p_world.isApprox((T * kept2[i].p_cam.cast<double>()).cast<float>(), 1e-6f));
+    EXPECT_TRUE(moved.points()[i].p_world.isApprox(
+        (T * kept2[i].p_cam.cast<double>()).cast<float>(), 1e-6f));
 }
 
 TEST(PointMap, DepthOutsideTheRangeAndHolesAreNotMapped) {
   RgbdFrame f = planeFrame(2000);
   // Four grid pixels with special depths (range is exclusive: (0.3, 6) m).
-  f.depth.at<std::uint16_t>(10, 40) = 0;      // hole
-  f.depth.at<std::uint16_t>(10, 50) = 299;    // too near
-  f.depth.at<std::uint16_t>(10, 60) = 6001;   // too far
-  f.depth.at<std::uint16_t>(10, 70) = 301;    // kept
-  f.depth.at<std::uint16_t>(20, 40) = 5999;   // kept
-  f.depth.at<std::uint16_t>(15, 45) = 0;      // off the grid: irrelevant
+  f.depth.at<std::uint16_t>(10, 40) = 0;     // hole
+  f.depth.at<std::uint16_t>(10, 50) = 299;   // too near
+  f.depth.at<std::uint16_t>(10, 60) = 6001;  // too far
+  f.depth.at<std::uint16_t>(10, 70) = 301;   // kept
+  f.depth.at<std::uint16_t>(20, 40) = 5999;  // kept
+  f.depth.at<std::uint16_t>(15, 45) = 0;     // off the grid: irrelevant
   PointMap map{MappingOptions{}};
   const std::vector<MapPoint> kept = map.insertKeyframe(f, Eigen::Isometry3d::Identity());
   EXPECT_EQ(map.stats().grid_points, kGridPoints);
   EXPECT_EQ(map.stats().no_depth, 1u);
   EXPECT_EQ(map.stats().out_of_range, 2u);
   EXPECT_EQ(kept.size(), kGridPoints - 3);
-  EXPECT_FLOAT_EQ(kept[0].p_cam.z(), 0.301f);  // (70, 10) is the first kept grid pixel
+  EXPECT_FLOAT_EQ(kept[0].p_cam.z(), 0.301f);              // (70, 10) is the first kept grid pixel
   EXPECT_FLOAT_EQ(kept[kGridCols - 3].p_cam.z(), 5.999f);  // first pixel of the second row
 }
 
@@ -281,7 +286,8 @@ TEST(PointMap, RebuildUsesCorrectedPoses) {
   // A pose-graph correction moves every keyframe by the same rigid motion: the map moves with it.
   Eigen::Isometry3d correction = translation(1.0, 0.5, 0.0);
   correction.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  for (std::uint64_t id = 0; id < 3; ++id) store.setPose(id, correction * store.get(id).T_world_cam);
+  for (std::uint64_t id = 0; id < 3; ++id)
+    store.setPose(id, correction * store.get(id).T_world_cam);
   EXPECT_TRUE(map.isOutdated(store));
   const RebuildReport r = map.rebuild(store);
   EXPECT_FALSE(map.isOutdated(store));
@@ -374,6 +380,66 @@ TEST(PointMap, RebuildMatchesTheReferenceOnRandomKeyframesAndPoseUpdates) {
   }
 }
 
+TEST(PointMap, TheIsolatedLeafRuleCountsNeighboursAcrossCellBlockBordersAndNegativeKeys) {
+  // Sparse random points around the origin, where the keys change sign and the map's blocks
+  // of 4 x 4 x 4 cells (16 cm at 2 cm) meet: about 3 points per neighbourhood, so the rule's
+  // verdicts depend on cells of every neighbouring block. rebuild() and update() after every
+  // keyframe moved must keep exactly the points the independent reference keeps.
+  for (int min_count : {2, 3, 4}) {
+    SCOPED_TRACE("min " + std::to_string(min_count));
+    std::mt19937_64 rng(100 + min_count);
+    MappingOptions o;
+    o.min_points_per_leaf_rebuild = min_count;
+    PointMap rebuilt(o), updated(o);
+    KeyframeStore store;
+    std::uniform_real_distribution<float> u(-0.3f, 0.3f);
+    for (std::uint64_t id = 0; id < 40; ++id) {
+      Keyframe kf;
+      kf.id = id;
+      std::vector<MapPoint> cloud(10);
+      for (MapPoint& p : cloud) p.p_cam = Eigen::Vector3f(u(rng), u(rng), u(rng));
+      kf.points = rebuilt.insertPoints(cloud, kf.T_world_cam);
+      updated.insertPoints(cloud, kf.T_world_cam, id);
+      store.add(kf);
+    }
+    std::vector<std::uint64_t> moved;
+    for (std::uint64_t id = 0; id < 40; ++id) {
+      store.setPose(id, randomPose(rng, 0.05, 0.1) * store.get(id).T_world_cam);
+      moved.push_back(id);
+    }
+    ReferenceMap ref(o.octree_resolution_m, o.max_points_per_leaf);
+    std::vector<std::vector<char>> accepted(store.size());
+    for (std::size_t s = 0; s < store.size(); ++s)
+      for (const MapPoint& p : store.at(s).points)
+        accepted[s].push_back(ref.insert(store.at(s).T_world_cam * p.p_cam.cast<double>()));
+    std::vector<std::vector<MapPoint>> expected(store.size());
+    std::size_t expected_total = 0, isolated = 0;
+    for (std::size_t s = 0; s < store.size(); ++s)
+      for (std::size_t i = 0; i < store.at(s).points.size(); ++i) {
+        const MapPoint& p = store.at(s).points[i];
+        if (!accepted[s][i]) continue;
+        if (ref.neighbourhoodCount(store.at(s).T_world_cam * p.p_cam.cast<double>()) < min_count) {
+          ++isolated;
+          continue;
+        }
+        expected[s].push_back(p);
+        ++expected_total;
+      }
+    ASSERT_GT(isolated, 20u);  // the rule decides for many points
+    ASSERT_GT(expected_total, 100u);
+    KeyframeStore store_updated = store;
+    EXPECT_EQ(rebuilt.rebuild(store).kept_points, expected_total);
+    EXPECT_EQ(updated.update(store_updated, moved).kept_points, expected_total);
+    for (const KeyframeStore* st : {&store, &store_updated})
+      for (std::size_t s = 0; s < st->size(); ++s) {
+        ASSERT_EQ(st->at(s).points.size(), expected[s].size()) << s;
+        for (std::size_t i = 0; i < expected[s].size(); ++i)
+          ASSERT_TRUE(samePoint(st->at(s).points[i], expected[s][i]));
+      }
+    EXPECT_EQ(rebuilt.leafCount(), updated.leafCount());
+  }
+}
+
 TEST(PointMap, RepeatedViewsOfOneRegionDoNotGrowTheMapBeyondLeavesTimesCapacity) {
   std::mt19937_64 rng(3);
   std::vector<Eigen::Isometry3d> poses;
@@ -401,7 +467,8 @@ TEST(PointMap, RepeatedViewsOfOneRegionDoNotGrowTheMapBeyondLeavesTimesCapacity)
   EXPECT_EQ(map.pointCount(), count_after_saturation);
   EXPECT_EQ(map.memoryBytes(), bytes_after_saturation);
   EXPECT_EQ(store.pointCount(), map.pointCount());  // keyframes keep exactly the map's points
-  for (std::size_t s = 6 * poses.size(); s < store.size(); ++s) EXPECT_TRUE(store.at(s).points.empty());
+  for (std::size_t s = 6 * poses.size(); s < store.size(); ++s)
+    EXPECT_TRUE(store.at(s).points.empty());
   // Estimated memory: points, leaves and nodes, far below the images a keyframe would hold.
   EXPECT_GT(map.memoryBytes(), map.pointCount() * sizeof(WorldPoint));
   EXPECT_LT(map.memoryBytes(), map.pointCount() * 200);
@@ -416,7 +483,8 @@ TEST(PointMap, NonAlignedDepthUsesDepthIntrinsicsAndTheColourExtrinsic) {
   f.cam_depth.cy = 231.7;
   f.depth_aligned_to_color = false;
   f.T_color_depth = translation(-0.025, 0.002, 0.001);
-  f.T_color_depth.linear() = Eigen::AngleAxisd(0.02, Eigen::Vector3d(0.3, 1.0, 0.1).normalized()).toRotationMatrix();
+  f.T_color_depth.linear() =
+      Eigen::AngleAxisd(0.02, Eigen::Vector3d(0.3, 1.0, 0.1).normalized()).toRotationMatrix();
   f.depth = cv::Mat(470, 600, CV_16UC1, cv::Scalar(1800));
   f.rgb = rgbdi::mapping::test::patternImage(640, 480);
   f.depth_unit_m = 1e-3;
@@ -434,7 +502,8 @@ TEST(PointMap, NonAlignedDepthUsesDepthIntrinsicsAndTheColourExtrinsic) {
       EXPECT_LT((p.p_cam.cast<double>() - expected).norm(), 1e-5);
       Eigen::Vector2d uv;
       ASSERT_TRUE(f.cam_color.project(expected, uv));
-      const int cu = static_cast<int>(std::lround(uv.x())), cv_ = static_cast<int>(std::lround(uv.y()));
+      const int cu = static_cast<int>(std::lround(uv.x())),
+                cv_ = static_cast<int>(std::lround(uv.y()));
       if (cu >= 0 && cv_ >= 0 && cu < 640 && cv_ < 480) {
         const cv::Vec3b colour = pixelColour(cu, cv_);
         EXPECT_EQ(p.rgb, (Rgb{colour[0], colour[1], colour[2]})) << u << "," << v;
@@ -449,14 +518,16 @@ TEST(PointMap, NonAlignedDepthUsesDepthIntrinsicsAndTheColourExtrinsic) {
   // Points that project outside the colour image are grey; without colour image all are grey.
   f.rgb.release();
   PointMap grey{MappingOptions{}};
-  for (const MapPoint& p : grey.insertKeyframe(f, Eigen::Isometry3d::Identity())) ASSERT_EQ(p.rgb, kUncolouredRgb);
+  for (const MapPoint& p : grey.insertKeyframe(f, Eigen::Isometry3d::Identity()))
+    ASSERT_EQ(p.rgb, kUncolouredRgb);
 }
 
 TEST(PointMap, DistortedCamerasBackProjectOntoTheGridPixels) {
   PinholeCamera cam = makeCamera();
   cam.dist = {0.12, -0.25, 0.001, -0.0015, 0.05};
   PointMap map{MappingOptions{}};
-  const std::vector<MapPoint> kept = map.insertKeyframe(planeFrame(3000, cam), Eigen::Isometry3d::Identity());
+  const std::vector<MapPoint> kept =
+      map.insertKeyframe(planeFrame(3000, cam), Eigen::Isometry3d::Identity());
   ASSERT_EQ(kept.size(), kGridPoints);
   for (std::size_t r = 0; r < kGridRows; ++r)
     for (std::size_t c = 0; c < kGridCols; ++c) {
@@ -470,7 +541,9 @@ TEST(PointMap, DistortedCamerasBackProjectOntoTheGridPixels) {
 TEST(PointMap, SmallImagesClipTheGridAndBadFramesAreRejectedWithTheirSource) {
   PointMap map{MappingOptions{}};
   // 320x240: u 40..310, v 10..230.
-  EXPECT_EQ(map.insertKeyframe(planeFrame(2000, makeCamera(320, 240, 250.0)), Eigen::Isometry3d::Identity()).size(),
+  EXPECT_EQ(map.insertKeyframe(planeFrame(2000, makeCamera(320, 240, 250.0)),
+                               Eigen::Isometry3d::Identity())
+                .size(),
             28u * 23u);
 
   const std::string label = "seq.rawlog record 7";
@@ -506,4 +579,3 @@ TEST(PointMap, SmallImagesClipTheGridAndBadFramesAreRejectedWithTheirSource) {
   expectError(f, nan_pose, "rigid");
   EXPECT_EQ(map.stats().keyframes, 1u);  // rejected frames leave the map untouched
 }
-

@@ -135,12 +135,13 @@ KeyframeStore KeyframeStore::load(const std::string& path) {
     k.features.resize(nf);
     for (KeyframeFeature& f : k.features) {
       f.id = r.u64("a feature id");
-      f.uv.x() = r.f64("a feature pixel");
-      f.uv.y() = r.f64("a feature pixel");
+      // Stored as doubles (format version 2); held in single precision.
+      f.uv.x() = static_cast<float>(r.f64("a feature pixel"));
+      f.uv.y() = static_cast<float>(r.f64("a feature pixel"));
       const std::uint8_t has = r.u8("a feature position flag");
       if (has > 1) fail("feature " + std::to_string(f.id) + " has an invalid position flag");
       f.has_position = has == 1;
-      for (int i = 0; i < 3; ++i) f.p_cam[i] = r.f64("a feature position");
+      for (int i = 0; i < 3; ++i) f.p_cam[i] = static_cast<float>(r.f64("a feature position"));
       if (!f.uv.allFinite() || !f.p_cam.allFinite())
         fail("feature " + std::to_string(f.id) + " has a non-finite coordinate");
     }

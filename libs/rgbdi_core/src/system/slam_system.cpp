@@ -258,9 +258,10 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
   for (const auto& f : p.features.features) {
     mapping::KeyframeFeature kfe;
     kfe.id = f.id;
-    kfe.uv = f.uv;
+    kfe.uv = f.uv.cast<float>();
     kfe.has_position = f.depth_m > 0.0;
-    if (kfe.has_position) kfe.p_cam = Eigen::Vector3d(f.xn.x(), f.xn.y(), 1.0) * f.depth_m;
+    if (kfe.has_position)
+      kfe.p_cam = (Eigen::Vector3d(f.xn.x(), f.xn.y(), 1.0) * f.depth_m).cast<float>();
     m.keyframe.features.push_back(kfe);
   }
   m.frame = std::move(p.frame);

@@ -1,9 +1,10 @@
 // The octree point mapper (paper section 4.5, Figure 6, Table 2).
 //
 // Each keyframe's depth image is subsampled on a pixel grid (MappingOptions grid_*, depth range
-// (depth_min_m, depth_max_m)), the points are transformed into the world and inserted into an
-// OctoMap-keyed octree whose leaves (octree_resolution_m) hold at most max_points_per_leaf
-// points. Points arriving at a full leaf are rejected and are not returned, so the keyframe keeps
+// (depth_min_m, depth_max_m)), the points are transformed into the world and inserted into the
+// leaves of an OctoMap-keyed octree (octree_resolution_m; only the leaves are kept, in hashed
+// blocks: the map never needs inner nodes), which hold at most max_points_per_leaf points.
+// Points arriving at a full leaf are rejected and are not returned, so the keyframe keeps
 // only the points the map holds. After keyframe poses change (pose-graph update, loop closure,
 // reload), rebuild() re-inserts every keyframe's kept points at the corrected poses and discards
 // the isolated leaves: fewer than min_points_per_leaf_rebuild points within the 3 x 3 x 3 cells
@@ -117,7 +118,8 @@ class PointMap {
   const std::vector<WorldPoint>& points() const;
   /// Number of points in the leaf containing p_world (0 when there is none).
   std::size_t pointsInLeafAt(const Eigen::Vector3d& p_world) const;
-  /// Centre of the leaf containing p_world (for tests and tools).
+  /// Centre of the leaf containing p_world (for tests and tools). Throws std::invalid_argument
+  /// beyond the map's extent.
   Eigen::Vector3d leafCenterAt(const Eigen::Vector3d& p_world) const;
 
   const PointMapStats& stats() const;
