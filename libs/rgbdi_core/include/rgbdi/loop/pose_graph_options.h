@@ -27,13 +27,13 @@ struct PoseGraphOptions {
   /// [m] position sigma of an edge between two keyframes at the same place and attitude
   double odom_pos_sigma_floor_m = 0.001;
   /// [m/sqrt(m)] position sigma after 1 m of path (sigma = this * sqrt(path / 1 m))
-  double odom_pos_sigma_per_sqrt_m = 0.01;
+  double odom_pos_sigma_per_sqrt_m = 0.015;
   /// [deg] yaw sigma of an edge between two keyframes at the same place and attitude
   double odom_yaw_sigma_floor_deg = 0.01;
   /// [deg/sqrt(m)] yaw sigma after 1 m of path
-  double odom_yaw_sigma_per_sqrt_m_deg = 0.05;
+  double odom_yaw_sigma_per_sqrt_m_deg = 0.5;
   /// [deg/sqrt(rad)] yaw sigma after turning 1 rad (rotation angle of the odometry attitude)
-  double odom_yaw_sigma_per_sqrt_rad_deg = 0.1;
+  double odom_yaw_sigma_per_sqrt_rad_deg = 0.3;
 
   // --- loop edges ---
   double loop_sigma_pos_m = 0.05;        ///< [m] position sigma of a verified loop
