@@ -5,7 +5,10 @@
 // (horizontal, height, yaw, and the roll/pitch a 4-DOF graph cannot change), and the solve time.
 // Used to study the graph's weighting without running the whole system again.
 //
-//   bench_graph_replay PREFIX.graph [--set key=value ...] [--errors FILE]
+//   bench_graph_replay PREFIX.graph [--set key=value ...] [--quality K FLOOR_M] [--errors FILE]
+// --set: a [loop] key (graph_* keys are used); --quality K FLOOR_M: loop edges with their own
+// position sigma max(FLOOR_M, K * depth RMS / sqrt(depth inliers)) and the yaw sigma scaled alike
+// (an experiment: LoopCloser uses the constant graph_loop_sigma_* sigmas).
 // --errors writes one line per keyframe: t, travelled [m], then the aligned position error
 // x y z [m] and yaw error [deg] of the odometry and of the replay.
 #include <chrono>
