@@ -6,7 +6,7 @@
 //   bench_slam [--profile NAME] [--duration S] [--fps N] [--seed N]      (simulator in-process)
 //   bench_slam --rawlog FILE --gt TUM --config INI [--profile NAME]      (a rgbdi-sim sequence;
 //              --profile gives the lap length for the per-lap figures)
-//   common: [--loop on|off|both] [--speed X] [--offline]
+//   common: [--loop on|off|both] [--speed X] [--offline] [--dump PREFIX]
 //
 // --speed X feeds the measurements at X times real time (default 1: a robot's case; 0: as fast as
 // the system takes them, then the latency is mostly queueing). Latency of a frame = from the
@@ -20,6 +20,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -46,6 +47,7 @@ struct Args {
   double duration = 0.0, fps = 15.0, speed = 1.0;
   std::uint64_t seed = 1;
   std::string rawlog, gt, config, loop = "both";
+  std::string dump;  ///< prefix of the graph dump (--dump PREFIX), empty: none
   bool offline = false;
 };
 
@@ -124,6 +126,56 @@ class Odometer {
   const Trajectory& gt_;
   std::vector<double> d_;
 };
+
+Eigen::Isometry3d nearestPose(const Trajectory& gt, double t) {
+  const auto it = std::lower_bound(gt.begin(), gt.end(), t,
+                                   [](const StampedPose& s, double x) { return s.t < x; });
+  if (it == gt.end()) return gt.back().isometry();
+  if (it != gt.begin() && std::abs((it - 1)->t - t) < std::abs(it->t - t))
+    return (it - 1)->isometry();
+  return it->isometry();
+}
+
+void writePose(std::ostream& os, const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.rotation());
+  os << " " << T.translation().transpose() << " " << q.x() << " " << q.y() << " " << q.z() << " "
+     << q.w();
+}
+
+/// --dump PREFIX: PREFIX.graph holds every loop keyframe (N id segment t travelled, odometry,
+/// corrected and ground-truth poses) and every loop (L from to active T_from_to, quality), so
+/// that the pose graph can be studied without running the system again; PREFIX_{final,odometry,
+/// gt}.tum the trajectories.
+void dumpGraph(const std::string& prefix, const loop::LoopCloser& lc, const Trajectory& gt,
+               const system::SlamSystem& sys) {
+  std::ofstream os(prefix + ".graph");
+  os << std::setprecision(12);
+  for (const loop::LoopKeyframe& k : lc.keyframes()) {
+    os << "N " << k.id << " " << k.segment << " " << k.t << " " << k.travelled_m;
+    writePose(os, k.T_world_body_odom);
+    writePose(os, lc.pose(k.id));
+    writePose(os, nearestPose(gt, k.t));
+    os << "\n";
+  }
+  for (const loop::LoopRecord& l : lc.loops()) {
+    const loop::LoopConstraint& c = l.constraint;
+    os << "L " << c.from_id << " " << c.to_id << " " << (l.rolled_back ? 0 : 1);
+    writePose(os, c.T_from_to);
+    os << " " << c.pnp_inliers << " " << c.depth_inliers << " " << c.reprojection_rms_px << " "
+       << c.depth_rms_m << "\n";
+  }
+  auto tum = [&](const std::string& name, const Trajectory& tr) {
+    std::ofstream f(prefix + "_" + name + ".tum");
+    f << std::setprecision(12);
+    for (const StampedPose& s : tr)
+      f << s.t << " " << s.p.transpose() << " " << s.q.x() << " " << s.q.y() << " " << s.q.z()
+        << " " << s.q.w() << "\n";
+  };
+  tum("final", sys.finalTrajectory());
+  tum("odometry", sys.odometryTrajectory());
+  tum("online", sys.onlineTrajectory());
+  tum("gt", gt);
+}
 
 struct RunResult {
   Percentiles all, after_first_loop;
@@ -223,6 +275,9 @@ RunResult runOnce(const Args& a, const system::SystemConfig& cfg, bool loop_on,
               << " m, " << worst_deg << " deg yaw\n";
   }
 
+  if (const loop::LoopCloser* lc = sys.loopCloser(); lc && !a.dump.empty())
+    dumpGraph(a.dump, *lc, gt, sys);
+
   if (lap_m > 0.0) {
     const Odometer odo(gt);
     std::vector<std::size_t> per_lap;
@@ -278,6 +333,8 @@ int main(int argc, char** argv) {
         a.loop = next();
       else if (arg == "--offline")
         a.offline = true;
+      else if (arg == "--dump")
+        a.dump = next();
       else
         throw std::invalid_argument("unknown argument " + arg);
     }

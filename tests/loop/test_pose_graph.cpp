@@ -76,6 +76,17 @@ std::vector<Isometry3d> driftedOdometry(const std::vector<Isometry3d>& truth, do
   return odom;
 }
 
+/// Graph options for the drift of these routes (0.05 deg of yaw and 1 % of scale per 0.4 m
+/// keyframe step, 4 deg and 0.32 m per 32 m lap: ten times the simulator's odometry the defaults
+/// describe), so that loops measured from the truth are within the graph's sigmas.
+PoseGraphOptions routeOptions() {
+  PoseGraphOptions o;
+  o.odom_pos_sigma_per_sqrt_m = 0.06;
+  o.odom_yaw_sigma_per_sqrt_m_deg = 0.5;
+  o.odom_yaw_sigma_per_sqrt_rad_deg = 0.1;  // their yaw drifts per step, not per turn
+  return o;
+}
+
 Isometry3d relative(const std::vector<Isometry3d>& truth, std::size_t a, std::size_t b) {
   return truth[a].inverse() * truth[b];
 }
@@ -117,7 +128,7 @@ struct ThreeLaps {
 
 TEST(PoseGraph4Dof, CorrectsASquareLoopWithKnownDrift) {
   const SquareLap lap;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   addAll(g, lap.odom);
   // The odometry is far off where the square closes.
   EXPECT_GT(positionError(lap.odom[80], lap.truth[80]), 0.35);
@@ -168,7 +179,7 @@ TEST(PoseGraph4Dof, CorrectsASquareLoopWithKnownDrift) {
 
 TEST(PoseGraph4Dof, APreciseLoopPutsTheLoopKeyframeOntoItsTruePose) {
   const SquareLap lap;
-  PoseGraphOptions o;
+  PoseGraphOptions o = routeOptions();
   o.loop_sigma_pos_m = 0.005;
   o.loop_sigma_yaw_deg = 0.1;
   PoseGraph4Dof g(o);
@@ -183,7 +194,7 @@ TEST(PoseGraph4Dof, APreciseLoopPutsTheLoopKeyframeOntoItsTruePose) {
 
 TEST(PoseGraph4Dof, WithoutLoopsThePosesEqualTheOdometryExactly) {
   const SquareLap lap;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   addAll(g, lap.odom);
   const PoseGraphSolveReport r = g.solve();
   EXPECT_EQ(r.solver_runs, 0);
@@ -197,7 +208,7 @@ TEST(PoseGraph4Dof, WithoutLoopsThePosesEqualTheOdometryExactly) {
 
 TEST(PoseGraph4Dof, RollAndPitchNeverChange) {
   const SquareLap lap;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   addAll(g, lap.odom);
   g.addLoopEdge(80, 0, relative(lap.truth, 80, 0));
   g.solve();
@@ -216,7 +227,7 @@ TEST(PoseGraph4Dof, YawWrapsAroundPlusMinusPi) {
   // The first side heads just below +pi and the drift carries it across.
   const std::vector<Isometry3d> truth = squareRoute(8.0, 20, 1, M_PI - 0.01);
   const std::vector<Isometry3d> odom = driftedOdometry(truth, 0.05 * kDeg, 1.01, 0.001);
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   addAll(g, odom);
   g.addLoopEdge(80, 0, relative(truth, 80, 0));
   g.addLoopEdge(80, 1, relative(truth, 80, 1));
@@ -235,7 +246,7 @@ TEST(PoseGraph4Dof, YawWrapsAroundPlusMinusPi) {
   EXPECT_LT(yawError(g.pose(80), truth[80]), 0.4 * kDeg);
   // Same correction as the same square driven at heading 0, turned by the heading.
   const SquareLap lap0;
-  PoseGraph4Dof g0;
+  PoseGraph4Dof g0(routeOptions());
   addAll(g0, lap0.odom);
   g0.addLoopEdge(80, 0, relative(lap0.truth, 80, 0));
   g0.addLoopEdge(80, 1, relative(lap0.truth, 80, 1));
@@ -249,7 +260,7 @@ TEST(PoseGraph4Dof, YawWrapsAroundPlusMinusPi) {
 
 TEST(PoseGraph4Dof, AWrongLoopAmongGoodOnesIsRolledBack) {
   const ThreeLaps route;
-  PoseGraph4Dof with_wrong, reference;
+  PoseGraph4Dof with_wrong(routeOptions()), reference(routeOptions());
   addAll(with_wrong, route.odom);
   addAll(reference, route.odom);
   route.addGoodLoops(with_wrong);
@@ -281,7 +292,7 @@ TEST(PoseGraph4Dof, AWrongLoopAmongGoodOnesIsRolledBack) {
 
 TEST(PoseGraph4Dof, TheCauchyLossRollsTheWrongLoopBackToo) {
   const ThreeLaps route;
-  PoseGraphOptions o;
+  PoseGraphOptions o = routeOptions();
   o.loss = RobustLoss::kCauchy;
   PoseGraph4Dof with_wrong(o), reference(o);
   for (PoseGraph4Dof* g : {&with_wrong, &reference}) {
@@ -297,7 +308,7 @@ TEST(PoseGraph4Dof, TheCauchyLossRollsTheWrongLoopBackToo) {
 
 TEST(PoseGraph4Dof, WithNoRollbacksAllowedTheWrongLoopStaysAndDistortsTheGraph) {
   const ThreeLaps route;
-  PoseGraphOptions o;
+  PoseGraphOptions o = routeOptions();
   o.max_rollbacks_per_solve = 0;
   PoseGraph4Dof g(o);
   addAll(g, route.odom);
@@ -323,7 +334,7 @@ TEST(PoseGraph4Dof, AWrongLoopThatJoinsASegmentFirstIsRolledBackToo) {
   Isometry3d G = Isometry3d::Identity();
   G.linear() = rotZ(1.0);
   G.translation() << 5.0, 2.0, 0.0;
-  PoseGraph4Dof with_wrong, reference;
+  PoseGraph4Dof with_wrong(routeOptions()), reference(routeOptions());
   for (PoseGraph4Dof* g : {&with_wrong, &reference}) {
     for (std::size_t k = 0; k < 80; ++k) g->addNode(k, 0, route.odom[k]);
     for (std::size_t k = 80; k < route.odom.size(); ++k)
@@ -350,7 +361,7 @@ TEST(PoseGraph4Dof, AWrongLoopThatJoinsASegmentFirstIsRolledBackToo) {
 
 TEST(PoseGraph4Dof, SegmentsHaveNoSequentialEdgeAcrossAReset) {
   const ThreeLaps route;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   for (std::size_t k = 0; k < 100; ++k) g.addNode(k, k < 50 ? 0 : 1, route.odom[k]);
   int into_50 = 0, into_51 = 0, into_60 = 0;
   for (const GraphEdge& e : g.edges()) {
@@ -369,7 +380,7 @@ TEST(PoseGraph4Dof, SegmentsHaveNoSequentialEdgeAcrossAReset) {
 
 TEST(PoseGraph4Dof, AnUnconnectedSegmentKeepsItsOdometryPoses) {
   const ThreeLaps route;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   // Segment 0: the first lap, closed by a loop. Segment 1: the second lap after a reset, in a
   // frame of its own (its odometry restarted), never linked to segment 0.
   for (std::size_t k = 0; k <= 80; ++k) g.addNode(k, 0, route.odom[k]);
@@ -399,7 +410,7 @@ TEST(PoseGraph4Dof, AnUnconnectedSegmentKeepsItsOdometryPoses) {
   EXPECT_GT(positionError(g.pose(160), seg1.back()), 0.3);
 
   // Without any loop of its own, segment 1 is exactly its odometry.
-  PoseGraph4Dof h;
+  PoseGraph4Dof h(routeOptions());
   for (std::size_t k = 0; k <= 80; ++k) h.addNode(k, 0, route.odom[k]);
   for (std::size_t k = 81; k < 161; ++k) h.addNode(k, 1, seg1[k - 81]);
   h.addLoopEdge(80, 0, relative(route.truth, 80, 0));
@@ -418,7 +429,7 @@ TEST(PoseGraph4Dof, ALoopJoiningASegmentMovesItOntoTheOrigin) {
   Isometry3d G = Isometry3d::Identity();
   G.linear() = rotZ(0.7);
   G.translation() << 3.0, -2.0, 0.5;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   for (std::size_t k = 0; k < 80; ++k) g.addNode(k, 0, truth[k]);
   for (std::size_t k = 80; k < truth.size(); ++k) g.addNode(k, 1, G.inverse() * truth[k]);
   g.solve();
@@ -450,7 +461,7 @@ TEST(PoseGraph4Dof, TwoSegmentsJoinedOnlyToEachOtherKeepTheLowerOnesAnchor) {
   G1.translation() << -4.0, 1.0, 0.0;
   G2.linear() = rotZ(2.9);
   G2.translation() << 10.0, 5.0, -1.0;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   for (std::size_t k = 0; k < 40; ++k) g.addNode(k, 0, truth[k]);
   for (std::size_t k = 40; k < 100; ++k) g.addNode(k, 1, G1.inverse() * truth[k]);
   for (std::size_t k = 100; k < truth.size(); ++k) g.addNode(k, 2, G2.inverse() * truth[k]);
@@ -467,7 +478,7 @@ TEST(PoseGraph4Dof, TwoSegmentsJoinedOnlyToEachOtherKeepTheLowerOnesAnchor) {
 
 TEST(PoseGraph4Dof, TheSameCallsGiveTheSameResult) {
   const ThreeLaps route;
-  PoseGraph4Dof a, b;
+  PoseGraph4Dof a(routeOptions()), b(routeOptions());
   for (PoseGraph4Dof* g : {&a, &b}) {
     addAll(*g, route.odom);
     route.addGoodLoops(*g);
@@ -484,7 +495,7 @@ TEST(PoseGraph4Dof, TheSameCallsGiveTheSameResult) {
 }
 
 TEST(PoseGraph4Dof, IdsOutOfOrderAndBadArgumentsAreRejected) {
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   g.addNode(5, 0, Isometry3d::Identity());
   auto message = [](auto&& call) -> std::string {
     try {
@@ -520,7 +531,7 @@ TEST(PoseGraph4Dof, IdsOutOfOrderAndBadArgumentsAreRejected) {
 
 TEST(PoseGraph4Dof, MemoryGrowsWithNodesAndEdges) {
   const SquareLap lap;
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   const std::size_t empty = g.memoryBytes();
   addAll(g, lap.odom);
   EXPECT_GE(g.memoryBytes(), empty + 81 * sizeof(GraphNode) + g.edges().size() * sizeof(GraphEdge));
@@ -539,7 +550,7 @@ TEST(PoseGraph4Dof, ALoadedMapStaysFixedAndALaterRunIsMovedIntoItsFrame) {
   G.translation() << -4.0, 2.0, 0.3;
   std::vector<Isometry3d> run(truth.begin() + 80, truth.end());
   const std::vector<Isometry3d> run_odom = driftedOdometry(run, 0.05 * kDeg, 1.01, 0.001);
-  PoseGraph4Dof g;
+  PoseGraph4Dof g(routeOptions());
   for (std::size_t k = 0; k < 80; ++k) g.addFixedNode(k, 0, truth[k]);
   for (std::size_t k = 0; k < run_odom.size(); ++k) g.addNode(80 + k, 1, G.inverse() * run_odom[k]);
   EXPECT_EQ(g.nodes()[0].fixed, true);
@@ -562,7 +573,7 @@ TEST(PoseGraph4Dof, ALoadedMapStaysFixedAndALaterRunIsMovedIntoItsFrame) {
 
   // Order and mixing rules.
   EXPECT_THROW(g.addFixedNode(1000, 1, truth[0]), std::invalid_argument);  // after free nodes
-  PoseGraph4Dof h;
+  PoseGraph4Dof h(routeOptions());
   h.addFixedNode(0, 0, truth[0]);
   EXPECT_THROW(h.addNode(1, 0, truth[1]), std::invalid_argument);  // same segment, free
   EXPECT_NO_THROW(h.addNode(1, 1, truth[1]));

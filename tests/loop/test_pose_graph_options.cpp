@@ -28,10 +28,11 @@ std::string loadError(const std::string& text) {
 }
 
 const std::set<std::string> kKeys = {"graph_sequential_edges",
-                                     "graph_odom_sigma_pos_base_m",
-                                     "graph_odom_sigma_pos_per_m",
-                                     "graph_odom_sigma_yaw_base_deg",
-                                     "graph_odom_sigma_yaw_per_m_deg",
+                                     "graph_odom_pos_sigma_floor_m",
+                                     "graph_odom_pos_sigma_per_sqrt_m",
+                                     "graph_odom_yaw_sigma_floor_deg",
+                                     "graph_odom_yaw_sigma_per_sqrt_m_deg",
+                                     "graph_odom_yaw_sigma_per_sqrt_rad_deg",
                                      "graph_loop_sigma_pos_m",
                                      "graph_loop_sigma_yaw_deg",
                                      "graph_loss",
@@ -51,10 +52,11 @@ TEST(PoseGraphOptions, DefaultsEqualTheShippedConfig) {
   const PoseGraphOptions f = PoseGraphOptions::load(ini);
   const PoseGraphOptions d;
   EXPECT_EQ(f.sequential_edges, d.sequential_edges);
-  EXPECT_EQ(f.odom_sigma_pos_base_m, d.odom_sigma_pos_base_m);
-  EXPECT_EQ(f.odom_sigma_pos_per_m, d.odom_sigma_pos_per_m);
-  EXPECT_EQ(f.odom_sigma_yaw_base_deg, d.odom_sigma_yaw_base_deg);
-  EXPECT_EQ(f.odom_sigma_yaw_per_m_deg, d.odom_sigma_yaw_per_m_deg);
+  EXPECT_EQ(f.odom_pos_sigma_floor_m, d.odom_pos_sigma_floor_m);
+  EXPECT_EQ(f.odom_pos_sigma_per_sqrt_m, d.odom_pos_sigma_per_sqrt_m);
+  EXPECT_EQ(f.odom_yaw_sigma_floor_deg, d.odom_yaw_sigma_floor_deg);
+  EXPECT_EQ(f.odom_yaw_sigma_per_sqrt_m_deg, d.odom_yaw_sigma_per_sqrt_m_deg);
+  EXPECT_EQ(f.odom_yaw_sigma_per_sqrt_rad_deg, d.odom_yaw_sigma_per_sqrt_rad_deg);
   EXPECT_EQ(f.loop_sigma_pos_m, d.loop_sigma_pos_m);
   EXPECT_EQ(f.loop_sigma_yaw_deg, d.loop_sigma_yaw_deg);
   EXPECT_EQ(f.loss, d.loss);
@@ -102,7 +104,8 @@ TEST(PoseGraphOptions, BadValuesNameFileSectionAndKey) {
   for (const char* text :
        {"[loop]\ngraph_sequential_edges = 0\n", "[loop]\ngraph_loss = tukey\n",
         "[loop]\ngraph_loop_sigma_yaw_deg = -1\n", "[loop]\ngraph_max_iterations = many\n",
-        "[loop]\ngraph_rollback_gate_sigma = 0\n"}) {
+        "[loop]\ngraph_rollback_gate_sigma = 0\n", "[loop]\ngraph_odom_pos_sigma_per_sqrt_m = -1\n",
+        "[loop]\ngraph_odom_yaw_sigma_floor_deg = 0\n"}) {
     const std::string e = loadError(text);
     const std::string t(text);
     const std::string key = t.substr(7, t.find(' ', 7) - 7);
@@ -115,7 +118,10 @@ TEST(PoseGraphOptions, BadValuesNameFileSectionAndKey) {
 TEST(PoseGraphOptions, OptionsBuiltInCodeAreValidatedByTheGraph) {
   PoseGraphOptions o;
   EXPECT_NO_THROW(o.validate());
-  o.odom_sigma_pos_base_m = 0.0;
+  o.odom_pos_sigma_floor_m = 0.0;  // a zero-length edge would have no uncertainty
+  EXPECT_THROW(rgbdi::loop::PoseGraph4Dof{o}, ConfigError);
+  o = PoseGraphOptions{};
+  o.odom_yaw_sigma_per_sqrt_rad_deg = -0.1;
   EXPECT_THROW(rgbdi::loop::PoseGraph4Dof{o}, ConfigError);
   o = PoseGraphOptions{};
   o.loss_scale_sigma = std::nan("");

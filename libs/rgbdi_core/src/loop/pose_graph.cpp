@@ -67,6 +67,14 @@ void PoseGraph4Dof::appendNode(std::uint64_t id, int segment, const Eigen::Isome
   n.T_world_body_odom = T;
   n.yaw_odom_rad = yawOf(T.linear());
   n.R_tilt = tiltOf(T.linear());
+  if (!new_segment) {
+    const GraphNode& prev = nodes_.back();
+    n.odom_path_m =
+        prev.odom_path_m + (T.translation() - prev.T_world_body_odom.translation()).norm();
+    n.odom_rotation_rad =
+        prev.odom_rotation_rad +
+        Eigen::AngleAxisd(prev.T_world_body_odom.linear().transpose() * T.linear()).angle();
+  }
   if (new_segment || fixed) {
     n.xyz_yaw << T.translation(), n.yaw_odom_rad;
   } else {
@@ -107,17 +115,41 @@ void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
     e.to_index = index;
     e.T_from_to = from.T_world_body_odom.inverse() * T_world_body_odom;
     e.measured = fourDofDelta(from.R_tilt, e.T_from_to);
-    const double dist =
-        (T_world_body_odom.translation() - from.T_world_body_odom.translation()).norm();
-    e.sigma_pos_m = options_.odom_sigma_pos_base_m + options_.odom_sigma_pos_per_m * dist;
-    e.sigma_yaw_rad =
-        deg2rad(options_.odom_sigma_yaw_base_deg + options_.odom_sigma_yaw_per_m_deg * dist);
+    const auto [sigma_pos, sigma_yaw] =
+        sequentialSigmas(options_, nodes_[index].odom_path_m - from.odom_path_m,
+                         nodes_[index].odom_rotation_rad - from.odom_rotation_rad);
+    e.sigma_pos_m = sigma_pos;
+    e.sigma_yaw_rad = sigma_yaw;
     edges_.push_back(e);
   }
 }
 
+std::pair<double, double> PoseGraph4Dof::sequentialSigmas(const PoseGraphOptions& o, double path_m,
+                                                          double rotation_rad) {
+  // Variances of a random walk in path length and rotation; the n overlapping edges of each
+  // keyframe share the odometry's information: n (n + 1) / 2 edges span every step (an edge
+  // over k steps spans k of them, for k = 1..n), so each gets that multiple of the variance.
+  const double n = static_cast<double>(o.sequential_edges);
+  const double share = 0.5 * n * (n + 1.0);
+  const double var_pos = o.odom_pos_sigma_floor_m * o.odom_pos_sigma_floor_m +
+                         o.odom_pos_sigma_per_sqrt_m * o.odom_pos_sigma_per_sqrt_m * path_m;
+  const double yaw_floor = deg2rad(o.odom_yaw_sigma_floor_deg);
+  const double yaw_m = deg2rad(o.odom_yaw_sigma_per_sqrt_m_deg);
+  const double yaw_rad = deg2rad(o.odom_yaw_sigma_per_sqrt_rad_deg);
+  const double var_yaw =
+      yaw_floor * yaw_floor + yaw_m * yaw_m * path_m + yaw_rad * yaw_rad * rotation_rad;
+  return {std::sqrt(share * var_pos), std::sqrt(share * var_yaw)};
+}
+
 int PoseGraph4Dof::addLoopEdge(std::uint64_t from_id, std::uint64_t to_id,
                                const Eigen::Isometry3d& T_from_to) {
+  return addLoopEdge(from_id, to_id, T_from_to, options_.loop_sigma_pos_m,
+                     deg2rad(options_.loop_sigma_yaw_deg));
+}
+
+int PoseGraph4Dof::addLoopEdge(std::uint64_t from_id, std::uint64_t to_id,
+                               const Eigen::Isometry3d& T_from_to, double sigma_pos_m,
+                               double sigma_yaw_rad) {
   const std::string who =
       "PoseGraph4Dof::addLoopEdge " + std::to_string(from_id) + " -> " + std::to_string(to_id);
   if (!hasNode(from_id))
@@ -125,6 +157,11 @@ int PoseGraph4Dof::addLoopEdge(std::uint64_t from_id, std::uint64_t to_id,
   if (!hasNode(to_id)) throw std::invalid_argument(who + ": unknown node " + std::to_string(to_id));
   if (from_id == to_id) throw std::invalid_argument(who + ": an edge needs two nodes");
   if (!isRigid(T_from_to)) throw std::invalid_argument(who + ": pose is not finite and rigid");
+  if (!(std::isfinite(sigma_pos_m) && sigma_pos_m > 0.0 && std::isfinite(sigma_yaw_rad) &&
+        sigma_yaw_rad > 0.0))
+    throw std::invalid_argument(who + ": sigmas must be positive, got " +
+                                std::to_string(sigma_pos_m) + " m, " +
+                                std::to_string(sigma_yaw_rad) + " rad");
   GraphEdge e;
   e.id = static_cast<int>(edges_.size());
   e.kind = EdgeKind::kLoop;
@@ -134,8 +171,8 @@ int PoseGraph4Dof::addLoopEdge(std::uint64_t from_id, std::uint64_t to_id,
   e.to_index = indexOf(to_id);
   e.T_from_to = T_from_to;
   e.measured = fourDofDelta(nodes_[e.from_index].R_tilt, T_from_to);
-  e.sigma_pos_m = options_.loop_sigma_pos_m;
-  e.sigma_yaw_rad = deg2rad(options_.loop_sigma_yaw_deg);
+  e.sigma_pos_m = sigma_pos_m;
+  e.sigma_yaw_rad = sigma_yaw_rad;
   edges_.push_back(e);
   return e.id;
 }

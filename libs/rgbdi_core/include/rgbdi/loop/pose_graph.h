@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "rgbdi/loop/four_dof.h"
@@ -41,6 +42,12 @@ struct GraphNode {
   Eigen::Isometry3d T_world_body_odom = Eigen::Isometry3d::Identity();  ///< as added
   Eigen::Matrix3d R_tilt = Eigen::Matrix3d::Identity();  ///< roll/pitch part of the odometry
   double yaw_odom_rad = 0.0;                             ///< [rad] heading of the odometry
+  /// [m] odometry path length from the first node of the segment (sum of the straight
+  /// distances between consecutive nodes)
+  double odom_path_m = 0.0;
+  /// [rad] odometry rotation from the first node of the segment (sum of the rotation angles
+  /// between consecutive nodes' attitudes)
+  double odom_rotation_rad = 0.0;
   bool fixed = false;  ///< held constant by solve() (a loaded map's keyframe)
   /// Corrected state [x, y, z] [m] and yaw [rad, in [-pi, pi)]: one Ceres parameter block.
   Eigen::Vector4d xyz_yaw = Eigen::Vector4d::Zero();
@@ -106,8 +113,17 @@ class PoseGraph4Dof {
   /// Adds an (active) loop edge; T_from_to maps points of the `to` body frame into the `from`
   /// body frame; only its x, y, z and yaw are used. Returns the edge id. Throws
   /// std::invalid_argument naming the ids when a node is unknown, from == to, or the pose is
-  /// not finite and rigid.
+  /// not finite and rigid. The edge has the options' loop_sigma_pos_m / loop_sigma_yaw_deg.
   int addLoopEdge(std::uint64_t from_id, std::uint64_t to_id, const Eigen::Isometry3d& T_from_to);
+  /// The same with the edge's own sigmas ([m], [rad]; e.g. from the quality of the fit that
+  /// measured it). Also throws std::invalid_argument when a sigma is not positive and finite.
+  int addLoopEdge(std::uint64_t from_id, std::uint64_t to_id, const Eigen::Isometry3d& T_from_to,
+                  double sigma_pos_m, double sigma_yaw_rad);
+
+  /// Sigmas ([m], [rad]) of a sequential edge between two nodes of one segment whose odometry
+  /// differs by `path_m` of path and `rotation_rad` of rotation (see PoseGraphOptions).
+  static std::pair<double, double> sequentialSigmas(const PoseGraphOptions& o, double path_m,
+                                                    double rotation_rad);
 
   /// Optimises every component that has an active loop edge (others are set to their odometry),
   /// then rolls back wrong loops (see the file comment). Throws std::runtime_error when Ceres

@@ -16,11 +16,24 @@ struct PoseGraphOptions {
   /// [count] each new keyframe gets an odometry edge to this many predecessors of its segment
   int sequential_edges = 4;
 
-  // --- odometry (sequential) edges: sigma = base + per_m * distance between the two keyframes ---
-  double odom_sigma_pos_base_m = 0.02;    ///< [m] position sigma of an edge of zero length
-  double odom_sigma_pos_per_m = 0.05;     ///< [m/m] position sigma growth per metre of edge
-  double odom_sigma_yaw_base_deg = 0.2;   ///< [deg] yaw sigma of an edge of zero length
-  double odom_sigma_yaw_per_m_deg = 1.0;  ///< [deg/m] yaw sigma growth per metre of edge
+  // --- odometry (sequential) edges: a random walk of the odometry's drift ---
+  // The position variance of an edge grows linearly with the path length, its yaw variance with
+  // the path length and the rotation of the odometry between its two keyframes (summed over the
+  // keyframes in between), so a loop's correction is spread in proportion to where the odometry can
+  // have drifted: along the distance travelled and in the turns (heading errors of a gyro scale or
+  // camera-IMU misalignment grow with the angle turned), not per keyframe. Every sequential edge's
+  // variance is multiplied by n (n + 1) / 2 for n = sequential_edges: the n overlapping edges
+  // of a keyframe carry the information of the odometry once, as a single chain would.
+  /// [m] position sigma of an edge between two keyframes at the same place and attitude
+  double odom_pos_sigma_floor_m = 0.001;
+  /// [m/sqrt(m)] position sigma after 1 m of path (sigma = this * sqrt(path / 1 m))
+  double odom_pos_sigma_per_sqrt_m = 0.015;
+  /// [deg] yaw sigma of an edge between two keyframes at the same place and attitude
+  double odom_yaw_sigma_floor_deg = 0.01;
+  /// [deg/sqrt(m)] yaw sigma after 1 m of path
+  double odom_yaw_sigma_per_sqrt_m_deg = 0.5;
+  /// [deg/sqrt(rad)] yaw sigma after turning 1 rad (rotation angle of the odometry attitude)
+  double odom_yaw_sigma_per_sqrt_rad_deg = 0.3;
 
   // --- loop edges ---
   double loop_sigma_pos_m = 0.05;        ///< [m] position sigma of a verified loop
