@@ -52,12 +52,12 @@ TEST(TrackingLoss, ThreeSecondsOfBlackFramesEndInOneContinuousTrajectory) {
   sim::SimOptions so = sim::SimOptions::load(sim_ini);
   so.profile.kind = sim::ProfileKind::WheeledCircle;
   so.profile.speed_m_s = 0.8;
-  so.profile.duration_s = 24.0;
+  so.profile.duration_s = 30.0;
   so.fps = 15.0;
   const sim::SimulatedSequence seq(so);
   auto ini = IniReader::fromText(sim::slamConfigText(seq), "generated config.ini");
   const system::SystemConfig cfg = system::SystemConfig::load(ini);
-  const double t_black = seq.frameStamp(0) + 17.0, t_light = t_black + 3.0;
+  const double t_black = seq.frameStamp(0) + 19.0, t_light = t_black + 3.0;
 
   system::SlamSystem clean(cfg, {}), lossy(cfg, {});
   BlackoutFilter blackout(lossy, t_black, t_light);
