@@ -252,14 +252,7 @@ RunResult runOnce(const Args& a, const system::SystemConfig& cfg, bool loop_on,
   std::cout << "\n";
   if (const loop::LoopCloser* lc = sys.loopCloser()) {
     // Each active loop against the ground truth (nearest pose in time, body frame).
-    auto nearest = [&](double t) {
-      const auto it = std::lower_bound(gt.begin(), gt.end(), t,
-                                       [](const StampedPose& s, double x) { return s.t < x; });
-      if (it == gt.end()) return gt.back().isometry();
-      if (it != gt.begin() && std::abs((it - 1)->t - t) < std::abs(it->t - t))
-        return (it - 1)->isometry();
-      return it->isometry();
-    };
+    auto nearest = [&](double t) { return nearestPose(gt, t); };
     double worst_m = 0.0, worst_deg = 0.0;
     for (const loop::LoopRecord& l : lc->loops()) {
       if (l.rolled_back || gt.empty()) continue;
