@@ -149,6 +149,18 @@ void PointMapState::dropIsolatedLeaves(std::vector<PointSource>& drops, RebuildR
     }
 }
 
+RebuildReport PointMapState::finishPass(std::vector<PointSource>& drops, KeyframeStore& store,
+                                        RebuildReport report,
+                                        std::chrono::steady_clock::time_point start) {
+  dropIsolatedLeaves(drops, report);
+  applyDrops(drops, store);
+  report.kept_points = points.size();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  last_rebuild = report;
+  built_pose_revision = store.poseRevision();
+  return report;
+}
+
 void PointMapState::applyDrops(std::vector<PointSource>& drops, KeyframeStore& store) {
   std::sort(drops.begin(), drops.end(), [](PointSource a, PointSource b) {
     return a.ordinal < b.ordinal || (a.ordinal == b.ordinal && a.index < b.index);
@@ -285,14 +297,7 @@ RebuildReport PointMap::rebuild(KeyframeStore& store) {
     m.keyframe_slots[ordinal].resize(kf.points.size(), detail::kNone);
   }
   // Every cell changed: the isolated-leaf rule looks at the whole map.
-  m.dropIsolatedLeaves(drops, report);
-  m.applyDrops(drops, store);
-
-  report.kept_points = m.points.size();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  m.last_rebuild = report;
-  m.built_pose_revision = store.poseRevision();
-  return report;
+  return m.finishPass(drops, store, report, start);
 }
 
 bool PointMap::isOutdated(const KeyframeStore& store) const {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -135,6 +136,10 @@ struct PointMapState {
   /// Removes the dropped points (map points already removed) from their keyframes' kept points
   /// and renumbers the survivors' sources.
   void applyDrops(std::vector<PointSource>& drops, KeyframeStore& store);
+  /// End of a rebuild or an update: the isolated-leaf rule, the drops applied, the report
+  /// completed (points kept, seconds since `start`) and remembered with the store's revision.
+  RebuildReport finishPass(std::vector<PointSource>& drops, KeyframeStore& store,
+                           RebuildReport report, std::chrono::steady_clock::time_point start);
 };
 
 }  // namespace rgbdi::mapping::detail

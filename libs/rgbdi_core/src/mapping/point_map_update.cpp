@@ -100,14 +100,7 @@ RebuildReport PointMap::update(KeyframeStore& store, const std::vector<std::uint
 
   // 3. The isolated-leaf rule where anything changed since it last ran (insertions between
   // loops included), then the dropped points leave their keyframes.
-  m.dropIsolatedLeaves(drops, report);
-  m.applyDrops(drops, store);
-
-  report.kept_points = m.points.size();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  m.last_rebuild = report;
-  m.built_pose_revision = store.poseRevision();
-  return report;
+  return m.finishPass(drops, store, report, start);
 }
 
 }  // namespace rgbdi::mapping
