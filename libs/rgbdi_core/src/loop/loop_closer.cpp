@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -75,9 +76,17 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   kf.T_world_body = graph_.pose(kf.id);  // the segment's current drift applied
 
   const auto t_rec = Clock::now();
-  const std::vector<PlaceCandidate> candidates = recognizer_.process(kf, [this, &kf](int segment) {
-    return segment != kf.segment && !graph_.connected(segment, kf.segment);
-  });
+  // The predicate only where another part exists: with none, every candidate is related and
+  // the recognizer need not query a keyframe that has no reference score.
+  std::function<bool(int)> unrelated;
+  for (const SegmentState& s : graph_.segments())
+    if (s.segment != kf.segment && !graph_.connected(s.segment, kf.segment)) {
+      unrelated = [this, &kf](int segment) {
+        return segment != kf.segment && !graph_.connected(segment, kf.segment);
+      };
+      break;
+    }
+  const std::vector<PlaceCandidate> candidates = recognizer_.process(kf, unrelated);
   stats_.recognition_ms_total += msSince(t_rec);
   stats_.candidates += candidates.size();
 

@@ -85,7 +85,7 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
     // verified matches with more inliers, and the reference fails exactly when relocalisation
     // matters most: at rest the predecessor is the same image and outscores every other view;
     // the first keyframe of a part has no predecessor of its own.
-    const bool may_join = static_cast<bool>(unrelated);
+    const bool may_join = static_cast<bool>(unrelated);  // the caller passes it only then
     if (!no_reference || may_join) {
       const std::uint64_t last_id = end > 0 ? records_[end - 1].id : 0;
       const std::vector<PlaceMatch> matches =
