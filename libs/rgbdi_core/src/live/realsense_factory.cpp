@@ -5,7 +5,8 @@
 namespace rgbdi::live {
 
 #ifdef RGBDI_HAVE_REALSENSE2
-std::unique_ptr<RealSenseDevice> makeLibrealsenseDevice(const std::string& playback_bag);
+std::unique_ptr<RealSenseDevice> makeLibrealsenseDevice(const std::string& playback_bag,
+                                                        double speed, bool restamp);
 #endif
 
 bool realSenseSdkAvailable() {
@@ -16,11 +17,14 @@ bool realSenseSdkAvailable() {
 #endif
 }
 
-std::unique_ptr<RealSenseDevice> makeSdkRealSenseDevice(const std::string& playback_bag) {
+std::unique_ptr<RealSenseDevice> makeSdkRealSenseDevice(const std::string& playback_bag,
+                                                        double speed, bool restamp) {
 #ifdef RGBDI_HAVE_REALSENSE2
-  return makeLibrealsenseDevice(playback_bag);
+  return makeLibrealsenseDevice(playback_bag, speed, restamp);
 #else
   (void)playback_bag;
+  (void)speed;
+  (void)restamp;
   throw RealSenseError(
       "rgbdi was built without librealsense2, so it cannot drive a RealSense camera: install "
       "the SDK and rebuild (doc/live.md), or play a recording with device = recorded");

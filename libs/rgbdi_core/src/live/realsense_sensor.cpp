@@ -117,7 +117,7 @@ void RgbdiRealSense::initialize() {
     if (d.adapter == "recorded") {
       d.device = makeRecordedRealSenseDevice(d.playback_file, d.speed, d.restamp);
     } else {
-      d.device = makeSdkRealSenseDevice(d.playback_file);
+      d.device = makeSdkRealSenseDevice(d.playback_file, d.speed, d.restamp);
     }
   }
   d.calib = d.device->open(d.request);

@@ -7,7 +7,10 @@
 // is slow and must not delay IMU samples in the SDK callback) and copies the images out.
 // Options are applied to the device's sensors after the pipeline has started: global time on
 // every sensor that has it, emitter and auto-exposure on the stereo module, auto-exposure on the
-// RGB camera. An SDK .bag (playback_file) is played by the SDK itself in real time, once.
+// RGB camera. An SDK .bag (playback_file) is played by the SDK itself in real time at `speed`,
+// once; its stamps are re-based onto the wall clock on request (as the recorded adapter does).
+#include <mrpt/core/Clock.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -15,6 +18,8 @@
 #include <mutex>
 #include <thread>
 
+#include "rgbdi/io/mrpt_conversions.h"
+#include "rgbdi/live/playback_clock.h"
 #include "rgbdi/live/realsense_device.h"
 
 namespace rgbdi::live {
@@ -56,9 +61,25 @@ void setIfSupported(rs2::sensor& s, rs2_option o, float v) {
   if (s.supports(o) && !s.is_option_read_only(o)) s.set_option(o, v);
 }
 
+/// "Depth Z16 640x480@30, Color RGB8 640x480@30": what a device (a recording) can stream.
+std::string describeProfiles(const rs2::device& d) {
+  std::string out;
+  for (const rs2::sensor& s : d.query_sensors())
+    for (const rs2::stream_profile& p : s.get_stream_profiles()) {
+      if (!out.empty()) out += ", ";
+      out += std::string(rs2_stream_to_string(p.stream_type())) + " " +
+             rs2_format_to_string(p.format());
+      if (auto v = p.as<rs2::video_stream_profile>())
+        out += " " + std::to_string(v.width()) + "x" + std::to_string(v.height());
+      out += "@" + std::to_string(p.fps());
+    }
+  return out.empty() ? "no streams" : out;
+}
+
 class LibrealsenseDevice : public RealSenseDevice {
  public:
-  explicit LibrealsenseDevice(std::string playback) : playback_(std::move(playback)) {}
+  LibrealsenseDevice(std::string playback, double speed, bool restamp)
+      : playback_(std::move(playback)), speed_(speed), clock_(speed, restamp) {}
   ~LibrealsenseDevice() override { stop(); }
 
   std::vector<RealSenseDeviceInfo> enumerate() override {
@@ -88,16 +109,25 @@ class LibrealsenseDevice : public RealSenseDevice {
         cfg_.enable_stream(RS2_STREAM_GYRO, RS2_FORMAT_MOTION_XYZ32F, r.gyro_hz);
       }
       pipe_ = std::make_unique<rs2::pipeline>(ctx_);
-      if (!cfg_.can_resolve(*pipe_))
+      if (!cfg_.can_resolve(*pipe_)) {
+        // A recording has exactly the streams it was recorded with: name them.
+        std::string recorded;
+        if (!playback_.empty()) {
+          recorded = "; " + playback_ + " has " + describeProfiles(ctx_.load_device(playback_));
+          ctx_.unload_device(playback_);
+        }
         throw RealSenseError(
-            "the device cannot stream colour " + std::to_string(r.color_width) + "x" +
+            (playback_.empty() ? "the device" : "the recording") +
+            std::string(" cannot stream colour ") + std::to_string(r.color_width) + "x" +
             std::to_string(r.color_height) + "@" + std::to_string(r.color_fps) + ", depth " +
             std::to_string(r.depth_width) + "x" + std::to_string(r.depth_height) + "@" +
             std::to_string(r.depth_fps) +
             (r.imu
                  ? ", accel @" + std::to_string(r.accel_hz) + ", gyro @" + std::to_string(r.gyro_hz)
                  : std::string()) +
+            recorded +
             " (check the keys against rs-enumerate-devices; a D435 has no IMU: imu = false)");
+      }
       const rs2::pipeline_profile prof = cfg_.resolve(*pipe_);
       const auto color = prof.get_stream(RS2_STREAM_COLOR).as<rs2::video_stream_profile>();
       const auto depth = prof.get_stream(RS2_STREAM_DEPTH).as<rs2::video_stream_profile>();
@@ -132,7 +162,7 @@ class LibrealsenseDevice : public RealSenseDevice {
           const auto kind = m.get_profile().stream_type() == RS2_STREAM_ACCEL
                                 ? RealSenseMotion::Kind::Accel
                                 : RealSenseMotion::Kind::Gyro;
-          on_motion_({kind, m.get_timestamp() * 1e-3, Eigen::Vector3d(v.x, v.y, v.z)});
+          on_motion_({kind, stamp(m.get_timestamp() * 1e-3), Eigen::Vector3d(v.x, v.y, v.z)});
         } else if (auto fs = f.as<rs2::frameset>()) {
           std::lock_guard<std::mutex> lk(mutex_);
           pending_.push_back(fs);
@@ -156,6 +186,7 @@ class LibrealsenseDevice : public RealSenseDevice {
         }
       } else if (auto pb = device_.as<rs2::playback>()) {
         pb.set_real_time(true);
+        pb.set_playback_speed(static_cast<float>(speed_));
       }
       running_ = true;
     } catch (const rs2::error& e) {
@@ -183,7 +214,11 @@ class LibrealsenseDevice : public RealSenseDevice {
   bool finished() const override {
     if (playback_.empty() || !device_) return false;
     auto pb = device_.as<rs2::playback>();
-    return pb && pb.current_status() == RS2_PLAYBACK_STATUS_STOPPED;
+    // The SDK stops the playback after its sensors have delivered every frame (so every frameset
+    // is in pending_ by then); it is over for us once the worker has passed them all on.
+    if (!pb || pb.current_status() != RS2_PLAYBACK_STATUS_STOPPED) return false;
+    std::lock_guard<std::mutex> lk(mutex_);
+    return pending_.empty() && !busy_;
   }
 
   std::string error() const override {
@@ -200,29 +235,39 @@ class LibrealsenseDevice : public RealSenseDevice {
             get(RS2_CAMERA_INFO_FIRMWARE_VERSION)};
   }
 
+  /// A device stamp [s] as delivered: re-based onto the wall clock for a re-stamped playback.
+  double stamp(double t) {
+    if (playback_.empty() || !clock_.restamp()) return t;
+    std::lock_guard<std::mutex> lk(clock_mutex_);
+    if (!clock_.started()) clock_.start(io::toSeconds(mrpt::Clock::now()), t);
+    return clock_.outputStamp(t);
+  }
+
   void work() {
     rs2::align align(RS2_STREAM_COLOR);
     for (;;) {
       rs2::frameset fs;
       {
         std::unique_lock<std::mutex> lk(mutex_);
+        busy_ = false;
         cv_.wait(lk, [this] { return quit_ || !pending_.empty(); });
         if (quit_) return;
         fs = pending_.front();
         pending_.pop_front();
+        busy_ = true;
       }
       try {
         if (request_.align_depth_to_color) fs = align.process(fs);
         RealSenseFrameset out;
         out.number = frames_++;
         if (rs2::video_frame c = fs.get_color_frame()) {
-          out.t = c.get_timestamp() * 1e-3;
+          out.t = stamp(c.get_timestamp() * 1e-3);
           out.rgb = cv::Mat(c.get_height(), c.get_width(), CV_8UC3, const_cast<void*>(c.get_data()),
                             c.get_stride_in_bytes())
                         .clone();
         }
         if (rs2::depth_frame d = fs.get_depth_frame()) {
-          if (out.rgb.empty()) out.t = d.get_timestamp() * 1e-3;
+          if (out.rgb.empty()) out.t = stamp(d.get_timestamp() * 1e-3);
           out.depth = cv::Mat(d.get_height(), d.get_width(), CV_16UC1,
                               const_cast<void*>(d.get_data()), d.get_stride_in_bytes())
                           .clone();
@@ -236,6 +281,9 @@ class LibrealsenseDevice : public RealSenseDevice {
   }
 
   std::string playback_;
+  double speed_;
+  PlaybackClock clock_;  // playback re-stamping; guarded by clock_mutex_
+  std::mutex clock_mutex_;
   RealSenseRequest request_;
   RealSenseCalibration calib_;
   rs2::context ctx_;
@@ -249,6 +297,7 @@ class LibrealsenseDevice : public RealSenseDevice {
   std::condition_variable cv_;
   std::deque<rs2::frameset> pending_;
   bool quit_ = false;
+  bool busy_ = false;  // the worker is passing a frameset on (guarded by mutex_)
   std::atomic<bool> running_{false};
   std::string error_;
   std::uint64_t frames_ = 0;
@@ -256,8 +305,9 @@ class LibrealsenseDevice : public RealSenseDevice {
 
 }  // namespace
 
-std::unique_ptr<RealSenseDevice> makeLibrealsenseDevice(const std::string& playback_bag) {
-  return std::make_unique<LibrealsenseDevice>(playback_bag);
+std::unique_ptr<RealSenseDevice> makeLibrealsenseDevice(const std::string& playback_bag,
+                                                        double speed, bool restamp) {
+  return std::make_unique<LibrealsenseDevice>(playback_bag, speed, restamp);
 }
 
 }  // namespace rgbdi::live

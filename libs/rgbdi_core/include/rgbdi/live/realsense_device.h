@@ -97,9 +97,11 @@ class RealSenseDevice {
 
 /// True when rgbdi was built with librealsense2.
 bool realSenseSdkAvailable();
-/// The SDK adapter; `playback_bag` non-empty plays an SDK recording through the SDK. Throws
-/// RealSenseError when rgbdi was built without librealsense2.
-std::unique_ptr<RealSenseDevice> makeSdkRealSenseDevice(const std::string& playback_bag = "");
+/// The SDK adapter; `playback_bag` non-empty plays an SDK recording through the SDK's own
+/// playback (in real time at `speed`, stamps re-based onto the wall clock when `restamp`; both
+/// unused for a camera). Throws RealSenseError when rgbdi was built without librealsense2.
+std::unique_ptr<RealSenseDevice> makeSdkRealSenseDevice(const std::string& playback_bag = "",
+                                                        double speed = 1.0, bool restamp = false);
 /// The recorded adapter: replays an SDK .bag with rgbdi's bag reader, paced by its stamps at
 /// `speed`; stamps are re-based onto the wall clock when `restamp`.
 std::unique_ptr<RealSenseDevice> makeRecordedRealSenseDevice(const std::string& bag_path,
