@@ -113,8 +113,9 @@ class LibrealsenseDevice : public RealSenseDevice {
         // A recording has exactly the streams it was recorded with: name them.
         std::string recorded;
         if (!playback_.empty()) {
-          recorded = "; " + playback_ + " has " + describeProfiles(ctx_.load_device(playback_));
-          ctx_.unload_device(playback_);
+          // A context of its own: the pipeline's already holds the file.
+          rs2::context listing;
+          recorded = "; " + playback_ + " has " + describeProfiles(listing.load_device(playback_));
         }
         throw RealSenseError(
             (playback_.empty() ? "the device" : "the recording") +
@@ -157,6 +158,7 @@ class LibrealsenseDevice : public RealSenseDevice {
     worker_ = std::thread([this] { work(); });
     try {
       const rs2::pipeline_profile prof = pipe_->start(cfg_, [this](const rs2::frame& f) {
+        ++received_;
         if (auto m = f.as<rs2::motion_frame>()) {
           const rs2_vector v = m.get_motion_data();
           const auto kind = m.get_profile().stream_type() == RS2_STREAM_ACCEL
@@ -216,7 +218,8 @@ class LibrealsenseDevice : public RealSenseDevice {
     auto pb = device_.as<rs2::playback>();
     // The SDK stops the playback after its sensors have delivered every frame (so every frameset
     // is in pending_ by then); it is over for us once the worker has passed them all on.
-    if (!pb || pb.current_status() != RS2_PLAYBACK_STATUS_STOPPED) return false;
+    // It also reports STOPPED before it has begun to play: over only once something came.
+    if (!pb || received_ == 0 || pb.current_status() != RS2_PLAYBACK_STATUS_STOPPED) return false;
     std::lock_guard<std::mutex> lk(mutex_);
     return pending_.empty() && !busy_;
   }
@@ -299,6 +302,7 @@ class LibrealsenseDevice : public RealSenseDevice {
   bool quit_ = false;
   bool busy_ = false;  // the worker is passing a frameset on (guarded by mutex_)
   std::atomic<bool> running_{false};
+  std::atomic<std::uint64_t> received_{0};  // frames and framesets from the SDK callback
   std::string error_;
   std::uint64_t frames_ = 0;
 };
