@@ -22,7 +22,7 @@
 //   max_merge_wait_s = 0.1   [s] a gyro sample waits at most this for its accel partner
 //   frameset_queue_len = 8   [framesets] received but not yet turned into observations;
 //                            older ones are dropped (counted) if the thread falls behind
-//   speed = 1.0, stamps = now  recorded adapter: playback speed, now|source stamps
+//   speed = 1.0, stamps = now  playback (either adapter): playback speed, now|source stamps
 //   camera_label = RGBD, imu_label = IMU
 #pragma once
 
