@@ -408,3 +408,63 @@ TEST(RigidFit, RecoversAKnownTransformAndWeightsThePoints) {
   EXPECT_FALSE(
       rgbdi::loop::fitRigidWeighted({{0, 0, 0}, {1, 0, 0}}, {{0, 0, 0}, {1, 0, 0}}, {1, 1}, fit));
 }
+
+namespace {
+
+/// Depth grids of the pair's two keyframes seeing one wall, fronto-parallel to the candidate
+/// camera at `wall_m` [m]: exact depths along each camera's optical axis.
+void addWallGrids(SyntheticLoopPair& p, double wall_m) {
+  const Eigen::Isometry3d T_cc_qc =
+      p.T_body_cam.inverse() * p.T_from_to_true * p.T_body_cam;  // query cam -> candidate cam
+  for (rgbdi::loop::DepthGrid* g : {&p.query.depth_grid, &p.candidate.depth_grid}) {
+    g->cols = 32;
+    g->rows = 24;
+    g->depth_m.assign(32 * 24, 0.0f);
+  }
+  for (int r = 0; r < 24; ++r)
+    for (int c = 0; c < 32; ++c) {
+      const Eigen::Vector2d uv =
+          p.candidate.depth_grid.pixel(c, r, p.camera.width, p.camera.height);
+      p.candidate.depth_grid.depth_m[r * 32 + c] = static_cast<float>(wall_m);
+      const Eigen::Vector3d d = p.camera.backProject(uv, 1.0);  // query ray, unit depth
+      const double s = (wall_m - T_cc_qc.translation().z()) / (T_cc_qc.linear() * d).z();
+      if (s > 0.0) p.query.depth_grid.depth_m[r * 32 + c] = static_cast<float>(s);
+    }
+}
+
+}  // namespace
+
+TEST(LoopVerifier, AcceptsAJoinWhoseDepthGridsSeeTheSameWall) {
+  SyntheticLoopPair p = rgbdi::test::makeSyntheticLoopPair(rgbdi::test::defaultLoopPairOptions());
+  addWallGrids(p, 4.0);
+  const LoopVerification v = verifyPair(p, /*related=*/false);
+  ASSERT_TRUE(v.accepted) << rgbdi::loop::toString(v.reason) << ": " << v.detail;
+  EXPECT_GT(v.constraint.freespace_compared, 300);
+  EXPECT_EQ(v.constraint.freespace_conflicts, 0);
+}
+
+TEST(LoopVerifier, RejectsAJoinWhoseSurfacesLieInTheOtherKeyframesFreeSpace) {
+  SyntheticLoopPair p = rgbdi::test::makeSyntheticLoopPair(rgbdi::test::defaultLoopPairOptions());
+  addWallGrids(p, 4.0);
+  // The query sees a surface at half the distance everywhere: where the candidate saw the wall
+  // at 4 m, the query's samples float in its free space. The candidate's wall lies behind the
+  // query's surface (hidden from the query), which says nothing.
+  for (float& d : p.query.depth_grid.depth_m) d *= 0.5f;
+  const LoopVerification v = verifyPair(p, /*related=*/false);
+  EXPECT_FALSE(v.accepted);
+  EXPECT_EQ(v.reason, LoopRejection::FreeSpaceConflict);
+  EXPECT_GT(v.constraint.freespace_compared, 300);
+  EXPECT_EQ(v.constraint.freespace_conflicts, v.constraint.freespace_compared);
+  EXPECT_NE(v.detail.find("verify_freespace_max_conflict_fraction"), std::string::npos) << v.detail;
+
+  // Loops within one frame are not checked by default; with verify_freespace_for_loops they are.
+  const LoopVerification loop = verifyPair(p, /*related=*/true);
+  EXPECT_TRUE(loop.accepted) << loop.detail;
+  EXPECT_EQ(loop.constraint.freespace_compared, 0);
+  LoopVerificationOptions o;
+  o.freespace_for_loops = true;
+  EXPECT_EQ(verifyPair(p, true, o).reason, LoopRejection::FreeSpaceConflict);
+  // A share of 1 switches the check off.
+  o.freespace_max_conflict_fraction = 1.0;
+  EXPECT_TRUE(verifyPair(p, false, o).accepted);
+}

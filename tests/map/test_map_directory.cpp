@@ -407,12 +407,14 @@ TEST(MapDirectory, RefusesAnotherFormatVersionNamingTheManifest) {
   const std::string dir = test::makeTempDir("rgbdi_map") + "/map";
   saveMap(dir, syntheticMap(4));
   nlohmann::json j = readManifest(dir);
-  j["format_version"] = 2;
+  j["format_version"] = kMapFormatVersion + 1;
   j.erase("camera");  // another version may have other keys: the version is checked first
   writeManifest(dir, j);
   const std::string e = loadError(dir);
   EXPECT_TRUE(contains(e, "manifest.json")) << e;
-  EXPECT_TRUE(contains(e, "map format version 2, this build reads version 1")) << e;
+  EXPECT_TRUE(contains(e, "map format version " + std::to_string(kMapFormatVersion + 1) +
+                             ", this build reads version " + std::to_string(kMapFormatVersion)))
+      << e;
 }
 
 TEST(MapDirectory, RefusesAMissingManifest) {

@@ -290,7 +290,8 @@ std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>> LoopCloser::correctedPo
 
 std::size_t LoopCloser::memoryBytes() const {
   std::size_t b = keyframes_.capacity() * sizeof(LoopKeyframe) + recognizer_.memoryBytes();
-  for (const LoopKeyframe& k : keyframes_) b += descriptorBytes(k.descriptors);
+  for (const LoopKeyframe& k : keyframes_)
+    b += descriptorBytes(k.descriptors) + k.depth_grid.depth_m.capacity() * sizeof(float);
   b +=
       graph_.nodes().capacity() * sizeof(GraphNode) + graph_.edges().capacity() * sizeof(GraphEdge);
   return b;

@@ -39,6 +39,10 @@ const std::vector<IntKey>& intKeys() {
       {"feature_grid_rows", [](LoopFeatureOptions& o) -> int& { return o.grid_rows; }, 1, 100},
       {"feature_depth_window_px", [](LoopFeatureOptions& o) -> int& { return o.depth_window_px; },
        0, 20},
+      {"feature_depth_grid_cols", [](LoopFeatureOptions& o) -> int& { return o.depth_grid_cols; },
+       0, 160},
+      {"feature_depth_grid_rows", [](LoopFeatureOptions& o) -> int& { return o.depth_grid_rows; },
+       0, 120},
   };
   return keys;
 }
@@ -79,6 +83,8 @@ void checkConsistency(const LoopFeatureOptions& o, Fail&& fail) {
   // Fewer proposals than kept keypoints would make max_keypoints unreachable by construction.
   if (o.detect_candidates < o.max_keypoints)
     fail("feature_detect_candidates", "must not be smaller than feature_max_keypoints");
+  if ((o.depth_grid_cols == 0) != (o.depth_grid_rows == 0))
+    fail("feature_depth_grid_rows", "must be 0 exactly when feature_depth_grid_cols is 0");
 }
 
 }  // namespace

@@ -143,6 +143,24 @@ mapping::DescriptorSet LoopFeatureExtractor::extract(const RgbdFrame& frame,
   return set;
 }
 
+DepthGrid LoopFeatureExtractor::depthGrid(const RgbdFrame& frame, const PinholeCamera& cam) {
+  DepthGrid grid;
+  Impl& im = *impl_;
+  if (!frame.hasDepth() || im.options.depth_grid_cols == 0) return grid;
+  grid.cols = im.options.depth_grid_cols;
+  grid.rows = im.options.depth_grid_rows;
+  std::vector<Eigen::Vector2d> centres;
+  centres.reserve(static_cast<std::size_t>(grid.cols) * grid.rows);
+  for (int r = 0; r < grid.rows; ++r)
+    for (int c = 0; c < grid.cols; ++c) centres.push_back(grid.pixel(c, r, cam.width, cam.height));
+  im.registrar.registerDepthAround(frame, cam, centres, im.options.depth_window_px + 1, im.depth_m);
+  grid.depth_m.resize(centres.size());
+  for (std::size_t k = 0; k < centres.size(); ++k)
+    grid.depth_m[k] = static_cast<float>(
+        std::max(0.0, frontend::sampleDepth(im.depth_m, centres[k], im.sampling)));
+  return grid;
+}
+
 mapping::DescriptorSet extractLoopFeatures(const RgbdFrame& frame, const PinholeCamera& cam,
                                            const LoopFeatureOptions& options) {
   LoopFeatureExtractor extractor(options);

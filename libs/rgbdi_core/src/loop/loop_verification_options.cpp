@@ -32,6 +32,8 @@ const std::vector<IntKey>& intKeys() {
       {"verify_min_pnp_inliers", [](O& o) -> int& { return o.min_pnp_inliers; }, 4, 100000},
       {"verify_min_depth_inliers", [](O& o) -> int& { return o.min_depth_inliers; }, 3, 100000},
       {"verify_refine_rounds", [](O& o) -> int& { return o.refine_rounds; }, 0, 100},
+      {"verify_freespace_min_samples", [](O& o) -> int& { return o.freespace_min_samples; }, 1,
+       100000},
   };
   return keys;
 }
@@ -55,6 +57,12 @@ const std::vector<DoubleKey>& doubleKeys() {
       {"verify_drift_fraction", [](O& o) -> double& { return o.drift_fraction; }, 0.0, 10.0},
       {"verify_drift_base_deg", [](O& o) -> double& { return o.drift_base_deg; }, 0.0, 180.0},
       {"verify_drift_deg_per_m", [](O& o) -> double& { return o.drift_deg_per_m; }, 0.0, 180.0},
+      {"verify_freespace_margin_m", [](O& o) -> double& { return o.freespace_margin_m; }, 0.0,
+       10.0},
+      {"verify_freespace_margin_sigmas", [](O& o) -> double& { return o.freespace_margin_sigmas; },
+       0.0, 100.0},
+      {"verify_freespace_max_conflict_fraction",
+       [](O& o) -> double& { return o.freespace_max_conflict_fraction; }, 0.0, 1.0},
   };
   return keys;
 }
@@ -103,6 +111,7 @@ LoopVerificationOptions LoopVerificationOptions::load(IniReader& ini) {
   for (const DoubleKey& k : doubleKeys())
     k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
   o.cross_check = ini.getBool(kSection, "verify_cross_check", o.cross_check);
+  o.freespace_for_loops = ini.getBool(kSection, "verify_freespace_for_loops", o.freespace_for_loops);
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });

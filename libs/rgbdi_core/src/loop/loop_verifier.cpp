@@ -53,6 +53,53 @@ struct DepthPair {
   double weight;
 };
 
+/// Free-space evidence of one direction: the samples of grid `from` (in its camera frame) moved by
+/// T_to_from into the other camera and compared with grid `to` around where they land. A sample
+/// nearer than all four surrounding samples of `to` by more than the margin conflicts (`to` saw
+/// farther along that ray); one within the margin of them agrees; one behind them was hidden
+/// from `to` and says nothing. Samples landing beside a hole of `to` are not compared.
+struct FreeSpaceCount {
+  int compared = 0;
+  int conflicts = 0;
+};
+
+void compareFreeSpace(const DepthGrid& from, const DepthGrid& to,
+                      const Eigen::Isometry3d& T_to_from, const PinholeCamera& cam,
+                      const Eigen::Vector2d& max_xn, const LoopVerificationOptions& o,
+                      FreeSpaceCount& count) {
+  for (int r = 0; r < from.rows; ++r)
+    for (int c = 0; c < from.cols; ++c) {
+      const double z_from = from.at(c, r);
+      if (!(z_from > 0.0)) continue;
+      const Eigen::Vector3d p =
+          T_to_from * cam.backProject(from.pixel(c, r, cam.width, cam.height), z_from);
+      if (!(p.z() > 0.0)) continue;
+      // Outside the field of view (with margin) a distortion model can fold back into the image.
+      const Eigen::Vector2d xn = p.head<2>() / p.z();
+      if (std::abs(xn.x()) > max_xn.x() || std::abs(xn.y()) > max_xn.y()) continue;
+      Eigen::Vector2d uv;
+      if (!cam.project(p, uv)) continue;
+      const double gx = uv.x() * to.cols / cam.width - 0.5;
+      const double gy = uv.y() * to.rows / cam.height - 0.5;
+      const int c0 = static_cast<int>(std::floor(gx)), r0 = static_cast<int>(std::floor(gy));
+      if (c0 < 0 || r0 < 0 || c0 + 1 >= to.cols || r0 + 1 >= to.rows) continue;
+      const float d[4] = {to.at(c0, r0), to.at(c0 + 1, r0), to.at(c0, r0 + 1),
+                          to.at(c0 + 1, r0 + 1)};
+      if (!(d[0] > 0.f && d[1] > 0.f && d[2] > 0.f && d[3] > 0.f)) continue;
+      const double d_min = std::min(std::min(d[0], d[1]), std::min(d[2], d[3]));
+      const double d_max = std::max(std::max(d[0], d[1]), std::max(d[2], d[3]));
+      const double zp2 = p.z() * p.z(), zt2 = d_min * d_min;
+      const double margin = o.freespace_margin_m + o.freespace_margin_sigmas * o.depth_noise_coeff *
+                                                       std::sqrt(zp2 * zp2 + zt2 * zt2);
+      if (p.z() < d_min - margin) {
+        ++count.compared;
+        ++count.conflicts;
+      } else if (p.z() <= d_max + margin) {
+        ++count.compared;
+      }
+    }
+}
+
 }  // namespace
 
 const char* toString(LoopRejection reason) {
@@ -75,6 +122,8 @@ const char* toString(LoopRejection reason) {
       return "translation_gate";
     case LoopRejection::DriftBudget:
       return "drift_budget";
+    case LoopRejection::FreeSpaceConflict:
+      return "free_space_conflict";
   }
   return "unknown";
 }
@@ -89,6 +138,11 @@ LoopVerifier::LoopVerifier(const LoopVerificationOptions& options, const Pinhole
   if (!cam_.valid()) throw std::invalid_argument("LoopVerifier: invalid colour camera");
   if (!T_body_cam.matrix().allFinite())
     throw std::invalid_argument("LoopVerifier: T_body_cam is not finite");
+  // The field of view in normalised coordinates (from the image corners), with 10 % to spare.
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(cam_.width, 0.0),
+        Eigen::Vector2d(0.0, cam_.height), Eigen::Vector2d(cam_.width, cam_.height)})
+    max_xn_ = max_xn_.cwiseMax(1.1 * cam_.pixelToNormalized(corner).cwiseAbs());
 }
 
 LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyframe& candidate,
@@ -276,6 +330,23 @@ LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyfr
     if (agree[i]) sq_m += (T_cc_qc * pairs[i].p_query - pairs[i].p_cand).squaredNorm();
   c.depth_rms_m = std::sqrt(sq_m / n_agree);
   c.T_from_to = T_body_cam_ * T_cc_qc * T_cam_body_;
+
+  // --- free space: neither keyframe's surfaces where the other saw through ---
+  if ((!frames_related || o.freespace_for_loops) && !query.depth_grid.empty() &&
+      !candidate.depth_grid.empty()) {
+    FreeSpaceCount count;
+    compareFreeSpace(query.depth_grid, candidate.depth_grid, T_cc_qc, cam_, max_xn_, o, count);
+    compareFreeSpace(candidate.depth_grid, query.depth_grid, T_qc_cc, cam_, max_xn_, o, count);
+    c.freespace_compared = count.compared;
+    c.freespace_conflicts = count.conflicts;
+    if (count.compared >= o.freespace_min_samples &&
+        count.conflicts > o.freespace_max_conflict_fraction * count.compared)
+      return reject(LoopRejection::FreeSpaceConflict,
+                    cat(count.conflicts, " of ", count.compared,
+                        " compared depth samples lie in the other keyframe's free space (> "
+                        "verify_freespace_max_conflict_fraction ",
+                        o.freespace_max_conflict_fraction, ")"));
+  }
 
   // --- gravity: roll/pitch implied by the loop vs the query's own gravity-aligned pose ---
   const Eigen::Matrix3d R_world_cand = candidate.T_world_body.linear();

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "mapping/descriptor_codec.h"
 #include "map/file_io.h"
 #include "mapping/byte_codec.h"
+#include "mapping/descriptor_codec.h"
 #include "mapping/pose_check.h"
 #include "rgbdi/map/map_directory.h"
 
@@ -14,8 +14,11 @@ namespace {
 
 constexpr char kMagic[8] = {'R', 'G', 'B', 'D', 'I', 'P', 'L', 'C'};
 constexpr std::uint32_t kRecordTag = 0x45434C50u;  // "PLCE" in file byte order
-/// Smallest record: tag, id, segment, t, two poses, travelled, empty descriptor block.
-constexpr std::size_t kMinRecordBytes = 4 + 8 + 4 + 8 + 2 * 12 * 8 + 8 + 4 + 4 + 4 + 4;
+/// Smallest record: tag, id, segment, t, two poses, travelled, empty descriptor block, empty
+/// depth grid.
+constexpr std::size_t kMinRecordBytes = 4 + 8 + 4 + 8 + 2 * 12 * 8 + 8 + 4 + 4 + 4 + 4 + 4 + 4;
+/// Largest depth grid a record may declare (the options allow 160 x 120).
+constexpr std::uint32_t kMaxGridSide = 4096;
 
 void writePose(mapping::detail::ByteWriter& w, const Eigen::Isometry3d& T) {
   for (int r = 0; r < 3; ++r)
@@ -49,6 +52,9 @@ void writePlacesFile(const std::string& path, const std::vector<loop::LoopKeyfra
     writePose(w, p.T_world_body);
     w.f64(p.travelled_m);
     mapping::detail::writeDescriptors(w, p.descriptors);
+    w.u32(static_cast<std::uint32_t>(p.depth_grid.cols));
+    w.u32(static_cast<std::uint32_t>(p.depth_grid.rows));
+    for (float d : p.depth_grid.depth_m) w.f32(d);
     file.write(w.bytes());
   }
   file.close();
@@ -96,6 +102,19 @@ std::vector<loop::LoopKeyframe> readPlacesFile(const std::string& path) {
     if (!std::isfinite(p.travelled_m) || p.travelled_m < 0.0)
       fail("distance travelled is not a finite non-negative number");
     p.descriptors = mapping::detail::readDescriptors(r, fail);
+    const std::uint32_t cols = r.u32("the depth grid columns");
+    const std::uint32_t rows = r.u32("the depth grid rows");
+    if (cols > kMaxGridSide || rows > kMaxGridSide || (cols == 0) != (rows == 0))
+      fail("depth grid of " + std::to_string(cols) + " x " + std::to_string(rows) +
+           " samples (corrupt file)");
+    r.needRecords(static_cast<std::uint64_t>(cols) * rows, 4, "depth grid samples");
+    p.depth_grid.cols = static_cast<int>(cols);
+    p.depth_grid.rows = static_cast<int>(rows);
+    p.depth_grid.depth_m.resize(static_cast<std::size_t>(cols) * rows);
+    for (float& d : p.depth_grid.depth_m) {
+      d = r.f32("a depth grid sample");
+      if (!std::isfinite(d) || d < 0.0f) fail("a depth grid sample is not a finite depth >= 0");
+    }
     places.push_back(std::move(p));
   }
   context = "end of file";

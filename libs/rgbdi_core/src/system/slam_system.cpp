@@ -238,6 +238,7 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
     lk.travelled_m = p.travelled_m;
     const auto t0 = std::chrono::steady_clock::now();
     lk.descriptors = extractor_->extract(p.frame, loop_camera_);
+    lk.depth_grid = extractor_->depthGrid(p.frame, loop_camera_);
     closer_->mutableStats().features_ms_total +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     solved = closer_->process(std::move(lk)).solved;

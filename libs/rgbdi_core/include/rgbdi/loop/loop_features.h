@@ -10,6 +10,7 @@
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/types.h"
 #include "rgbdi/frontend/frontend_options.h"
+#include "rgbdi/loop/depth_grid.h"
 #include "rgbdi/mapping/keyframe.h"
 
 namespace rgbdi::loop {
@@ -37,6 +38,9 @@ struct LoopFeatureOptions {
   double depth_max_relative_spread = 0.03;  ///< [unitless] (max-min)/median allowed in it
   double depth_noise_coeff = 0.004;         ///< [1/m] sensor depth sigma = coeff * z^2
   double depth_max_noise_sigmas = 5.0;      ///< [unitless] noise allowance of the spread test
+  // --- depth grid (free-space check of verification; 0 x 0 = none) ---
+  int depth_grid_cols = 32;  ///< [count] depth samples per row of the keyframe's depth grid
+  int depth_grid_rows = 24;  ///< [count] rows of the depth grid
 
   /// Throws ConfigError when a value is out of range or inconsistent with another one.
   void validate() const;
@@ -67,6 +71,11 @@ class LoopFeatureExtractor {
   /// A frame without colour gives an empty set. Throws std::invalid_argument naming
   /// frame.source_label when the colour image does not match `cam` or is not CV_8UC3.
   mapping::DescriptorSet extract(const RgbdFrame& frame, const PinholeCamera& cam);
+
+  /// The frame's depth registered to `cam` and sampled (with the keypoints' hole/edge and range
+  /// rules) at the centres of a depth_grid_cols x depth_grid_rows grid. Empty when the frame has
+  /// no depth or the grid is 0 x 0. Throws std::invalid_argument as extract() does.
+  DepthGrid depthGrid(const RgbdFrame& frame, const PinholeCamera& cam);
 
  private:
   struct Impl;

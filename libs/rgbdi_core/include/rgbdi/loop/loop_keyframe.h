@@ -1,12 +1,13 @@
-// What loop closure knows of one keyframe: identity, odometry segment, poses, distance travelled
-// and its ORB keypoints (with depth-backed 3-D points). No image is kept. Every loop module
-// (place recognition, geometric verification, 4-DOF pose graph) works on these.
+// What loop closure knows of one keyframe: identity, odometry segment, poses, distance travelled,
+// its ORB keypoints (with depth-backed 3-D points) and a coarse depth grid. No image is kept.
+// Every loop module (place recognition, geometric verification, 4-DOF pose graph) works on these.
 #pragma once
 
 #include <Eigen/Geometry>
 
 #include <cstdint>
 
+#include "rgbdi/loop/depth_grid.h"
 #include "rgbdi/mapping/keyframe.h"
 
 namespace rgbdi::loop {
@@ -26,6 +27,8 @@ struct LoopKeyframe {
   /// ORB keypoints of the colour image: distorted pixels, descriptors (type "ORB-256", 32 bytes)
   /// and depth-backed points in the colour camera frame (NaN where the keypoint has no depth).
   mapping::DescriptorSet descriptors;
+  /// Coarse colour-registered depth (free-space check of verification); empty without depth.
+  DepthGrid depth_grid;
 };
 
 }  // namespace rgbdi::loop

@@ -2,7 +2,8 @@
 // of the query's keypoints against the candidate's depth-backed points, a 3-D/3-D agreement check
 // (both keyframes have depth) with a refinement on the agreeing pairs, then gates on gravity
 // (roll/pitch), relative yaw and translation, and on the drift the odometry can have accumulated
-// since the candidate. Every rejection carries its reason, so they can be counted per reason.
+// since the candidate; joins of unrelated parts also pass a free-space check of the two
+// keyframes' depth grids. Every rejection carries its reason, so they can be counted per reason.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -58,6 +59,20 @@ struct LoopVerificationOptions {
   double drift_base_deg = 3.0;   ///< [deg] correction of the query heading always allowed
   double drift_deg_per_m = 0.3;  ///< [deg/m] further degrees allowed per metre travelled
 
+  // --- free space (both keyframes' depth grids) ---
+  /// [m] a depth sample of one keyframe conflicts with the other when, under the verified pose,
+  /// it is nearer than the other's depth along that ray by more than this plus
+  /// freespace_margin_sigmas noise sigmas (the other saw through the place the sample is at)
+  double freespace_margin_m = 0.10;
+  double freespace_margin_sigmas = 3.0;  ///< [unitless]
+  /// [unitless] share of the compared samples (conflicting or agreeing, both directions) allowed
+  /// to conflict; 1 = check off
+  double freespace_max_conflict_fraction = 0.15;
+  int freespace_min_samples = 20;  ///< [count] compared samples needed to judge the share
+  /// [bool] check loops within one frame too; joins of unrelated parts are always checked (no
+  /// drift budget protects them)
+  bool freespace_for_loops = false;
+
   /// Throws ConfigError when a value is outside its range.
   void validate() const;
   /// Reads the verify_* keys of [loop]; missing keys keep the defaults above.
@@ -74,15 +89,16 @@ enum class LoopRejection {
   YawGate,            ///< relative heading above max_yaw_deg
   TranslationGate,    ///< relative distance above max_translation_m
   DriftBudget,        ///< correction larger than the odometry can have drifted
+  FreeSpaceConflict,  ///< one keyframe's surfaces lie where the other saw free space
 };
 
 /// Every reason, Accepted first (for per-reason counters).
-constexpr std::array<LoopRejection, 9> kAllLoopRejections = {
+constexpr std::array<LoopRejection, 10> kAllLoopRejections = {
     LoopRejection::Accepted,          LoopRejection::TooFewMatches,
     LoopRejection::PnpFailed,         LoopRejection::TooFewPnpInliers,
     LoopRejection::DepthDisagreement, LoopRejection::GravityMismatch,
     LoopRejection::YawGate,           LoopRejection::TranslationGate,
-    LoopRejection::DriftBudget};
+    LoopRejection::DriftBudget,       LoopRejection::FreeSpaceConflict};
 
 /// snake_case name ("too_few_matches", ...; "accepted"), used as summary.json key.
 const char* toString(LoopRejection reason);
@@ -98,6 +114,11 @@ struct LoopConstraint {
   int depth_inliers = 0;  ///< agreeing 3-D/3-D pairs under the final pose
   double reprojection_rms_px = 0.0;  ///< [px] PnP inliers under the final pose
   double depth_rms_m = 0.0;          ///< [m] 3-D distance of the agreeing pairs, final pose
+  /// Free-space check: depth-grid samples compared (conflicting + agreeing, both directions) and
+  /// the conflicting ones; 0 / 0 when it was not made (no depth grid, or a loop with the check
+  /// off for loops).
+  int freespace_compared = 0;
+  int freespace_conflicts = 0;
 };
 
 struct LoopVerification {
@@ -131,6 +152,7 @@ class LoopVerifier {
   PinholeCamera cam_;
   Eigen::Isometry3d T_body_cam_;
   Eigen::Isometry3d T_cam_body_;
+  Eigen::Vector2d max_xn_ = Eigen::Vector2d::Zero();  ///< |x/z|, |y/z| bound of the view
 };
 
 }  // namespace rgbdi::loop

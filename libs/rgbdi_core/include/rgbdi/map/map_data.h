@@ -20,7 +20,7 @@
 namespace rgbdi::map {
 
 /// Format version written by saveMap (loadMap refuses any other).
-constexpr int kMapFormatVersion = 1;
+constexpr int kMapFormatVersion = 2;
 
 struct MapManifest {
   int format_version = kMapFormatVersion;

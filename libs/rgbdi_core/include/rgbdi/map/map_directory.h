@@ -42,7 +42,7 @@ inline constexpr const char* kPointsFile = "points.ply";
 inline constexpr const char* kOccupancyFile = "map.bt";
 
 /// Version of places.bin written by saveMap (loadMap reads this version only).
-inline constexpr std::uint32_t kPlacesFileVersion = 1;
+inline constexpr std::uint32_t kPlacesFileVersion = 2;
 
 /// checkCompatible: largest accepted difference of an intrinsic [px], a distortion coefficient
 /// [unitless], a rotation-matrix entry [unitless] or a translation [m] between map and run.
