@@ -2,6 +2,7 @@
 // per-stage timings, throughput and accuracy.
 //   bench_vio [--profile NAME] [--duration S] [--fps N] [--seed N] [--no-depth] [--time-offset S]
 //             [--set SECTION.KEY=VALUE ...]   (overrides of the generated slam config)
+//             [--trajectory FILE]   (writes the optimised body trajectory, TUM, to compare runs)
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "rgbdi/eval/evaluate.h"
+#include "rgbdi/output/tum_writer.h"
 #include "rgbdi/sim/sequence.h"
 #include "rgbdi/sim/sequence_writer.h"
 #include "rgbdi/system/system_config.h"
@@ -24,6 +26,7 @@ int main(int argc, char** argv) {
   bool no_depth = false;
   bool verbose = false;
   double time_offset = 0.0;
+  std::string trajectory_path;
   std::map<std::string, std::map<std::string, std::string>> overrides;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -45,6 +48,8 @@ int main(int argc, char** argv) {
       verbose = true;
     else if (a == "--time-offset")
       time_offset = std::stod(next());
+    else if (a == "--trajectory")
+      trajectory_path = next();
     else if (a == "--set") {
       const std::string kv = next();
       const auto dot = kv.find('.'), eq = kv.find('=');
@@ -55,7 +60,7 @@ int main(int argc, char** argv) {
       overrides[kv.substr(0, dot)][kv.substr(dot + 1, eq - dot - 1)] = kv.substr(eq + 1);
     } else {
       std::cerr << "usage: bench_vio [--profile NAME] [--duration S] [--fps N] [--seed N] "
-                   "[--no-depth] [--set SECTION.KEY=VALUE]\n";
+                   "[--no-depth] [--set SECTION.KEY=VALUE] [--trajectory FILE]\n";
       return 2;
     }
   }
@@ -118,6 +123,8 @@ int main(int argc, char** argv) {
   if (updates > 0)
     std::cout << "features per update: " << used / updates << " used, " << verified / updates
               << " depth-verified\n";
+  if (!trajectory_path.empty())
+    output::writeTum(trajectory_path, vio.trajectoryBody(), "body (IMU) frame in the world frame");
   const Trajectory gt = seq.bodyTrajectory();
   for (auto mode : {eval::AlignMode::PosYaw, eval::AlignMode::Sim3}) {
     eval::EvalOptions eo;

@@ -1,7 +1,8 @@
 #include "rgbdi/estimator/marginalization.h"
 
 #include <Eigen/Eigenvalues>
-#include <map>
+#include <algorithm>
+#include <cmath>
 
 #include "rgbdi/estimator/pose_manifold.h"
 
@@ -24,47 +25,98 @@ Eigen::VectorXd tangentDelta(const double* x, const Eigen::VectorXd& x0, int siz
 
 bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
                                       const std::set<const double*>& constant) {
-  // 1. Order variables: removed first, then kept; record sizes and values.
-  std::map<const double*, int> size_of;
-  std::vector<double*> order_removed, order_kept;
+  // 1. Variables in first-seen order. Removed scalar blocks that no residual couples with another
+  // removed scalar (a feature's inverse depth: each reprojection residual holds one) form a
+  // diagonal part of H_mm and are eliminated one by one; the other removed blocks (the frame's
+  // pose and speed/bias) stay dense: the eigen-decomposition is then only over those.
+  struct Var {
+    int size = 0;     ///< ambient
+    int tangent = 0;  ///< columns
+    bool removed = false;
+    bool diagonal = false;
+    int index = 0;  ///< column offset (dense) or row of the diagonal part
+  };
+  std::unordered_map<const double*, int> var_of;
+  std::vector<Var> vars;
+  std::vector<double*> var_block;
   for (const auto& r : residuals_) {
     const auto& sizes = r.cost->parameter_block_sizes();
     for (size_t k = 0; k < r.blocks.size(); ++k) {
       double* b = r.blocks[k];
-      if (constant.count(b) || size_of.count(b)) continue;
-      size_of[b] = sizes[k];
-      (remove.count(b) ? order_removed : order_kept).push_back(b);
+      if (constant.count(b) || var_of.count(b)) continue;
+      Var v;
+      v.size = sizes[k];
+      v.tangent = tangentSize(sizes[k]);
+      v.removed = remove.count(b) > 0;
+      v.diagonal = v.removed && v.tangent == 1;
+      var_of.emplace(b, static_cast<int>(vars.size()));
+      vars.push_back(v);
+      var_block.push_back(b);
     }
   }
-  std::map<const double*, int> offset;
-  int m = 0;
-  for (double* b : order_removed) {
-    offset[b] = m;
-    m += tangentSize(size_of[b]);
+  // Residual -> its variables (-1: constant), and the diagonal test.
+  std::vector<std::vector<int>> res_vars(residuals_.size());
+  for (size_t i = 0; i < residuals_.size(); ++i) {
+    int n_diag = 0;
+    for (double* b : residuals_[i].blocks) {
+      const auto it = var_of.find(b);
+      res_vars[i].push_back(it == var_of.end() ? -1 : it->second);
+      if (it != var_of.end() && vars[static_cast<size_t>(it->second)].diagonal) ++n_diag;
+    }
+    if (n_diag > 1)
+      for (int v : res_vars[i])
+        if (v >= 0) vars[static_cast<size_t>(v)].diagonal = false;
   }
-  int n = 0;
-  for (double* b : order_kept) {
-    offset[b] = m + n;
-    n += tangentSize(size_of[b]);
+  int m = 0, n = 0, nd = 0;
+  for (auto& v : vars)
+    if (v.removed && !v.diagonal) {
+      v.index = m;
+      m += v.tangent;
+    }
+  for (auto& v : vars) {
+    if (v.diagonal) {
+      v.index = nd++;
+    } else if (!v.removed) {
+      v.index = m + n;
+      n += v.tangent;
+    }
   }
   if (n == 0) return false;
 
-  // 2. Accumulate H and b of the linearised residuals (robust loss applied as in Ceres' corrector).
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m + n, m + n);
-  Eigen::VectorXd g = Eigen::VectorXd::Zero(m + n);
-  for (const auto& r : residuals_) {
+  // 2. Accumulate H and g of the linearised residuals (robust loss applied as in Ceres'
+  // corrector): the dense part over [removed dense | kept], and for each diagonal variable its
+  // scalar Hessian, gradient and coupling row to the dense part.
+  const int nx = m + n;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nx, nx);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(nx);
+  Eigen::VectorXd h_diag = Eigen::VectorXd::Zero(nd), g_diag = Eigen::VectorXd::Zero(nd);
+  Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(nd, nx);
+  std::vector<std::vector<int>> coupled(static_cast<size_t>(nd));  ///< dense vars per diagonal
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  std::vector<double> jac_storage, res_storage, row_storage;
+  std::vector<double*> jac_ptrs;
+  std::vector<const double*> params;
+  for (size_t i = 0; i < residuals_.size(); ++i) {
+    const auto& r = residuals_[i];
     const int nres = r.cost->num_residuals();
     const auto& sizes = r.cost->parameter_block_sizes();
-    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
-        r.blocks.size());
-    std::vector<double*> jac_ptrs(r.blocks.size());
-    for (size_t k = 0; k < r.blocks.size(); ++k) {
-      J[k].resize(nres, sizes[k]);
-      jac_ptrs[k] = J[k].data();
+    const size_t nb = r.blocks.size();
+    int total_cols = 0;
+    for (size_t k = 0; k < nb; ++k) total_cols += sizes[k];
+    // Buffers grow to the largest residual and are reused (no allocation per residual).
+    if (jac_storage.size() < static_cast<size_t>(nres * total_cols))
+      jac_storage.resize(static_cast<size_t>(nres * total_cols));
+    if (res_storage.size() < static_cast<size_t>(nres))
+      res_storage.resize(static_cast<size_t>(nres));
+    jac_ptrs.resize(nb);
+    for (size_t k = 0, off = 0; k < nb; ++k) {
+      jac_ptrs[k] = jac_storage.data() + off;
+      off += static_cast<size_t>(nres * sizes[k]);
     }
-    Eigen::VectorXd res(nres);
-    std::vector<const double*> params(r.blocks.begin(), r.blocks.end());
-    if (!r.cost->Evaluate(params.data(), res.data(), jac_ptrs.data())) continue;
+    params.assign(r.blocks.begin(), r.blocks.end());
+    if (!r.cost->Evaluate(params.data(), res_storage.data(), jac_ptrs.data())) continue;
+    Eigen::Map<Eigen::VectorXd> res(res_storage.data(), nres);
+    auto J = [&](size_t k) { return Eigen::Map<RowMajor>(jac_ptrs[k], nres, sizes[k]); };
     if (r.loss) {
       const double sq = res.squaredNorm();
       double rho[3];
@@ -76,33 +128,73 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
         alpha = 1.0 - std::sqrt(D);
       }
       // Residual and Jacobian scaling of Ceres' Corrector (Triggs correction).
-      for (size_t k = 0; k < r.blocks.size(); ++k) {
+      for (size_t k = 0; k < nb; ++k) {
+        auto Jk = J(k);
         if (sq == 0.0) {
-          J[k] *= sqrt_rho1;
+          Jk *= sqrt_rho1;
         } else {
-          J[k] = sqrt_rho1 * (J[k] - alpha / sq * res * (res.transpose() * J[k]));
+          if (row_storage.size() < static_cast<size_t>(sizes[k]))
+            row_storage.resize(static_cast<size_t>(sizes[k]));
+          Eigen::Map<Eigen::RowVectorXd> rtJ(row_storage.data(), sizes[k]);
+          rtJ.noalias() = res.transpose() * Jk;
+          Jk = sqrt_rho1 * (Jk - (alpha / sq) * res * rtJ);
         }
       }
       res *= sqrt_rho1 / (1.0 - alpha);
     }
-    for (size_t a = 0; a < r.blocks.size(); ++a) {
-      if (!offset.count(r.blocks[a])) continue;
-      const int oa = offset[r.blocks[a]];
-      const int ta = tangentSize(sizes[a]);
-      const Eigen::MatrixXd Ja = J[a].leftCols(ta);
-      g.segment(oa, ta) += Ja.transpose() * res;
-      for (size_t c = a; c < r.blocks.size(); ++c) {
-        if (!offset.count(r.blocks[c])) continue;
-        const int oc = offset[r.blocks[c]];
-        const int tc = tangentSize(sizes[c]);
-        const Eigen::MatrixXd Hac = Ja.transpose() * J[c].leftCols(tc);
-        H.block(oa, oc, ta, tc) += Hac;
-        if (c != a) H.block(oc, oa, tc, ta) += Hac.transpose();
+    const auto& rv = res_vars[i];
+    for (size_t a = 0; a < nb; ++a) {
+      if (rv[a] < 0) continue;
+      const Var& va = vars[static_cast<size_t>(rv[a])];
+      const auto Ja = J(a).leftCols(va.tangent);
+      if (va.diagonal) {
+        const int d = va.index;
+        h_diag[d] += Ja.squaredNorm();
+        g_diag[d] += Ja.col(0).dot(res);
+        for (size_t c = 0; c < nb; ++c) {
+          if (rv[c] < 0 || c == a) continue;
+          const Var& vc = vars[static_cast<size_t>(rv[c])];
+          coupling.row(d).segment(vc.index, vc.tangent).noalias() +=
+              Ja.col(0).transpose() * J(c).leftCols(vc.tangent);
+          auto& list = coupled[static_cast<size_t>(d)];
+          if (std::find(list.begin(), list.end(), rv[c]) == list.end()) list.push_back(rv[c]);
+        }
+        continue;
+      }
+      g.segment(va.index, va.tangent).noalias() += Ja.transpose() * res;
+      for (size_t c = a; c < nb; ++c) {
+        if (rv[c] < 0) continue;
+        const Var& vc = vars[static_cast<size_t>(rv[c])];
+        if (vc.diagonal) continue;
+        const auto Jc = J(c).leftCols(vc.tangent);
+        H.block(va.index, vc.index, va.tangent, vc.tangent).noalias() += Ja.transpose() * Jc;
+        if (c != a)
+          H.block(vc.index, va.index, vc.tangent, va.tangent).noalias() += Jc.transpose() * Ja;
       }
     }
   }
 
-  // 3. Schur complement onto the kept variables.
+  // 3a. Eliminate the diagonal variables: H -= c c^T / h, g -= c g_d / h for each, where c is
+  // its coupling row (non-zero only on the blocks it shares a residual with). A variable
+  // without information (h below the eigenvalue threshold) is an unobservable direction and
+  // contributes nothing, as the pseudo-inverse of the dense elimination does.
+  for (int d = 0; d < nd; ++d) {
+    const double h = h_diag[d];
+    if (!(h > kEigenEps)) continue;
+    const auto c = coupling.row(d);
+    for (int p : coupled[static_cast<size_t>(d)]) {
+      const Var& vp = vars[static_cast<size_t>(p)];
+      const auto cp = c.segment(vp.index, vp.tangent);
+      g.segment(vp.index, vp.tangent) -= cp.transpose() * (g_diag[d] / h);
+      for (int q : coupled[static_cast<size_t>(d)]) {
+        const Var& vq = vars[static_cast<size_t>(q)];
+        H.block(vp.index, vq.index, vp.tangent, vq.tangent).noalias() -=
+            (cp.transpose() / h) * c.segment(vq.index, vq.tangent);
+      }
+    }
+  }
+
+  // 3b. Schur complement of the remaining (dense) removed variables onto the kept ones.
   Eigen::MatrixXd A;
   Eigen::VectorXd bvec;
   if (m > 0) {
@@ -129,12 +221,14 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
   lin_jacobian_ = S.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
   lin_residual_ = S_inv.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose() * bvec;
 
-  kept_blocks_ = order_kept;
+  kept_blocks_.clear();
   kept_sizes_.clear();
   kept_values_.clear();
-  for (double* b : order_kept) {
-    kept_sizes_.push_back(size_of[b]);
-    kept_values_.push_back(Eigen::Map<const Eigen::VectorXd>(b, size_of[b]));
+  for (size_t k = 0; k < vars.size(); ++k) {
+    if (vars[k].removed) continue;
+    kept_blocks_.push_back(var_block[k]);
+    kept_sizes_.push_back(vars[k].size);
+    kept_values_.push_back(Eigen::Map<const Eigen::VectorXd>(var_block[k], vars[k].size));
   }
   residuals_.clear();  // the linearised prior is all that is needed from now on
   return true;

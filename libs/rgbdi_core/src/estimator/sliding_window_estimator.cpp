@@ -665,9 +665,20 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
   }
   const int newest = static_cast<int>(window_.size()) - 1;
   int used = 0, verified = 0;
+  // Schur order given explicitly: the inverse depths are eliminated, every frame block and the
+  // time offset stay in the reduced system. Left to itself Ceres picks an independent set that
+  // can also take a speed/bias block (size 9 next to the depths' 1), which forces its
+  // fully dynamic Schur eliminator.
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (auto& s : window_) {
+    ordering->AddElementToGroup(s.pose, 1);
+    ordering->AddElementToGroup(s.sb, 1);
+  }
+  ordering->AddElementToGroup(td_param_, 1);
   for (auto& [id, f] : features_.tracks()) {
     if (!FeatureManager::usable(f, newest)) continue;
     ++used;
+    ordering->AddElementToGroup(&f.inv_depth, 0);
     const int i = f.start_slot;
     for (size_t k = 1; k < f.obs.size(); ++k) {
       const int j = i + static_cast<int>(k);
@@ -681,8 +692,8 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
       ++verified;
     } else {
       if (f.depthVerified()) {
-        problem.AddResidualBlock(new ScalarPrior(f.verified_inv_depth, depthPriorSigma(f)), nullptr,
-                                 &f.inv_depth);
+        problem.AddResidualBlock(new SplitScalarPrior(f.verified_inv_depth, depthPriorSigma(f)),
+                                 nullptr, &f.inv_depth);
         ++verified;
       }
       problem.SetParameterLowerBound(&f.inv_depth, 0, 1e-3);
@@ -691,8 +702,10 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
 
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.linear_solver_ordering = ordering;
   so.trust_region_strategy_type = ceres::DOGLEG;
   so.max_num_iterations = opt_.max_iterations;
+  so.max_num_line_search_step_size_iterations = opt_.bound_line_search_iterations;
   so.num_threads = 1;
   so.logging_type = ceres::SILENT;
   if (opt_.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = opt_.max_solver_time_s;

@@ -13,6 +13,10 @@ struct EstimatorOptions {
   int keyframe_min_tracked = 20;       ///< [count] fewer tracked features -> keyframe
   int max_iterations = 8;              ///< [count] solver iterations per update
   double max_solver_time_s = 0.0;      ///< [s] live-mode budget; 0 = unbounded (deterministic)
+  /// [count] trial step sizes of Ceres' projected line search after a step that crosses the
+  /// inverse-depth lower bound; 0 = none (the step is clamped onto the bound). Each trial
+  /// evaluates every residual with its Jacobian.
+  int bound_line_search_iterations = 0;
   double reprojection_sigma_px = 1.5;  ///< [px at focal 460]
   double cauchy_loss_sigma = 1.0;      ///< [unitless] Cauchy scale in units of reprojection sigma
   double depth_verify_tolerance_px = 10.0;  ///< [px at focal 460]

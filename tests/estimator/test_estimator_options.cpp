@@ -1,0 +1,34 @@
+// EstimatorOptions: the solver keys added for CPU cost (issue 13) are read with their ranges,
+// and their defaults equal share/config.ini.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "rgbdi/estimator/estimator_options.h"
+#include "testing/fixtures.h"
+
+using rgbdi::ConfigError;
+using rgbdi::IniReader;
+using rgbdi::estimator::EstimatorOptions;
+
+TEST(EstimatorOptions, TheBoundLineSearchDefaultEqualsTheShippedConfig) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  const EstimatorOptions o = EstimatorOptions::load(ini);
+  EXPECT_EQ(o.bound_line_search_iterations, EstimatorOptions().bound_line_search_iterations);
+  EXPECT_EQ(o.bound_line_search_iterations, 0);
+}
+
+TEST(EstimatorOptions, BoundLineSearchIterationsAreReadAndOutOfRangeNamesTheKey) {
+  IniReader ok = IniReader::fromText("[estimator]\nbound_line_search_iterations = 20\n", "e.ini");
+  EXPECT_EQ(EstimatorOptions::load(ok).bound_line_search_iterations, 20);
+  IniReader bad =
+      IniReader::fromText("[estimator]\nbound_line_search_iterations = -1\n", "bad.ini");
+  try {
+    EstimatorOptions::load(bad);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("bound_line_search_iterations"), std::string::npos) << msg;
+  }
+}
