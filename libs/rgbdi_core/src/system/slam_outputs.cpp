@@ -68,8 +68,7 @@ std::string tumFrameAndClock(TumOutput what, const TumFrames& f) {
   std::string pose = f.camera ? "poses: colour camera optical frame (x right, y down, z forward)"
                               : "poses: body (IMU) frame";
   const std::string own_world =
-      "this run's world frame (z up against gravity, set when the "
-      "odometry initialised)";
+      "this run's world frame (z up against gravity, origin and heading of the first pose)";
   std::string in;
   if (!f.loaded_map) {
     in = "in: " + own_world;
