@@ -1,5 +1,6 @@
 // Fuzz target: serialized ROS messages as found in bags: sensor_msgs/Image and CompressedImage
-// decoded by bag::decodeColorImage / decodeDepthImage, sensor_msgs/Imu deserialized. The first
+// deserialised by bag::deserializeImage (length fields checked first) and decoded by
+// bag::decodeColorImage / decodeDepthImage, sensor_msgs/Imu deserialized. The first
 // byte selects the message kind, the rest is the ROS wire format. Documented refusals: ROS's
 // serialization exception (message shorter than its fields say) and ImageDecodeError.
 #include <ros/serialization.h>
@@ -12,9 +13,11 @@
 
 #include "fuzz_target.h"
 #include "rgbdi/bag/ros_image.h"
+#include "rgbdi/bag/ros_wire.h"
 
 namespace {
 
+/// sensor_msgs/Imu: fixed-size arrays and one string, which ROS checks before allocating.
 template <class M>
 bool deserialize(const std::uint8_t* data, std::size_t size, M& out) {
   try {
@@ -24,10 +27,20 @@ bool deserialize(const std::uint8_t* data, std::size_t size, M& out) {
     return true;
   } catch (const ros::Exception&) {
     return false;
-  } catch (const std::bad_alloc&) {
-    // A length field larger than the message: ROS resizes the vector before it checks the
-    // length against the buffer (open finding, doc/robustness.md). BagConverter skips such a
-    // message as unreadable, so does this target.
+  }
+}
+
+/// The image path of BagConverter: lengths checked by bag::deserializeImage (ImageDecodeError),
+/// then ROS's deserialiser (ros::Exception for what is short). No std::bad_alloc is expected
+/// any more: a corrupt pixel length is refused before anything is allocated (finding 2).
+template <class M>
+bool deserializeImageAsBagConverter(const std::uint8_t* data, std::size_t size, M& out) {
+  try {
+    rgbdi::bag::deserializeImage(data, static_cast<std::uint32_t>(size), out, "fuzz message");
+    return true;
+  } catch (const rgbdi::bag::ImageDecodeError&) {
+    return false;
+  } catch (const ros::Exception&) {
     return false;
   }
 }
@@ -53,14 +66,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     if (kind == 0 || kind == 1) {
       sensor_msgs::Image msg;
-      if (!deserialize(data, size, msg)) return 0;
+      if (!deserializeImageAsBagConverter(data, size, msg)) return 0;
       if (kind == 0)
         (void)decodeColorImage(msg, "fuzz colour");
       else
         (void)decodeDepthImage(msg, 1e-3, 1e-3, "fuzz depth");
     } else if (kind == 2 || kind == 3) {
       sensor_msgs::CompressedImage msg;
-      if (!deserialize(data, size, msg)) return 0;
+      if (!deserializeImageAsBagConverter(data, size, msg)) return 0;
       if (kind == 2)
         (void)decodeColorImage(msg, "fuzz colour");
       else

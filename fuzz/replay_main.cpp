@@ -100,8 +100,9 @@ std::size_t mutateAll(const std::vector<std::string>& seeds, bool truncations_on
 #endif
 
 /// [bytes] address-space limit of a replay, like libFuzzer's -rss_limit_mb: a corrupt size field
-/// that makes MRPT or ROS allocate gigabytes (doc/robustness.md, open findings) then fails as
-/// std::bad_alloc, which the readers turn into their refusal, instead of exhausting the machine.
+/// that makes MRPT or ROS allocate gigabytes (doc/robustness.md, finding 1; 2 and 3 are now refused
+/// first) fails as std::bad_alloc, which the readers turn into their refusal, instead of exhausting
+/// the machine.
 constexpr rlim_t kAddressSpaceLimit = 3ull << 29;  // 1.5 GiB
 
 int main(int argc, char** argv) {

@@ -9,6 +9,7 @@
 
 #include "rgbdi/common/command_line.h"
 #include "rgbdi/system/live_runner.h"
+#include "rgbdi/system/run_common.h"
 #include "rgbdi/system/slam_runner.h"
 
 namespace {
@@ -166,6 +167,9 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   try {
     return args.live.sensors_path.empty() ? runOffline(args.offline) : runLive(args.live);
+  } catch (const rgbdi::system::RunConfigError& e) {
+    std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
+    return rgbdi::kExitUsage;  // a configuration error, like a bad option
   } catch (const std::exception& e) {
     std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
     return rgbdi::kExitError;

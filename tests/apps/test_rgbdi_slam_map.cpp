@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "rgbdi/eval/tum_reader.h"
@@ -34,8 +35,8 @@ std::string slam(const std::string& seq, const std::string& out, const std::stri
                  int* rc) {
   std::string log;
   *rc = runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " + seq +
-                       "/config.ini --gt " + seq + "/groundtruth.tum --out " + out +
-                       " --quiet " + extra,
+                       "/config.ini --gt " + seq + "/groundtruth.tum --out " + out + " --quiet " +
+                       extra,
                    &log);
   return log;
 }
@@ -81,6 +82,26 @@ TEST(RgbdiSlamMap, ARunSavesItsMapAndASecondRunRelocalisesInIt) {
   EXPECT_EQ(both.manifest.sessions, 2);
   EXPECT_GT(both.places.size(), m.places.size());
   EXPECT_FALSE(rgbdi::eval::readTum(out + "/trajectory.tum").empty());
+  // In the map's frame only the frames of segments placed in it remain; their camera twins carry
+  // the image stamps of the same frames (the odometry files have every frame, index by index).
+  const auto final_body = rgbdi::eval::readTum(out + "/trajectory.tum");
+  const auto final_cam = rgbdi::eval::readTum(out + "/trajectory_cam.tum");
+  const auto odom_body = rgbdi::eval::readTum(out + "/trajectory_odometry.tum");
+  const auto odom_cam = rgbdi::eval::readTum(out + "/trajectory_odometry_cam.tum");
+  ASSERT_EQ(odom_body.size(), odom_cam.size());
+  EXPECT_LE(final_body.size(), odom_body.size());  // a segment never relocalised is left out
+  ASSERT_EQ(final_cam.size(), final_body.size());
+  std::map<double, double> image_stamp_of;  // IMU time -> image stamp
+  for (std::size_t i = 0; i < odom_body.size(); ++i) image_stamp_of[odom_body[i].t] = odom_cam[i].t;
+  for (std::size_t i = 0; i < final_body.size(); ++i) {
+    ASSERT_TRUE(image_stamp_of.count(final_body[i].t)) << i;
+    EXPECT_EQ(final_cam[i].t, image_stamp_of[final_body[i].t]) << i;
+  }
+  std::ifstream head(out + "/trajectory.tum");
+  std::string line;
+  std::getline(head, line);
+  std::getline(head, line);
+  EXPECT_EQ(line.rfind("# in: the frame of the map loaded with --load-map", 0), 0u) << line;
 
   // --localize-only: same relocalisation, no map written.
   const std::string out2 = makeTempDir("rgbdi_map_loc");
@@ -107,8 +128,8 @@ TEST(RgbdiSlamMap, MapsThatDoNotFitAreRefusedWithAClearMessage) {
   cfg.replace(eq + 1, end - eq - 1, " 500.0 ");
   std::ofstream(out + "/other.ini") << cfg;
   std::string log;
-  int rc = runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " +
-                          out + "/other.ini --out " + out + "/run --load-map " + first + "/map",
+  int rc = runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " + out +
+                          "/other.ini --out " + out + "/run --load-map " + first + "/map",
                       &log);
   EXPECT_EQ(rc, 1) << log;
   EXPECT_NE(log.find(first + "/map"), std::string::npos) << log;
@@ -120,11 +141,11 @@ TEST(RgbdiSlamMap, MapsThatDoNotFitAreRefusedWithAClearMessage) {
   EXPECT_EQ(rc, 1) << log;
   EXPECT_NE(log.find("manifest.json"), std::string::npos) << log;
   // Usage errors.
-  EXPECT_EQ(runCommand(binDir() + "/rgbdi-slam --input x.rawlog --out " + out + " --localize-only",
-                       &log),
-            2);
-  EXPECT_EQ(runCommand(binDir() + "/rgbdi-slam --input x.rawlog --out " + out +
-                           " --load-map " + first + "/map --no-loop",
+  EXPECT_EQ(
+      runCommand(binDir() + "/rgbdi-slam --input x.rawlog --out " + out + " --localize-only", &log),
+      2);
+  EXPECT_EQ(runCommand(binDir() + "/rgbdi-slam --input x.rawlog --out " + out + " --load-map " +
+                           first + "/map --no-loop",
                        &log),
             2);
 }

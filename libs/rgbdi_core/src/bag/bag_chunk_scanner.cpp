@@ -13,8 +13,6 @@ namespace {
 
 constexpr std::uint8_t kOpMessageData = 0x02, kOpFileHeader = 0x03, kOpChunk = 0x05,
                        kOpConnection = 0x07;
-// Record headers are a handful of short fields; anything larger is corruption, not data.
-constexpr std::uint32_t kMaxHeaderBytes = 1u << 20;
 const std::string kMagic = "#ROSBAG V2.0\n";
 
 std::uint32_t u32(const std::uint8_t* p) {
@@ -32,7 +30,8 @@ bool field(const std::map<std::string, std::string>& f, const std::string& name,
 
 }  // namespace
 
-BagChunkScanner::BagChunkScanner(const std::string& path) : path_(path) {
+BagChunkScanner::BagChunkScanner(const std::string& path, const BagLimits& limits)
+    : path_(path), limits_(limits) {
   std::error_code ec;
   file_size_ = std::filesystem::file_size(path, ec);
   if (ec) throw BagError(path + ": cannot read: " + ec.message());
@@ -97,7 +96,7 @@ bool BagChunkScanner::nextInChunk(Message& out) {
     bool complete = left >= 4;
     if (complete) {
       header_len = u32(p);
-      complete = header_len <= kMaxHeaderBytes && left - 4 >= header_len + 4ull;
+      complete = header_len <= limits_.max_record_header_bytes && left - 4 >= header_len + 4ull;
     }
     if (complete) {
       data_len = u32(p + 4 + header_len);
@@ -147,7 +146,7 @@ bool BagChunkScanner::readTopLevelRecord() {
   std::uint8_t len_bytes[4];
   in_.read(reinterpret_cast<char*>(len_bytes), 4);
   const std::uint32_t header_len = u32(len_bytes);
-  if (header_len > kMaxHeaderBytes)
+  if (header_len > limits_.max_record_header_bytes)
     fail("corrupt record " + where + " (header length " + std::to_string(header_len) + ")");
   if (left < 8ull + header_len) fail("truncated: the file ends inside the record header " + where);
   std::vector<std::uint8_t> header_bytes(header_len + 4);
@@ -166,6 +165,10 @@ bool BagChunkScanner::readTopLevelRecord() {
     if (header.count("compression")) compression = header.at("compression");
     std::uint32_t size = 0;
     if (!field(header, "size", size)) fail("corrupt chunk record " + where + " (no size field)");
+    if (size > limits_.max_chunk_bytes || data_len > limits_.max_chunk_bytes)
+      fail("corrupt chunk record " + where + " (" + std::to_string(size) + " bytes, " +
+           std::to_string(data_len) + " stored; limit " + std::to_string(limits_.max_chunk_bytes) +
+           ")");
     raw_.resize(present);
     in_.read(reinterpret_cast<char*>(raw_.data()), static_cast<std::streamsize>(present));
     if (!in_) fail("cannot read the chunk " + where);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "rgbdi/bag/bag_reader.h"
+
 namespace rgbdi::bag::detail {
 
 struct ScannedConnection {
@@ -30,8 +32,9 @@ class BagChunkScanner {
     std::uint64_t position = 0;  ///< file offset of the chunk (or record) holding the message
   };
 
-  /// Opens the file and checks the format line; throws BagError otherwise.
-  explicit BagChunkScanner(const std::string& path);
+  /// Opens the file and checks the format line; throws BagError otherwise. Record headers and
+  /// chunks above `limits` are damage (BagReadError), not allocations.
+  explicit BagChunkScanner(const std::string& path, const BagLimits& limits = {});
 
   /// Next message record (connection records are registered on the way). False at the end of
   /// the file; throws BagReadError naming the file and byte offset at damage, once.
@@ -53,6 +56,7 @@ class BagChunkScanner {
   [[noreturn]] void fail(const std::string& what);
 
   std::string path_;
+  BagLimits limits_;
   std::ifstream in_;
   std::uint64_t file_size_ = 0, pos_ = 0, index_pos_ = 0;
   std::map<std::uint32_t, ScannedConnection> connections_;

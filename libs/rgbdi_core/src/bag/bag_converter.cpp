@@ -18,6 +18,7 @@
 #include "rgbdi/bag/rgbd_pairer.h"
 #include "rgbdi/bag/ros_calibration.h"
 #include "rgbdi/bag/ros_image.h"
+#include "rgbdi/bag/ros_wire.h"
 #include "rgbdi/common/sensor_options.h"
 
 namespace rgbdi::bag {
@@ -238,7 +239,7 @@ struct BagConverter::Impl {
           // Same steps for sensor_msgs/Image and sensor_msgs/CompressedImage (the decoders are
           // overloaded on the message type).
           auto decode = [&](auto&& msg) {
-            deserialize(m.data, m.size, msg);
+            deserializeImage(m.data, m.size, msg, where);  // lengths checked before allocating
             img.t = stampOf(msg.header);
             img.label = where = label(m, img.t);
             if (role == Role::Color) {

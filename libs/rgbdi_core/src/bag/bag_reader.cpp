@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "bag/bag_chunk_scanner.h"
+#include "bag/bag_structure_check.h"
 
 namespace rgbdi::bag {
 namespace {
@@ -37,7 +38,9 @@ bool selected(const std::set<std::string>& wanted, const std::string& topic) {
 // Indexed bags: rosbag::View.
 class BagReader::Indexed {
  public:
-  Indexed(const std::string& path, const std::vector<std::string>& topics) : path_(path) {
+  Indexed(const std::string& path, const std::vector<std::string>& topics, const BagLimits& limits)
+      : path_(path) {
+    detail::checkBagStructure(path, limits);  // rosbag allocates what the sizes say
     bag_.open(path, rosbag::bagmode::Read);
     std::map<std::string, BagTopic> by_topic;
     rosbag::View all(bag_);
@@ -144,9 +147,10 @@ class BagReader::Indexed {
 // a second scan delivers the messages.
 class BagReader::Recovering {
  public:
-  Recovering(const std::string& path, const std::vector<std::string>& topics, std::string reason)
-      : path_(path), reason_(std::move(reason)) {
-    detail::BagChunkScanner pre(path);
+  Recovering(const std::string& path, const std::vector<std::string>& topics, std::string reason,
+             const BagLimits& limits)
+      : path_(path), reason_(std::move(reason)), limits_(limits) {
+    detail::BagChunkScanner pre(path, limits);
     file_size_ = pre.fileSize();
     std::map<std::uint32_t, std::uint64_t> counts;
     detail::BagChunkScanner::Message m;
@@ -182,7 +186,7 @@ class BagReader::Recovering {
     selected_ = 0;
     for (const BagTopic& t : topics_)
       if (selected(wanted_, t.topic)) selected_ += t.messages;
-    scanner_ = std::make_unique<detail::BagChunkScanner>(path_);
+    scanner_ = std::make_unique<detail::BagChunkScanner>(path_, limits_);
     ordinal_ = 0;
   }
 
@@ -218,6 +222,7 @@ class BagReader::Recovering {
   std::string path_;
   std::set<std::string> wanted_;
   std::string reason_, damage_;
+  BagLimits limits_;
   std::vector<BagTopic> topics_;
   std::map<std::string, std::vector<std::uint8_t>> first_;
   std::unique_ptr<detail::BagChunkScanner> scanner_;
@@ -227,14 +232,15 @@ class BagReader::Recovering {
 
 // ---------------------------------------------------------------------------------------------
 
-BagReader::BagReader(const std::string& path, const std::vector<std::string>& topics)
+BagReader::BagReader(const std::string& path, const std::vector<std::string>& topics,
+                     const BagLimits& limits)
     : path_(path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw BagError(path + ": no such file or directory");
   if (std::filesystem::is_directory(path, ec)) throw BagError(path + ": is a directory, not a bag");
   std::string index_error;
   try {
-    indexed_ = std::make_unique<Indexed>(path, topics);
+    indexed_ = std::make_unique<Indexed>(path, topics, limits);
     return;
   } catch (const std::exception& e) {
     index_error = e.what();
@@ -242,7 +248,7 @@ BagReader::BagReader(const std::string& path, const std::vector<std::string>& to
   // The index is unreadable: find out whether the chunks are (throws when this is no bag at all).
   std::string reason = "the bag index cannot be read (" + index_error + ")";
   try {
-    detail::BagChunkScanner probe(path);
+    detail::BagChunkScanner probe(path, limits);
     detail::BagChunkScanner::Message m;
     try {
       probe.next(m);  // reads the file header record, which says where the index should be
@@ -261,8 +267,8 @@ BagReader::BagReader(const std::string& path, const std::vector<std::string>& to
   } catch (const BagError& e) {
     throw BagError(path + ": cannot open as a ROS1 bag: " + index_error + "; " + e.what());
   }
-  recovering_ =
-      std::make_unique<Recovering>(path, topics, reason + "; reading its chunks in file order");
+  recovering_ = std::make_unique<Recovering>(path, topics,
+                                             reason + "; reading its chunks in file order", limits);
 }
 
 BagReader::~BagReader() = default;

@@ -18,6 +18,7 @@
 #include "rgbdi/bag/bag_reader.h"
 #include "rgbdi/bag/rgbd_pairer.h"
 #include "rgbdi/bag/ros_image.h"
+#include "rgbdi/bag/ros_wire.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/live/playback_clock.h"
 #include "rgbdi/live/realsense_device.h"
@@ -138,7 +139,7 @@ class RecordedRealSenseDevice : public RealSenseDevice {
           const bool compressed = color ? layout_.color_compressed : layout_.depth_compressed;
           bag::StampedImage img;
           auto decode = [&](auto&& msg) {
-            deserialize(m, msg);
+            bag::deserializeImage(m.data, m.size, msg, label);  // lengths checked first
             img.t = stampOf(msg.header);
             img.label = label;
             if (color) {

@@ -132,7 +132,7 @@ std::unique_ptr<live::LiveSource> openSensors(const std::string& path,
   try {
     sensors = live::SensorConfig::fromFile(path);
   } catch (const ConfigError& e) {
-    throw UserError(std::string("sensors file error: ") + e.what());
+    throw RunConfigError(std::string("sensors file error: ") + e.what());
   }
   try {
     return std::make_unique<live::LiveSource>(sensors, stream);

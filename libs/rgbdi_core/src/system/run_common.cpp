@@ -30,7 +30,7 @@ SystemConfig loadRunConfig(const std::string& path) {
   try {
     return SystemConfig::load(path);
   } catch (const ConfigError& e) {
-    throw UserError(std::string("configuration error: ") + e.what());
+    throw RunConfigError(std::string("configuration error: ") + e.what());
   }
 }
 

@@ -1,9 +1,9 @@
 #include "rgbdi/system/slam_outputs.h"
 
+#include <cmath>
 #include <map>
 #include <set>
-
-#include <cmath>
+#include <stdexcept>
 
 #include "rgbdi/mapping/map_export.h"
 #include "rgbdi/mapping/trajectory_plot.h"
@@ -64,6 +64,65 @@ output::PoseGraph slamPoseGraph(const SlamSystem& sys) {
   return g;
 }
 
+std::string tumFrameAndClock(TumOutput what, const TumFrames& f) {
+  std::string pose = f.camera ? "poses: colour camera optical frame (x right, y down, z forward)"
+                              : "poses: body (IMU) frame";
+  const std::string own_world =
+      "this run's world frame (z up against gravity, origin and heading of the first pose)";
+  std::string in;
+  if (!f.loaded_map) {
+    in = "in: " + own_world;
+  } else if (what == TumOutput::kOdometry) {
+    in = "in: " + own_world + ", not the loaded map's frame";
+  } else if (what == TumOutput::kKeyframes) {
+    in = "in: the frame of the map loaded with --load-map for keyframes of segments relocalised "
+         "in it, their segment's odometry frame for the others";
+  } else {
+    in = "in: the frame of the map loaded with --load-map (only poses relocalised in it)";
+  }
+  const std::string clock = f.live ? "the live sensors' clock (doc/live.md)" : "the input's clock";
+  const std::string stamps =
+      f.camera ? "stamps: image stamps, " + clock
+               : "stamps: IMU time (image stamp + estimated camera-IMU time offset), " + clock;
+  std::string kind;
+  switch (what) {
+    case TumOutput::kFinal:
+      kind = "optimised: best estimate after the last loop-closure (pose graph) solve";
+      break;
+    case TumOutput::kOnline:
+      kind = "online: causal, with the loop corrections known at each frame's time";
+      break;
+    case TumOutput::kOdometry:
+      kind = "odometry alone: no loop correction";
+      break;
+    case TumOutput::kKeyframes:
+      kind = "keyframes at their final (loop-corrected) poses";
+      break;
+  }
+  return pose + "\n" + in + "\n" + stamps + "\n" + kind;
+}
+
+Trajectory cameraTwin(const Trajectory& body, const std::vector<FrameRecord>& frames,
+                      const Eigen::Isometry3d& T_body_cam) {
+  // Both are in stamp order: one pass pairs each pose with the frame of the same IMU time.
+  Trajectory out;
+  out.reserve(body.size());
+  std::size_t j = 0;
+  for (const StampedPose& p : body) {
+    while (j < frames.size() && frames[j].t_imu < p.t) ++j;
+    if (j == frames.size() || frames[j].t_imu != p.t)
+      throw std::logic_error("cameraTwin: pose stamp " + std::to_string(p.t) +
+                             " is no frame's IMU time");
+    out.push_back(StampedPose::fromIsometry(frames[j].t_image, p.isometry() * T_body_cam));
+  }
+  return out;
+}
+
+std::string plotAlignmentText(bool ground_truth_aligned) {
+  return ground_truth_aligned ? "ground truth aligned to the estimate: position + yaw"
+                              : "no alignment applied";
+}
+
 nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
                                 const Trajectory* gt_in_est, bool write_simplemap) {
   const SystemConfig& cfg = sys.config();
@@ -71,28 +130,30 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
   const Trajectory final_body = sys.finalTrajectory();
   const Trajectory online_body = sys.onlineTrajectory();
   const Trajectory odom_body = sys.odometryTrajectory();
-  auto tum = [&](const std::string& name, const Trajectory& t, const std::string& what) {
+  TumFrames frames;
+  frames.loaded_map = sys.hasMap();
+  frames.live = sys.options().live;
+  auto tum = [&](const std::string& name, const Trajectory& body, TumOutput what, bool twin) {
+    frames.camera = false;
     const std::string path = dir + "/" + name + ".tum";
-    output::writeTum(path, t, what);
+    output::writeTum(path, body, tumFrameAndClock(what, frames));
     out[name] = path;
+    if (!twin) return;
+    frames.camera = true;
+    const std::string cam_path = dir + "/" + name + "_cam.tum";
+    output::writeTum(cam_path, cameraTwin(body, sys.frames(), sys.T_body_cam()),
+                     tumFrameAndClock(what, frames));
+    out[name + "_cam"] = cam_path;
   };
-  const std::string body = "body (IMU) frame in the world, IMU clock (image stamp + time offset)";
-  const std::string cam = "colour camera optical frame in the world, image stamps (camera clock)";
-  const std::string best = "best estimate after the last loop-closure solve";
-  const std::string online = "online: corrections known at each frame's time";
-  const std::string odom = "odometry alone, no loop correction";
-  tum("trajectory", final_body, body + "; " + best);
-  tum("trajectory_cam", sys.toCameraFrame(final_body), cam + "; " + best);
-  tum("trajectory_online", online_body, body + "; " + online);
-  tum("trajectory_online_cam", sys.toCameraFrame(online_body), cam + "; " + online);
-  tum("trajectory_odometry", odom_body, body + "; " + odom);
-  tum("trajectory_odometry_cam", sys.toCameraFrame(odom_body), cam + "; " + odom);
+  tum("trajectory", final_body, TumOutput::kFinal, true);
+  tum("trajectory_online", online_body, TumOutput::kOnline, true);
+  tum("trajectory_odometry", odom_body, TumOutput::kOdometry, true);
 
   Trajectory kf_traj;
   for (std::size_t i = 0; i < sys.keyframeStates().size(); ++i)
     kf_traj.push_back(
         StampedPose::fromIsometry(sys.keyframeStates()[i].state.t_imu, sys.keyframePose(i)));
-  tum("keyframes", kf_traj, body + "; keyframes at their final poses");
+  tum("keyframes", kf_traj, TumOutput::kKeyframes, false);
   const output::PoseGraph graph = slamPoseGraph(sys);
   if (!graph.nodes.empty()) {
     out["pose_graph"] = dir + "/pose_graph.graph";
@@ -131,9 +192,8 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
   }
   if (cfg.output.write_plot && final_body.size() >= 2) {
     out["plot"] = dir + "/trajectory.png";
-    mapping::plotTrajectory(
-        out["plot"], final_body, gt_in_est, cfg.mapping.plot,
-        gt_in_est ? "ground truth aligned by position + yaw" : "no alignment applied");
+    mapping::plotTrajectory(out["plot"], final_body, gt_in_est, cfg.mapping.plot,
+                            plotAlignmentText(gt_in_est != nullptr));
   }
   return out;
 }

@@ -6,7 +6,9 @@
 // scanning its chunks in file order ("recovery mode"): every message up to the damage is still
 // delivered. Damage met while reading (corrupt chunk, the file ending inside a chunk) ends the
 // stream with a BagReadError naming the file and the position; everything before it has been
-// delivered. Memory: one decompressed chunk plus one message at a time.
+// delivered. Memory: one decompressed chunk plus one message at a time. rosbag allocates by the
+// size fields it reads, so the record structure is checked first (bag_structure_check.h): a
+// corrupt size is refused with the byte offset, never an abort or gigabytes allocated.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +24,14 @@ namespace rgbdi::bag {
 class BagReadError : public BagError {
  public:
   using BagError::BagError;
+};
+
+/// Sizes above which a bag's record is taken for corruption, checked before anything is
+/// allocated by them (rosbag_storage asserts when such an allocation fails).
+struct BagLimits {
+  std::uint32_t max_record_header_bytes = 1u << 20;  ///< [bytes] a few short fields in practice
+  /// [bytes] a chunk, decompressed or stored (rosbag records 768 KiB chunks by default)
+  std::uint32_t max_chunk_bytes = 1u << 30;
 };
 
 /// One topic of the bag (connections with the same topic merged).
@@ -47,8 +57,11 @@ class BagReader {
  public:
   /// Opens `path` and reads its index (or, in recovery mode, pre-scans its chunks for the
   /// topics). next() delivers messages of `topics` only (all when empty). Throws BagError when the
-  /// file cannot be opened or is not a ROS1 2.0 bag.
-  explicit BagReader(const std::string& path, const std::vector<std::string>& topics = {});
+  /// file cannot be opened or is not a ROS1 2.0 bag. The record structure is checked against
+  /// the file size and `limits` before rosbag reads the index; a bag that fails the check is
+  /// read in recovery mode (recoveryReason() names the byte offset and the problem).
+  explicit BagReader(const std::string& path, const std::vector<std::string>& topics = {},
+                     const BagLimits& limits = {});
   ~BagReader();
   BagReader(const BagReader&) = delete;
   BagReader& operator=(const BagReader&) = delete;

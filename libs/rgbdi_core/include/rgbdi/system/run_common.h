@@ -5,9 +5,6 @@
 #pragma once
 
 #include <memory>
-
-#include "rgbdi/map/map_data.h"
-
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <stdexcept>
@@ -15,6 +12,7 @@
 
 #include "rgbdi/common/types.h"
 #include "rgbdi/io/stream_diagnostics.h"
+#include "rgbdi/map/map_data.h"
 #include "rgbdi/system/slam_summary.h"
 #include "rgbdi/system/slam_system.h"
 #include "rgbdi/system/system_config.h"
@@ -27,7 +25,14 @@ class UserError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The run's configuration ("" = built-in defaults); ConfigError becomes UserError.
+/// A configuration file (--config, the sensors file of --live) that cannot be used: a bad line,
+/// key or value. The tools report it as a usage/configuration error (exit status 2).
+class RunConfigError : public UserError {
+ public:
+  using UserError::UserError;
+};
+
+/// The run's configuration ("" = built-in defaults); ConfigError becomes RunConfigError.
 SystemConfig loadRunConfig(const std::string& path);
 /// Ground truth (TUM) or an empty trajectory for ""; throws UserError.
 Trajectory readGroundTruth(const std::string& path);
@@ -36,7 +41,7 @@ void prepareOutputDir(const std::string& dir);
 
 /// The map options of a run (rgbdi-slam --load-map, --localize-only, --no-save-map).
 struct MapRunOptions {
-  std::string load_dir;       ///< saved map to start in ("" = a new map)
+  std::string load_dir;        ///< saved map to start in ("" = a new map)
   bool localize_only = false;  ///< with load_dir: the map stays as loaded and is not saved again
   bool save = true;            ///< write DIR/map/ at the end (doc/maps.md)
 };
