@@ -51,11 +51,16 @@ TEST(LoopVerificationOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.drift_fraction, d.drift_fraction);
   EXPECT_EQ(f.drift_base_deg, d.drift_base_deg);
   EXPECT_EQ(f.drift_deg_per_m, d.drift_deg_per_m);
+  EXPECT_EQ(f.freespace_margin_m, d.freespace_margin_m);
+  EXPECT_EQ(f.freespace_margin_sigmas, d.freespace_margin_sigmas);
+  EXPECT_EQ(f.freespace_max_conflict_fraction, d.freespace_max_conflict_fraction);
+  EXPECT_EQ(f.freespace_min_samples, d.freespace_min_samples);
+  EXPECT_EQ(f.freespace_for_loops, d.freespace_for_loops);
   // The reference's gates (SPEC: PnP >= 25 inliers, yaw < 30 deg).
   EXPECT_EQ(d.min_pnp_inliers, 25);
   EXPECT_EQ(d.max_yaw_deg, 30.0);
   // Every verify_* key of the file was read (other [loop] keys belong to other modules), and
-  // the file has exactly the 21 keys compared above.
+  // the file has exactly the 26 keys compared above.
   for (const char* s : {"camera", "imu", "extrinsic", "stream", "frontend", "estimator", "mapping",
                         "output", "sim", "convert"})
     ini.acceptSection(s);
@@ -71,7 +76,7 @@ TEST(LoopVerificationOptions, DefaultsEqualTheShippedConfig) {
     if (!line.empty() && line[0] == '[') section = line;
     if (section == "[loop]" && line.rfind("verify_", 0) == 0) ++verify_keys;
   }
-  EXPECT_EQ(verify_keys, 21);
+  EXPECT_EQ(verify_keys, 26);
 }
 
 TEST(LoopVerificationOptions, ReadsValuesFromTheFile) {

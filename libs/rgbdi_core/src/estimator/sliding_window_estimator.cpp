@@ -669,34 +669,44 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
   // time offset stay in the reduced system. Left to itself Ceres picks an independent set that
   // can also take a speed/bias block (size 9 next to the depths' 1), which forces its
   // fully dynamic Schur eliminator.
+  // Ceres orders the blocks of one ordering group by their addresses. For a deterministic solve
+  // (the same bits whichever thread or heap arena built the tracks) the inverse depths are solved
+  // in one contiguous buffer filled in track-id order, the window's blocks lie in window order in
+  // window_, and the time offset has a group of its own.
+  std::vector<FeatureTrack*> solved;
+  for (auto& [id, f] : features_.tracks())
+    if (FeatureManager::usable(f, newest)) solved.push_back(&f);
+  inv_depth_params_.assign(solved.size(), 0.0);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (auto& s : window_) {
     ordering->AddElementToGroup(s.pose, 1);
     ordering->AddElementToGroup(s.sb, 1);
   }
-  ordering->AddElementToGroup(td_param_, 1);
-  for (auto& [id, f] : features_.tracks()) {
-    if (!FeatureManager::usable(f, newest)) continue;
+  ordering->AddElementToGroup(td_param_, 2);
+  for (std::size_t n = 0; n < solved.size(); ++n) {
+    FeatureTrack& f = *solved[n];
+    double* inv_depth = &inv_depth_params_[n];
+    *inv_depth = f.inv_depth;
     ++used;
-    ordering->AddElementToGroup(&f.inv_depth, 0);
+    ordering->AddElementToGroup(inv_depth, 0);
     const int i = f.start_slot;
     for (size_t k = 1; k < f.obs.size(); ++k) {
       const int j = i + static_cast<int>(k);
       problem.AddResidualBlock(
           new ReprojectionFactor(f.obs.front().meas, f.obs[k].meas, T_bc_, sqrt_info_), &cauchy,
-          window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose, &f.inv_depth,
+          window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose, inv_depth,
           td_param_);
     }
     if (f.depthVerified() && depth_opt_.hold_constant) {
-      problem.SetParameterBlockConstant(&f.inv_depth);
+      problem.SetParameterBlockConstant(inv_depth);
       ++verified;
     } else {
       if (f.depthVerified()) {
         problem.AddResidualBlock(new SplitScalarPrior(f.verified_inv_depth, depthPriorSigma(f)),
-                                 nullptr, &f.inv_depth);
+                                 nullptr, inv_depth);
         ++verified;
       }
-      problem.SetParameterLowerBound(&f.inv_depth, 0, 1e-3);
+      problem.SetParameterLowerBound(inv_depth, 0, 1e-3);
     }
   }
 
@@ -711,6 +721,7 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
   if (opt_.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = opt_.max_solver_time_s;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
+  for (std::size_t n = 0; n < solved.size(); ++n) solved[n]->inv_depth = inv_depth_params_[n];
   ++stats_.optimisations;
   stats_.solver_iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
   if (summary.termination_type == ceres::NO_CONVERGENCE) ++stats_.solver_iterations_capped;

@@ -142,6 +142,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   FeatureManager features_;
   std::shared_ptr<MarginalizationInfo> prior_;
   double td_param_[1] = {0.0};
+  std::vector<double> inv_depth_params_;  ///< the solved inverse depths during optimise()
   // Prior on the first state's speed and biases from the initialisation (until marginalised).
   bool use_init_prior_ = false;
   Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();
