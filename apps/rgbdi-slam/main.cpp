@@ -8,7 +8,8 @@
 #include <string>
 
 #include "rgbdi/common/command_line.h"
-#include "rgbdi/system/live_runner.h"
+#include "rgbdi/system/live_module.h"
+#include "rgbdi/system/tool_status.h"
 #include "rgbdi/system/run_common.h"
 #include "rgbdi/system/slam_runner.h"
 
@@ -137,11 +138,7 @@ int runOffline(rgbdi::system::SlamRunOptions& opt) {
 
 int runLive(rgbdi::system::LiveRunOptions& opt) {
   opt.stop = &g_stop;
-  const rgbdi::system::LiveRunResult r = rgbdi::system::runLive(opt, std::cerr);
-  if (r.summary["stream_diagnostics"].value("refused", false)) return rgbdi::kExitError;
-  if (rgbdi::system::isFault(r.stop_reason)) return rgbdi::kExitDamaged;  // outputs written
-  if (r.stop_reason == rgbdi::system::LiveStopReason::Interrupted) return rgbdi::kExitInterrupted;
-  return rgbdi::kExitOk;
+  return rgbdi::system::loadLiveModule()(opt, std::cerr);
 }
 
 }  // namespace
@@ -165,13 +162,7 @@ int main(int argc, char** argv) {
   }
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
-  try {
+  return rgbdi::system::runReportingErrors("rgbdi-slam", [&] {
     return args.live.sensors_path.empty() ? runOffline(args.offline) : runLive(args.live);
-  } catch (const rgbdi::system::RunConfigError& e) {
-    std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
-    return rgbdi::kExitUsage;  // a configuration error, like a bad option
-  } catch (const std::exception& e) {
-    std::cerr << "rgbdi-slam: error: " << e.what() << "\n";
-    return rgbdi::kExitError;
-  }
+  }, std::cerr);
 }

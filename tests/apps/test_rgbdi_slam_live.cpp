@@ -339,6 +339,24 @@ TEST(RgbdiSlamLive, SensorsThatCannotOpenAreNamedWithTheirSection) {
   EXPECT_NE(log.find("none.ini: sensors file does not exist"), std::string::npos) << log;
 }
 
+TEST(RgbdiSlamLive, TheLiveModuleIsLoadedOnlyForLiveRunsAndAMissingOneIsNamed) {
+  // Offline runs do not carry MRPT's sensor framework (about 170 libraries) in the executable.
+  std::string log;
+  ASSERT_EQ(runCommand("ldd " + slam(), &log), 0) << log;
+  EXPECT_EQ(log.find("libmrpt-hwdrivers"), std::string::npos) << log;
+  EXPECT_NE(log.find("libmrpt-obs"), std::string::npos) << log;  // the listing is real
+  // A module that is not where it should be: the run stops before any sensor opens, naming it.
+  const std::string dir = makeTempDir("rgbdi_live_module");
+  const std::string ini = replayIni(dir, sequenceDir() + "/sequence.rawlog", 1.0);
+  EXPECT_EQ(runCommand("RGBDI_LIVE_MODULE=" + dir + "/nowhere.so " + slam() + " --live " + ini +
+                           " --out " + dir + "/o",
+                       &log),
+            1);
+  EXPECT_NE(log.find("--live needs the live module " + dir + "/nowhere.so"), std::string::npos)
+      << log;
+  EXPECT_FALSE(fs::exists(dir + "/o/summary.json"));
+}
+
 TEST(RgbdiSlamLive, CommandLineRejectsMixedModesAndDocumentsEveryFlag) {
   std::string log;
   EXPECT_EQ(runCommand(slam() + " --live a.ini --input b.rawlog --out /tmp/x", &log), 2);

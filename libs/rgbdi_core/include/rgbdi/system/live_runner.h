@@ -5,6 +5,8 @@
 // sensor failure, overload). Then every output is written exactly as an offline run writes it
 // (run_common.h), summary.json with a "live" section: per-stage latency (p50, p95, max),
 // received / delivered / dropped counts per stream, the stop reason.
+// Implemented in src/live_run/ and linked into the live module (live_module.h), not into the
+// rgbdi-slam executable.
 #pragma once
 
 #include <atomic>
@@ -53,5 +55,9 @@ struct LiveRunResult {
 /// missing or invalid sensors file, a sensor that fails to open (the message names the INI
 /// section and the reason), bad configuration, unwritable output or recording.
 LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log);
+/// rgbdi-slam's exit status of a finished live run: kExitError when the stream was refused,
+/// kExitDamaged after a sensor fault (outputs written), kExitInterrupted after Ctrl-C / SIGTERM,
+/// else kExitOk (--duration, the end of a replay).
+int liveExitStatus(const LiveRunResult& result);
 
 }  // namespace rgbdi::system

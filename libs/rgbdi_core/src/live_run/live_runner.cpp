@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/common/command_line.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/live/live_source.h"
 #include "rgbdi/system/pose_latency.h"
@@ -164,6 +165,15 @@ const char* toString(LiveStopReason reason) {
 bool isFault(LiveStopReason reason) {
   return reason == LiveStopReason::CameraGone || reason == LiveStopReason::SensorFailed ||
          reason == LiveStopReason::Overload;
+}
+
+int liveExitStatus(const LiveRunResult& result) {
+  const nlohmann::json& s = result.summary;
+  if (s.contains("stream_diagnostics") && s["stream_diagnostics"].value("refused", false))
+    return kExitError;
+  if (isFault(result.stop_reason)) return kExitDamaged;  // outputs written
+  if (result.stop_reason == LiveStopReason::Interrupted) return kExitInterrupted;
+  return kExitOk;
 }
 
 LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log) {
