@@ -12,7 +12,7 @@
 #include "rgbdi/common/command_line.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/live/live_source.h"
-#include "rgbdi/system/pose_latency.h"
+#include "rgbdi/live_run/pose_latency.h"
 #include "rgbdi/system/progress_reporter.h"
 #include "rgbdi/system/slam_system.h"
 

@@ -1,4 +1,4 @@
-#include "rgbdi/system/pose_latency.h"
+#include "rgbdi/live_run/pose_latency.h"
 
 namespace rgbdi::system {
 

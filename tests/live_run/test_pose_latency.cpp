@@ -2,7 +2,7 @@
 // images that never get a pose, the bound on remembered images.
 #include <gtest/gtest.h>
 
-#include "rgbdi/system/pose_latency.h"
+#include "rgbdi/live_run/pose_latency.h"
 
 using rgbdi::system::PoseLatencyMeter;
 
