@@ -13,7 +13,9 @@
 //   - wall time of the second run (threaded, offline mode, as fast as it goes).
 //
 //   bench_relocalise [--profiles a,b,...] [--fps N] [--duration S] [--variants 1,2]
-//                    [--seed N] [--other-seed N]
+//                    [--seed N] [--other-seed N] [--detail]
+// --detail also lists, per second run, every loop edge to the map (position and yaw error against
+// ground truth) and the map-frame position error of the final and online poses once a second.
 // --duration is the second runs' length (default 10 s); the first run uses the profile's own.
 #include <chrono>
 #include <iomanip>
@@ -43,6 +45,7 @@ struct Args {
   std::vector<int> variants = {1, 2};
   double fps = 15.0, duration = 10.0;
   std::uint64_t seed = 1, other_seed = 7;
+  bool detail = false;
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -110,6 +113,50 @@ std::string cm(double m) {
   return os.str();
 }
 
+/// Position error [m] of `est`'s pose nearest to `t` mapped through T_gt_map, or -1.
+double errorAt(const Trajectory& est, const sim::SimulatedSequence& seq, double t,
+               const Eigen::Isometry3d& T_gt_map) {
+  const StampedPose* best = nullptr;
+  for (const StampedPose& p : est)
+    if (!best || std::abs(p.t - t) < std::abs(best->t - t)) best = &p;
+  if (!best || std::abs(best->t - t) > 0.1) return -1.0;
+  return ((T_gt_map * best->isometry()).translation() -
+          seq.groundTruth(best->t).T_world_body.translation())
+      .norm();
+}
+
+void printDetail(const sim::SimulatedSequence& seq, const Session& first,
+                 const system::SlamSystem& sys,
+                 const std::unordered_map<std::uint64_t, double>& map_t,
+                 const Eigen::Isometry3d& T_gt_map) {
+  const double t0 = seq.frameStamp(0);
+  if (const auto* lc = sys.loopCloser())
+    for (const loop::LoopRecord& lr : lc->loops()) {
+      const auto it = map_t.find(lr.constraint.from_id);
+      if (it == map_t.end()) continue;
+      const Eigen::Isometry3d E =
+          (first.seq->groundTruth(it->second).T_world_body.inverse() *
+           seq.groundTruth(lr.t_query).T_world_body)
+              .inverse() *
+          lr.constraint.T_from_to;
+      std::cout << "    map loop at " << std::fixed << std::setprecision(2) << lr.t_query - t0
+                << " s: map keyframe " << lr.constraint.from_id << " (first run "
+                << it->second - first.seq->frameStamp(0) << " s), error " << cm(E.translation().norm())
+                << " cm, yaw " << std::setprecision(3)
+                << std::atan2(E.linear()(1, 0), E.linear()(0, 0)) * 180.0 / M_PI << " deg"
+                << (lr.rolled_back ? " (rolled back)" : "") << "\n";
+    }
+  eval::EvalOptions eo;
+  eo.align = eval::AlignMode::PosYaw;
+  const eval::EvalResult odo = eval::evaluate(seq.bodyTrajectory(), sys.odometryTrajectory(), eo);
+  std::cout << "    odometry alone (own position+yaw alignment): ATE " << cm(odo.ate.rmse)
+            << " cm, max " << cm(odo.ate.max) << " cm\n";
+  for (double t = 1.0; t < seq.duration(); t += 1.0)
+    std::cout << "    t " << std::setprecision(0) << t << " s: error final "
+              << cm(errorAt(sys.finalTrajectory(), seq, t0 + t, T_gt_map)) << " cm, online "
+              << cm(errorAt(sys.onlineTrajectory(), seq, t0 + t, T_gt_map)) << " cm\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,9 +177,11 @@ int main(int argc, char** argv) {
       a.seed = std::stoull(argv[++i]);
     } else if (k == "--other-seed" && has) {
       a.other_seed = std::stoull(argv[++i]);
+    } else if (k == "--detail") {
+      a.detail = true;
     } else {
       std::cerr << "usage: bench_relocalise [--profiles a,b,...] [--fps N] [--duration S] "
-                   "[--variants 1,2] [--seed N] [--other-seed N]\n";
+                   "[--variants 1,2] [--seed N] [--other-seed N] [--detail]\n";
       return 2;
     }
   }
@@ -181,6 +230,7 @@ int main(int argc, char** argv) {
           const double e = (T_gt.inverse() * lr.constraint.T_from_to).translation().norm();
           worst_edge = std::max(worst_edge, e);
         }
+      if (a.detail) printDetail(*s.seq, first, *s.sys, map_t, T_gt_map);
       std::cout << "| " << profile << " | " << r.label << " | "
                 << seconds(t_view < 0 ? -1.0 : t_view - t0) << " | "
                 << seconds(t_online < 0 ? -1.0 : t_online - t0) << " | "

@@ -234,11 +234,16 @@ ProfileParts resolveTiming(const ProfileOptions& o, double default_speed, double
   return p;
 }
 
-/// Builds the path centred on the origin (the loop's bounding box centre).
+/// Builds the path centred on the origin (the loop's bounding box centre). A variant's path is
+/// centred on the whole lap, as the world's (a default-duration variant 0, which covers a lap) is:
+/// centred on the part a short run covers, it would lie beside the world's path and drive
+/// through the world's furniture. planLoop and the slopes always cover the first lap.
 GroundPath centredPath(const SmoothSteps& curvature, const SmoothSteps& slope, double lap,
-                       double length) {
-  const GroundPath probe(curvature, slope, Eigen::Vector2d::Zero(), 0.0, 0.0, length);
-  const Eigen::Vector2d c = pathBounds(probe, 0.0, std::min(lap, length)).center();
+                       double length, bool variant) {
+  const double centred_on = variant ? lap : std::min(lap, length);
+  const GroundPath probe(curvature, slope, Eigen::Vector2d::Zero(), 0.0, 0.0,
+                         std::max(length, centred_on));
+  const Eigen::Vector2d c = pathBounds(probe, 0.0, centred_on).center();
   return GroundPath(curvature, slope, -c, 0.0, 0.0, length);
 }
 
@@ -328,7 +333,7 @@ MotionProfile wheeledSlopes(const ProfileOptions& o, const Eigen::Isometry3d& T_
       slopeChange(slope, lap + r.foot + 2.0 * r.run, transition, m_r);
     }
   }
-  GroundPath path = centredPath(loop.curvature, slope, loop.lap, length);
+  GroundPath path = centredPath(loop.curvature, slope, loop.lap, length, o.variant != 0);
   const double width = 1.2;
   std::vector<RampLayout> ramp_layout;
   for (const SymmetricRampFeature& r : ramps)
@@ -378,7 +383,7 @@ MotionProfile trackedSlopes(const ProfileOptions& o, const Eigen::Isometry3d& T_
     slopeChange(slope, lap + platform.edge(), drop_transition, -m_d);
     slopeChange(slope, lap + platform.edge() + platform.drop_run, drop_transition, m_d);
   }
-  GroundPath path = centredPath(loop.curvature, slope, loop.lap, length);
+  GroundPath path = centredPath(loop.curvature, slope, loop.lap, length, o.variant != 0);
   const double width = 1.0;
   MotionProfile prof =
       finish(ProfileKind::TrackedSlopes, parts, path, std::move(m), loop.lap, 1.8, 3.0, 0.45);
@@ -424,7 +429,7 @@ MotionProfile handheld(const ProfileOptions& o, const Eigen::Isometry3d& T_body_
   startAt(m, v, lap, run_length);
   const double length = baseLength(v, lap, run_length);
   const LoopPlan loop = planLoop({a, b, a, b}, length);
-  GroundPath path = centredPath(loop.curvature, SmoothSteps(), loop.lap, length);
+  GroundPath path = centredPath(loop.curvature, SmoothSteps(), loop.lap, length, o.variant != 0);
   return finish(ProfileKind::Handheld, parts, std::move(path), std::move(m), loop.lap, 1.6, 2.8,
                 0.45);
 }
