@@ -1,8 +1,11 @@
 // rgbdi-slam: RGB-D-inertial SLAM (odometry, loop closure, mapping) on an MRPT rawlog
 // (--input) or on live sensors described by a sensors INI (--live). Options are parsed by
 // rgbdi::CommandLine (the tools' shared parser); the runs are system::runSlam / runLive.
+#include <malloc.h>
+
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -160,6 +163,12 @@ int main(int argc, char** argv) {
     std::cout << rgbdi::versionLine("rgbdi-slam") << "\n";
     return rgbdi::kExitOk;
   }
+  // glibc gives every thread that allocates an arena of its own (up to 8 per core) and keeps
+  // what is freed into it; images and keyframes are allocated on one stage's thread and freed on
+  // another's, so the arenas' retained memory adds up: two arenas cut the peak resident memory
+  // by ~20 MB (a 65 s tracked_slopes run: 230 -> 211 MB) at no measurable CPU cost. Set before
+  // any thread starts; MALLOC_ARENA_MAX in the environment still decides when given.
+  if (!std::getenv("MALLOC_ARENA_MAX")) mallopt(M_ARENA_MAX, 2);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   return rgbdi::system::runReportingErrors("rgbdi-slam", [&] {
