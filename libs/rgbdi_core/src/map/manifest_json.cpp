@@ -188,13 +188,13 @@ ManifestContent parseManifest(const std::string& text, const std::string& path) 
   return out;
 }
 
-MapCounts countsOf(const MapData& map) {
+MapCounts countsOf(const MapView& map) {
   MapCounts c;
   c.places = map.places.size();
-  for (const loop::LoopKeyframe& p : map.places) c.place_keypoints += p.descriptors.size();
+  for (const MapView::Place& p : map.places) c.place_keypoints += p.keyframe->descriptors.size();
   c.loops = map.loops.size();
   c.keyframes = map.keyframes.size();
-  c.keyframe_points = map.keyframes.pointCount();
+  for (const mapping::Keyframe* k : map.keyframes) c.keyframe_points += k->points.size();
   return c;
 }
 

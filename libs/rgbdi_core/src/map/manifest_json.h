@@ -33,6 +33,6 @@ std::string manifestToJson(const ManifestContent& content);
 /// manifest, another format version (checked first), a missing or mistyped key.
 ManifestContent parseManifest(const std::string& text, const std::string& path);
 
-MapCounts countsOf(const MapData& map);
+MapCounts countsOf(const MapView& map);
 
 }  // namespace rgbdi::map::detail

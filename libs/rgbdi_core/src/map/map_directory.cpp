@@ -40,17 +40,18 @@ std::string descriptorMismatch(const mapping::DescriptorSet& d, const MapManifes
 }
 
 /// Checks what save and load both require; `fail` throws.
-void checkConsistency(const MapData& map, const std::function<void(const std::string&)>& fail) {
+void checkConsistency(const MapView& map, const std::function<void(const std::string&)>& fail) {
   const MapManifest& m = map.manifest;
   std::set<std::uint64_t> ids;
   std::uint64_t max_id = 0;
   int max_segment = -1;
   for (std::size_t i = 0; i < map.places.size(); ++i) {
-    const loop::LoopKeyframe& p = map.places[i];
+    const loop::LoopKeyframe& p = *map.places[i].keyframe;
     const std::string what = "place " + std::to_string(p.id);
-    if (i > 0 && map.places[i - 1].id >= p.id)
+    if (i > 0 && map.places[i - 1].keyframe->id >= p.id)
       fail(what + ": place ids are not strictly increasing");
-    if (!mapping::detail::isRigid(p.T_world_body) || !mapping::detail::isRigid(p.T_world_body_odom))
+    if (!mapping::detail::isRigid(map.places[i].T_world_body) ||
+        !mapping::detail::isRigid(p.T_world_body_odom))
       fail(what + ": a pose is not a finite rigid transform");
     if (p.segment < 0) fail(what + ": negative segment");
     const std::string d = descriptorMismatch(p.descriptors, m);
@@ -59,10 +60,10 @@ void checkConsistency(const MapData& map, const std::function<void(const std::st
     max_id = std::max(max_id, p.id);
     max_segment = std::max(max_segment, p.segment);
   }
-  for (const mapping::Keyframe& k : map.keyframes.keyframes()) {
-    const std::string d = descriptorMismatch(k.descriptors, m);
-    if (!d.empty()) fail("store keyframe " + std::to_string(k.id) + ": " + d);
-    max_id = std::max(max_id, k.id);
+  for (const mapping::Keyframe* k : map.keyframes) {
+    const std::string d = descriptorMismatch(k->descriptors, m);
+    if (!d.empty()) fail("store keyframe " + std::to_string(k->id) + ": " + d);
+    max_id = std::max(max_id, k->id);
   }
   for (const MapLoopEdge& e : map.loops) {
     if (!ids.count(e.from_id) || !ids.count(e.to_id))
@@ -106,15 +107,15 @@ std::string formatValue(double v) {
 
 }  // namespace
 
-output::PoseGraph mapPoseGraph(const MapData& map,
+output::PoseGraph mapPoseGraph(const MapView& map,
                                const Eigen::Matrix<double, 6, 6>& odometry_information,
                                const Eigen::Matrix<double, 6, 6>& loop_information) {
   output::PoseGraph g;
   for (std::size_t i = 0; i < map.places.size(); ++i) {
-    const loop::LoopKeyframe& p = map.places[i];
-    g.nodes.push_back({p.id, p.t, p.T_world_body});
-    if (i == 0 || map.places[i - 1].segment != p.segment) continue;
-    const loop::LoopKeyframe& q = map.places[i - 1];
+    const loop::LoopKeyframe& p = *map.places[i].keyframe;
+    g.nodes.push_back({p.id, p.t, map.places[i].T_world_body});
+    if (i == 0 || map.places[i - 1].keyframe->segment != p.segment) continue;
+    const loop::LoopKeyframe& q = *map.places[i - 1].keyframe;
     output::PoseGraphEdge e;
     e.from = q.id;
     e.to = p.id;
@@ -137,7 +138,17 @@ output::PoseGraph mapPoseGraph(const MapData& map,
   return g;
 }
 
+output::PoseGraph mapPoseGraph(const MapData& map,
+                               const Eigen::Matrix<double, 6, 6>& odometry_information,
+                               const Eigen::Matrix<double, 6, 6>& loop_information) {
+  return mapPoseGraph(MapView::of(map), odometry_information, loop_information);
+}
+
 void saveMap(const std::string& map_dir, const MapData& map, const MapExtras& extras) {
+  saveMap(map_dir, MapView::of(map), extras);
+}
+
+void saveMap(const std::string& map_dir, const MapView& map, const MapExtras& extras) {
   checkConsistency(map, [&](const std::string& what) {
     throw MapError(map_dir + ": cannot save the map: " + what);
   });
@@ -154,7 +165,7 @@ void saveMap(const std::string& map_dir, const MapData& map, const MapExtras& ex
   };
 
   wrapErrors(dir + "/" + kKeyframesFile, [&] {
-    map.keyframes.save(dir + "/" + kKeyframesFile);
+    mapping::KeyframeStore::save(dir + "/" + kKeyframesFile, map.keyframes);
     detail::fsyncPath(dir + "/" + kKeyframesFile);
   });
   done(kKeyframesFile);
@@ -247,7 +258,8 @@ MapData loadMap(const std::string& map_dir) {
   map.places = detail::readPlacesFile(path(kPlacesFile));
   map.loops = detail::readLoopsFile(path(kLoopsFile));
 
-  const detail::MapCounts c = detail::countsOf(map);
+  const MapView view = MapView::of(map);
+  const detail::MapCounts c = detail::countsOf(view);
   const detail::MapCounts& e = content.counts;
   if (c.places != e.places)
     throw MapError(path(kPlacesFile) + ": " + countMismatch("places", e.places, c.places));
@@ -262,7 +274,7 @@ MapData loadMap(const std::string& map_dir) {
   if (c.keyframe_points != e.keyframe_points)
     throw MapError(path(kKeyframesFile) + ": " +
                    countMismatch("kept points", e.keyframe_points, c.keyframe_points));
-  checkConsistency(map, [&](const std::string& what) {
+  checkConsistency(view, [&](const std::string& what) {
     // Name the file that holds the offending record.
     const char* file = what.rfind("loop", 0) == 0             ? kLoopsFile
                        : what.rfind("store keyframe", 0) == 0 ? kKeyframesFile

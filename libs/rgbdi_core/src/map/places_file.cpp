@@ -34,7 +34,7 @@ Eigen::Isometry3d readPose(mapping::detail::ByteReader& r, const char* what) {
 
 }  // namespace
 
-void writePlacesFile(const std::string& path, const std::vector<loop::LoopKeyframe>& places) {
+void writePlacesFile(const std::string& path, const std::vector<MapView::Place>& places) {
   DurableFile file(path);
   mapping::detail::ByteWriter header;
   header.raw(kMagic, sizeof kMagic);
@@ -42,14 +42,15 @@ void writePlacesFile(const std::string& path, const std::vector<loop::LoopKeyfra
   header.u64(places.size());
   file.write(header.bytes());
   // One record at a time keeps the buffer small for large maps.
-  for (const loop::LoopKeyframe& p : places) {
+  for (const MapView::Place& place : places) {
+    const loop::LoopKeyframe& p = *place.keyframe;
     mapping::detail::ByteWriter w;
     w.u32(kRecordTag);
     w.u64(p.id);
     w.u32(static_cast<std::uint32_t>(p.segment));
     w.f64(p.t);
     writePose(w, p.T_world_body_odom);
-    writePose(w, p.T_world_body);
+    writePose(w, place.T_world_body);
     w.f64(p.travelled_m);
     mapping::detail::writeDescriptors(w, p.descriptors);
     w.u32(static_cast<std::uint32_t>(p.depth_grid.cols));

@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "rgbdi/loop/loop_keyframe.h"
+#include "rgbdi/map/map_data.h"
 
 namespace rgbdi::map::detail {
 
-/// Writes a new file durably (fsync). Throws MapError.
-void writePlacesFile(const std::string& path, const std::vector<loop::LoopKeyframe>& places);
+/// Writes a new file durably (fsync); each place with its T_world_body. Throws MapError.
+void writePlacesFile(const std::string& path, const std::vector<MapView::Place>& places);
 
 /// Reads a file written by writePlacesFile. Throws MapError naming the file, the record and what
 /// is wrong (truncated, bad signature or version, ids not increasing, non-rigid pose, ...).

@@ -68,24 +68,32 @@ std::vector<char> readWholeFile(const std::string& path) {
 }  // namespace
 
 void KeyframeStore::save(const std::string& path) const {
-  for (const Keyframe& k : keyframes_) {
+  std::vector<const Keyframe*> all;
+  all.reserve(keyframes_.size());
+  for (const Keyframe& k : keyframes_) all.push_back(&k);
+  save(path, all);
+}
+
+void KeyframeStore::save(const std::string& path, const std::vector<const Keyframe*>& keyframes) {
+  for (const Keyframe* k : keyframes) {
     // 32-bit counts in the file: refuse rather than wrap (never reached by real keyframes).
     const std::size_t limit = 0xFFFFFFFFu;
-    if (k.features.size() > limit || k.points.size() > limit ||
-        k.descriptors.keypoints_uv.size() > limit || k.descriptors.type.size() > detail::kMaxDescriptorTypeLength)
-      throw IoError(path + ": keyframe " + std::to_string(k.id) +
+    if (k->features.size() > limit || k->points.size() > limit ||
+        k->descriptors.keypoints_uv.size() > limit ||
+        k->descriptors.type.size() > detail::kMaxDescriptorTypeLength)
+      throw IoError(path + ": keyframe " + std::to_string(k->id) +
                     " has more features/points/descriptors than the file format holds");
   }
   writeFileAtomically(path, [&](std::ostream& os) {
     detail::ByteWriter header;
     header.raw(kMagic, sizeof kMagic);
     header.u32(kFileVersion);
-    header.u64(keyframes_.size());
+    header.u64(keyframes.size());
     os.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
     // One record at a time keeps the temporary buffer small for large stores.
-    for (const Keyframe& k : keyframes_) {
+    for (const Keyframe* k : keyframes) {
       detail::ByteWriter w;
-      writeKeyframe(w, k);
+      writeKeyframe(w, *k);
       os.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
     }
   });

@@ -94,7 +94,7 @@ void saveRunMap(const SlamSystem& system, const RunOutputOptions& options,
     return;
   }
   std::size_t dropped = 0;
-  map::MapData m = system.mapToSave(&dropped);
+  map::MapView m = system.mapView(&dropped);
   if (const map::MapData* loaded = system.loadedMap()) {
     m.manifest.has_groundtruth_alignment = loaded->manifest.has_groundtruth_alignment;
     m.manifest.T_groundtruth_world = loaded->manifest.T_groundtruth_world;

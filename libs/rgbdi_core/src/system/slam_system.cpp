@@ -368,11 +368,11 @@ void SlamSystem::loadMap(const PinholeCamera& camera) {
   closer_->loadMap(options_.map->places);
 }
 
-map::MapData SlamSystem::mapToSave(std::size_t* dropped_keyframes) const {
+map::MapView SlamSystem::mapView(std::size_t* dropped_keyframes) const {
   if (!closer_)
     throw std::logic_error("no map to save: loop closure did not run (a map needs its place "
                            "keyframes)");
-  map::MapData out;
+  map::MapView out;
   map::MapManifest& m = out.manifest;
   m.camera = loop_camera_;
   m.T_body_cam = cfg_.extrinsic.T_body_cam;
@@ -390,14 +390,13 @@ map::MapData SlamSystem::mapToSave(std::size_t* dropped_keyframes) const {
   for (const loop::LoopKeyframe& k : closer_->keyframes()) {
     const bool keep = k.segment == 0 || closer_->connectedToOrigin(k.segment);
     if (!keep) continue;
-    loop::LoopKeyframe c = k;
-    c.T_world_body = closer_->pose(k.id);
-    out.places.push_back(std::move(c));
+    out.places.push_back({&k, closer_->pose(k.id)});
   }
   m.next_segment = 1;
-  for (const loop::LoopKeyframe& k : out.places) m.next_segment = std::max(m.next_segment, k.segment + 1);
+  for (const map::MapView::Place& p : out.places)
+    m.next_segment = std::max(m.next_segment, p.keyframe->segment + 1);
   std::vector<std::uint64_t> saved_ids;  // increasing: places are in id order
-  for (const loop::LoopKeyframe& k : out.places) saved_ids.push_back(k.id);
+  for (const map::MapView::Place& p : out.places) saved_ids.push_back(p.keyframe->id);
   auto isSaved = [&](std::uint64_t id) {
     return std::binary_search(saved_ids.begin(), saved_ids.end(), id);
   };
@@ -425,10 +424,14 @@ map::MapData SlamSystem::mapToSave(std::size_t* dropped_keyframes) const {
         continue;
       }
     }
-    out.keyframes.add(k);
+    out.keyframes.push_back(&k);
   }
   if (dropped_keyframes) *dropped_keyframes = dropped;
   return out;
+}
+
+map::MapData SlamSystem::mapToSave(std::size_t* dropped_keyframes) const {
+  return mapView(dropped_keyframes).copy();
 }
 
 Trajectory SlamSystem::finalTrajectory() const {

@@ -60,4 +60,24 @@ struct MapData {
   mapping::KeyframeStore keyframes;  ///< T_world_cam corrected, with kept points
 };
 
+/// The content of a MapData by reference: what saveMap writes. A finished run saves its map
+/// through a view of its own keyframes (SlamSystem::mapView) instead of a copy, which on a
+/// 10-minute run is ~50 MB of descriptors and keyframes held twice at the end of the run.
+/// The pointed-to keyframes must outlive the view.
+struct MapView {
+  struct Place {
+    const loop::LoopKeyframe* keyframe = nullptr;  ///< its T_world_body is not used
+    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();  ///< saved pose (map frame)
+  };
+  MapManifest manifest;
+  std::vector<Place> places;  ///< by increasing id
+  std::vector<MapLoopEdge> loops;
+  std::vector<const mapping::Keyframe*> keyframes;  ///< by increasing id
+
+  /// The view of `map` (which must outlive it).
+  static MapView of(const MapData& map);
+  /// A MapData holding copies of what the view points at.
+  MapData copy() const;
+};
+
 }  // namespace rgbdi::map

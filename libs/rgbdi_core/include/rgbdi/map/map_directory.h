@@ -70,6 +70,8 @@ struct MapExtras {
 /// is not rigid), when `map_dir` is a plain directory, or when a file cannot be written (the
 /// previous map stays published).
 void saveMap(const std::string& map_dir, const MapData& map, const MapExtras& extras = {});
+/// The same for the view of a map (a finished run's keyframes, not copied).
+void saveMap(const std::string& map_dir, const MapView& map, const MapExtras& extras = {});
 
 /// Reads a map directory written by saveMap. Throws MapError naming the file when the manifest
 /// is missing or malformed, the format version is not kMapFormatVersion, a data file is missing,
@@ -89,6 +91,9 @@ void checkCompatible(const MapManifest& m, const PinholeCamera& camera,
 /// odometry edges between consecutive places of the same segment (from the odometry poses)
 /// and the active loop edges, with the given information matrices.
 output::PoseGraph mapPoseGraph(const MapData& map,
+                               const Eigen::Matrix<double, 6, 6>& odometry_information,
+                               const Eigen::Matrix<double, 6, 6>& loop_information);
+output::PoseGraph mapPoseGraph(const MapView& map,
                                const Eigen::Matrix<double, 6, 6>& odometry_information,
                                const Eigen::Matrix<double, 6, 6>& loop_information);
 

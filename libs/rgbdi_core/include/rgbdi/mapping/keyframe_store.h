@@ -56,6 +56,9 @@ class KeyframeStore {
 
   /// Writes all keyframes (binary, little-endian, versioned) atomically. Throws IoError.
   void save(const std::string& path) const;
+  /// Writes `keyframes` (increasing id) as save() writes a store holding them, without copying
+  /// them into one (a finished run saves a chosen subset of its store). Throws IoError.
+  static void save(const std::string& path, const std::vector<const Keyframe*>& keyframes);
   /// Reads a file written by save(). Throws KeyframeFileError naming the file, the keyframe
   /// record and what is wrong (truncated, bad magic, unsupported version, invalid value).
   static KeyframeStore load(const std::string& path);

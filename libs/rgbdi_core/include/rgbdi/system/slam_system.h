@@ -134,6 +134,9 @@ class SlamSystem : public MeasurementSink {
   /// counts the run's keyframes left out (segments never joined). Throws std::logic_error when
   /// loop closure never ran (a map needs its place keyframes).
   map::MapData mapToSave(std::size_t* dropped_keyframes = nullptr) const;
+  /// The same map by reference to this system's keyframes (what rgbdi-slam saves: no copy of
+  /// the descriptors and keyframes); valid while the system lives and is not fed again.
+  map::MapView mapView(std::size_t* dropped_keyframes = nullptr) const;
   /// Keyframe ids of this run start here (the loaded map's next id, else 0).
   std::uint64_t firstKeyframeId() const { return id_offset_; }
   /// The same three in the colour camera frame, stamped with the image stamps.
