@@ -1,7 +1,8 @@
 // Benchmark of the whole odometry on a simulated sequence streamed in-process (no disk):
 // per-stage timings, throughput and accuracy.
 //   bench_vio [--profile NAME] [--duration S] [--fps N] [--seed N] [--no-depth] [--time-offset S]
-//             [--set SECTION.KEY=VALUE ...]   (overrides of the generated slam config)
+//             [--set SECTION.KEY=VALUE ...]   (overrides of the generated slam config; [sim]
+//             keys override the simulator's options, e.g. --set sim.depth_sigma_coeff=0)
 //             [--trajectory FILE]   (writes the optimised body trajectory, TUM, to compare runs)
 #include <chrono>
 #include <iomanip>
@@ -64,7 +65,14 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  auto sim_ini = IniReader::empty();
+  // [sim] overrides shape the generated sequence (noise, variant, ...); the others the slam config.
+  std::string sim_text;
+  if (const auto it = overrides.find("sim"); it != overrides.end()) {
+    sim_text = "[sim]\n";
+    for (const auto& [k, v] : it->second) sim_text += k + " = " + v + "\n";
+    overrides.erase(it);
+  }
+  auto sim_ini = IniReader::fromText(sim_text, "bench_vio --set sim.*");
   sim::SimOptions so = sim::SimOptions::load(sim_ini);
   so.profile.kind = sim::parseProfileKind(profile);
   so.profile.duration_s = duration;
