@@ -32,3 +32,27 @@ TEST(EstimatorOptions, BoundLineSearchIterationsAreReadAndOutOfRangeNamesTheKey)
     EXPECT_NE(msg.find("bound_line_search_iterations"), std::string::npos) << msg;
   }
 }
+
+TEST(EstimatorOptions, TheSolverFunctionToleranceDefaultEqualsTheShippedConfig) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  const EstimatorOptions o = EstimatorOptions::load(ini);
+  EXPECT_EQ(o.solver_function_tolerance, EstimatorOptions().solver_function_tolerance);
+  EXPECT_EQ(o.solver_function_tolerance, 1e-3);
+}
+
+TEST(EstimatorOptions, SolverFunctionToleranceIsReadAndOutOfRangeNamesTheKey) {
+  IniReader ok = IniReader::fromText("[estimator]\nsolver_function_tolerance = 1e-6\n", "e.ini");
+  EXPECT_EQ(EstimatorOptions::load(ok).solver_function_tolerance, 1e-6);
+  for (const char* value : {"0", "0.5"}) {
+    IniReader bad = IniReader::fromText(
+        std::string("[estimator]\nsolver_function_tolerance = ") + value + "\n", "bad.ini");
+    try {
+      EstimatorOptions::load(bad);
+      FAIL() << "expected ConfigError for " << value;
+    } catch (const ConfigError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("solver_function_tolerance"), std::string::npos) << msg;
+    }
+  }
+}

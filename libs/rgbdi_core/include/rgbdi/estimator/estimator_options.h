@@ -17,6 +17,10 @@ struct EstimatorOptions {
   /// inverse-depth lower bound; 0 = none (the step is clamped onto the bound). Each trial
   /// evaluates every residual with its Jacobian.
   int bound_line_search_iterations = 0;
+  /// [unitless] an update stops when an iteration lowers the cost by less than this fraction
+  /// (Ceres' function_tolerance, whose default is 1e-6). Iterations that gain less than 0.1 %
+  /// moved no trajectory by more than noise (doc/performance.md) and were half of the cost.
+  double solver_function_tolerance = 1e-3;
   double reprojection_sigma_px = 1.5;  ///< [px at focal 460]
   double cauchy_loss_sigma = 1.0;      ///< [unitless] Cauchy scale in units of reprojection sigma
   double depth_verify_tolerance_px = 10.0;  ///< [px at focal 460]
