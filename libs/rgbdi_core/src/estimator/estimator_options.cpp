@@ -15,6 +15,9 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
       ini.getInt(s, "bound_line_search_iterations", o.bound_line_search_iterations, 0, 100);
   o.solver_function_tolerance = ini.getDouble(s, "solver_function_tolerance",
                                               o.solver_function_tolerance, 1e-12, 0.1);
+  o.solver_function_tolerance_no_depth =
+      ini.getDouble(s, "solver_function_tolerance_no_depth", o.solver_function_tolerance_no_depth,
+                    1e-12, 0.1);
   o.reprojection_sigma_px =
       ini.getDouble(s, "reprojection_sigma_px", o.reprojection_sigma_px, 0.05, 50);
   o.cauchy_loss_sigma = ini.getDouble(s, "cauchy_loss_sigma", o.cauchy_loss_sigma, 0.01, 100);
