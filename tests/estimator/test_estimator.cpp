@@ -298,3 +298,31 @@ TEST(SlidingWindowEstimator, FailureIsDetectedAndTheTrajectoryContinues) {
   EXPECT_LT(r.max_pos_err, 0.3);
   EXPECT_LT(r.final_pos_err, 0.2);
 }
+
+TEST(SlidingWindowEstimator, TheEarlyStopAppliesOnlyWhenTheWindowHasDepthVerifiedFeatures) {
+  // With depth: solver_function_tolerance (1e-3) stops earlier than Ceres' default 1e-6, with
+  // the same accuracy.
+  const RunSetup noisy{6.0, 0.004, 0.0, 0.5};
+  const RunResult early = runSynthetic(noisy);
+  const RunResult full =
+      runSynthetic(noisy, [](EstimatorOptions& o) { o.solver_function_tolerance = 1e-6; });
+  ASSERT_EQ(early.stats.optimisations, full.stats.optimisations);
+  EXPECT_LT(early.stats.solver_iterations, full.stats.solver_iterations);
+  EXPECT_EQ(early.resets, 0);
+  EXPECT_LT(early.max_pos_err, 0.02);
+  EXPECT_LT(early.final_pos_err, 0.01);
+
+  // Without depth nothing is depth-verified: solver_function_tolerance is not used at all (the
+  // same run to the last bit), solver_function_tolerance_no_depth is.
+  RunSetup mono{6.0, 0.0, 1.0, 0.5};
+  mono.with_depth = false;
+  const RunResult base = runSynthetic(mono);
+  const RunResult ignored =
+      runSynthetic(mono, [](EstimatorOptions& o) { o.solver_function_tolerance = 0.1; });
+  const RunResult loose =
+      runSynthetic(mono, [](EstimatorOptions& o) { o.solver_function_tolerance_no_depth = 0.1; });
+  ASSERT_GT(base.stats.optimisations, 50);
+  EXPECT_EQ(ignored.stats.solver_iterations, base.stats.solver_iterations);
+  EXPECT_EQ(ignored.final_pos_err, base.final_pos_err);
+  EXPECT_LT(loose.stats.solver_iterations, base.stats.solver_iterations);
+}
