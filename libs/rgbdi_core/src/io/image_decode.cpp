@@ -41,28 +41,31 @@ std::uint8_t paeth(int a, int b, int c) {
   return static_cast<std::uint8_t>(c);
 }
 
-/// Reverses the PNG filter of one row in place (`prior`: the row above, already unfiltered, or
-/// zeros for the first row). False for an unknown filter type.
-bool unfilterRow(int type, std::uint8_t* row, const std::uint8_t* prior, std::size_t n, int bpp) {
+/// Reverses the PNG filter of one row: `out` = the unfiltered bytes of `in` (`prior`: the row
+/// above, already unfiltered, or zeros for the first row). False for an unknown filter type.
+bool unfilterRow(int type, const std::uint8_t* in, std::uint8_t* out, const std::uint8_t* prior,
+                 std::size_t n, int bpp) {
   const std::size_t b = static_cast<std::size_t>(bpp);
   switch (type) {
     case 0:
+      std::memcpy(out, in, n);
       return true;
     case 1:
-      for (std::size_t i = b; i < n; ++i) row[i] = static_cast<std::uint8_t>(row[i] + row[i - b]);
+      std::memcpy(out, in, b);
+      for (std::size_t i = b; i < n; ++i) out[i] = static_cast<std::uint8_t>(in[i] + out[i - b]);
       return true;
     case 2:
-      for (std::size_t i = 0; i < n; ++i) row[i] = static_cast<std::uint8_t>(row[i] + prior[i]);
+      for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>(in[i] + prior[i]);
       return true;
     case 3:
-      for (std::size_t i = 0; i < b; ++i) row[i] = static_cast<std::uint8_t>(row[i] + prior[i] / 2);
+      for (std::size_t i = 0; i < b; ++i) out[i] = static_cast<std::uint8_t>(in[i] + prior[i] / 2);
       for (std::size_t i = b; i < n; ++i)
-        row[i] = static_cast<std::uint8_t>(row[i] + (row[i - b] + prior[i]) / 2);
+        out[i] = static_cast<std::uint8_t>(in[i] + (out[i - b] + prior[i]) / 2);
       return true;
     case 4:
-      for (std::size_t i = 0; i < b; ++i) row[i] = static_cast<std::uint8_t>(row[i] + prior[i]);
+      for (std::size_t i = 0; i < b; ++i) out[i] = static_cast<std::uint8_t>(in[i] + prior[i]);
       for (std::size_t i = b; i < n; ++i)
-        row[i] = static_cast<std::uint8_t>(row[i] + paeth(row[i - b], prior[i], prior[i - b]));
+        out[i] = static_cast<std::uint8_t>(in[i] + paeth(out[i - b], prior[i], prior[i - b]));
       return true;
     default:
       return false;
@@ -142,22 +145,24 @@ std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size
     throw ImageDecodeError("PNG image data are damaged (they do not inflate to " +
                            std::to_string(width) + "x" + std::to_string(height) + " pixels)");
   zeros.assign(stride, 0);
+  // RGB rows are unfiltered straight into the image; grey and RGBA rows into two alternating
+  // row buffers first (the filters work on the file's own bytes per pixel).
+  thread_local std::vector<std::uint8_t> rows;
+  if (channels != 3) rows.resize(2 * stride);
   cv::Mat rgb(static_cast<int>(height), static_cast<int>(width), CV_8UC3);
   const std::uint8_t* prior = zeros.data();
   for (std::uint32_t r = 0; r < height; ++r) {
-    std::uint8_t* row = raw.data() + std::size_t{r} * (stride + 1);
-    if (!unfilterRow(row[0], row + 1, prior, stride, channels))
-      throw ImageDecodeError("PNG row " + std::to_string(r) + " has an unknown filter type " +
-                             std::to_string(row[0]) + " (damaged file)");
-    prior = row + 1;
+    const std::uint8_t* in = raw.data() + std::size_t{r} * (stride + 1);
     std::uint8_t* dst = rgb.ptr<std::uint8_t>(static_cast<int>(r));
-    const std::uint8_t* src = row + 1;
-    if (channels == 3) {
-      std::memcpy(dst, src, stride);
-    } else if (channels == 1) {
-      for (std::uint32_t c = 0; c < width; ++c, dst += 3) dst[0] = dst[1] = dst[2] = src[c];
-    } else {
-      for (std::uint32_t c = 0; c < width; ++c, dst += 3, src += 4) std::memcpy(dst, src, 3);
+    std::uint8_t* out = channels == 3 ? dst : rows.data() + (r % 2) * stride;
+    if (!unfilterRow(in[0], in + 1, out, prior, stride, channels))
+      throw ImageDecodeError("PNG row " + std::to_string(r) + " has an unknown filter type " +
+                             std::to_string(in[0]) + " (damaged file)");
+    prior = out;
+    if (channels == 1) {
+      for (std::uint32_t c = 0; c < width; ++c, dst += 3) dst[0] = dst[1] = dst[2] = out[c];
+    } else if (channels == 4) {
+      for (std::uint32_t c = 0; c < width; ++c, dst += 3) std::memcpy(dst, out + 4 * c, 3);
     }
   }
   return rgb;
