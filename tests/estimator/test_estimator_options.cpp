@@ -64,3 +64,21 @@ TEST(EstimatorOptions, SolverFunctionToleranceIsReadAndOutOfRangeNamesTheKey) {
     }
   }
 }
+
+TEST(EstimatorOptions, NonKeyframeUpdateDefaultEqualsTheShippedConfigAndIsChecked) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  EXPECT_EQ(EstimatorOptions::load(ini).non_keyframe_update,
+            EstimatorOptions().non_keyframe_update);
+  EXPECT_EQ(EstimatorOptions().non_keyframe_update, "single_step");
+  IniReader full = IniReader::fromText("[estimator]\nnon_keyframe_update = full\n", "e.ini");
+  EXPECT_EQ(EstimatorOptions::load(full).non_keyframe_update, "full");
+  IniReader bad = IniReader::fromText("[estimator]\nnon_keyframe_update = none\n", "bad.ini");
+  try {
+    EstimatorOptions::load(bad);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("non_keyframe_update"), std::string::npos) << msg;
+  }
+}
