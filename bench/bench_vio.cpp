@@ -119,7 +119,8 @@ int main(int argc, char** argv) {
             << 1000.0 * vio.estimator().timeOffset() << " ms\n";
   std::cout << "estimator updates " << st.optimisations << ", solver iterations per update "
             << (st.optimisations > 0 ? double(st.solver_iterations) / st.optimisations : 0.0)
-            << ", stopped at max_iterations " << st.solver_iterations_capped << "\n";
+            << ", stopped at their iteration limit " << st.solver_iterations_capped
+            << ", single-step updates (non_keyframe_update) " << st.single_step_updates << "\n";
   double used = 0, verified = 0;
   int updates = 0;
   for (const auto& e : vio.estimates())

@@ -298,3 +298,58 @@ TEST(SlidingWindowEstimator, FailureIsDetectedAndTheTrajectoryContinues) {
   EXPECT_LT(r.max_pos_err, 0.3);
   EXPECT_LT(r.final_pos_err, 0.2);
 }
+
+TEST(SlidingWindowEstimator, TheEarlyStopAppliesOnlyWhenTheWindowHasDepthVerifiedFeatures) {
+  // With depth: solver_function_tolerance (1e-3) stops earlier than Ceres' default 1e-6, with
+  // the same accuracy.
+  const RunSetup noisy{6.0, 0.004, 0.0, 0.5};
+  const RunResult early = runSynthetic(noisy);
+  const RunResult full =
+      runSynthetic(noisy, [](EstimatorOptions& o) { o.solver_function_tolerance = 1e-6; });
+  ASSERT_EQ(early.stats.optimisations, full.stats.optimisations);
+  EXPECT_LT(early.stats.solver_iterations, full.stats.solver_iterations);
+  EXPECT_EQ(early.resets, 0);
+  EXPECT_LT(early.max_pos_err, 0.02);
+  EXPECT_LT(early.final_pos_err, 0.01);
+
+  // Without depth nothing is depth-verified: solver_function_tolerance is not used at all (the
+  // same run to the last bit), solver_function_tolerance_no_depth is.
+  RunSetup mono{6.0, 0.0, 1.0, 0.5};
+  mono.with_depth = false;
+  const RunResult base = runSynthetic(mono);
+  const RunResult ignored =
+      runSynthetic(mono, [](EstimatorOptions& o) { o.solver_function_tolerance = 0.1; });
+  const RunResult loose =
+      runSynthetic(mono, [](EstimatorOptions& o) { o.solver_function_tolerance_no_depth = 0.1; });
+  ASSERT_GT(base.stats.optimisations, 50);
+  EXPECT_EQ(ignored.stats.solver_iterations, base.stats.solver_iterations);
+  EXPECT_EQ(ignored.final_pos_err, base.final_pos_err);
+  EXPECT_LT(loose.stats.solver_iterations, base.stats.solver_iterations);
+}
+
+TEST(SlidingWindowEstimator, NonKeyframeUpdatesTakeOneStepAndKeepTheAccuracy) {
+  // Updates whose second-newest frame is no keyframe (it leaves the window afterwards) take one
+  // solver iteration with "single_step"; "full" solves every update to convergence.
+  const RunSetup noisy{6.0, 0.004, 0.0, 0.5};
+  const RunResult single = runSynthetic(noisy);  // the default
+  const RunResult full =
+      runSynthetic(noisy, [](EstimatorOptions& o) { o.non_keyframe_update = "full"; });
+  EXPECT_EQ(full.stats.single_step_updates, 0);
+  ASSERT_GT(single.stats.single_step_updates, 10);
+  ASSERT_EQ(single.stats.optimisations, full.stats.optimisations);
+  EXPECT_LT(single.stats.solver_iterations, full.stats.solver_iterations);
+  EXPECT_EQ(single.resets, 0);
+  EXPECT_LT(single.max_pos_err, 0.02);
+  EXPECT_LT(single.final_pos_err, 0.01);
+
+  // Without depth-verified features every update is a full one: the same run to the last bit.
+  RunSetup mono{6.0, 0.0, 1.0, 0.5};
+  mono.with_depth = false;
+  const RunResult mono_single = runSynthetic(mono);
+  const RunResult mono_full =
+      runSynthetic(mono, [](EstimatorOptions& o) { o.non_keyframe_update = "full"; });
+  ASSERT_GT(mono_single.stats.optimisations, 50);
+  EXPECT_EQ(mono_single.stats.single_step_updates, 0);
+  EXPECT_EQ(mono_single.stats.solver_iterations, mono_full.stats.solver_iterations);
+  EXPECT_EQ(mono_single.final_pos_err, mono_full.final_pos_err);
+}

@@ -32,3 +32,53 @@ TEST(EstimatorOptions, BoundLineSearchIterationsAreReadAndOutOfRangeNamesTheKey)
     EXPECT_NE(msg.find("bound_line_search_iterations"), std::string::npos) << msg;
   }
 }
+
+TEST(EstimatorOptions, TheSolverFunctionToleranceDefaultEqualsTheShippedConfig) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  const EstimatorOptions o = EstimatorOptions::load(ini);
+  EXPECT_EQ(o.solver_function_tolerance, EstimatorOptions().solver_function_tolerance);
+  EXPECT_EQ(o.solver_function_tolerance, 1e-3);
+  EXPECT_EQ(o.solver_function_tolerance_no_depth,
+            EstimatorOptions().solver_function_tolerance_no_depth);
+  EXPECT_EQ(o.solver_function_tolerance_no_depth, 1e-6);
+}
+
+TEST(EstimatorOptions, SolverFunctionToleranceIsReadAndOutOfRangeNamesTheKey) {
+  IniReader ok = IniReader::fromText("[estimator]\nsolver_function_tolerance = 1e-6\n", "e.ini");
+  EXPECT_EQ(EstimatorOptions::load(ok).solver_function_tolerance, 1e-6);
+  IniReader ok2 =
+      IniReader::fromText("[estimator]\nsolver_function_tolerance_no_depth = 0.01\n", "e.ini");
+  EXPECT_EQ(EstimatorOptions::load(ok2).solver_function_tolerance_no_depth, 0.01);
+  for (const std::string key : {"solver_function_tolerance", "solver_function_tolerance_no_depth"}) {
+    for (const char* value : {"0", "0.5"}) {
+      IniReader bad =
+          IniReader::fromText("[estimator]\n" + key + " = " + value + "\n", "bad.ini");
+      try {
+        EstimatorOptions::load(bad);
+        FAIL() << "expected ConfigError for " << key << " = " << value;
+      } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
+        EXPECT_NE(msg.find(key), std::string::npos) << msg;
+      }
+    }
+  }
+}
+
+TEST(EstimatorOptions, NonKeyframeUpdateDefaultEqualsTheShippedConfigAndIsChecked) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  EXPECT_EQ(EstimatorOptions::load(ini).non_keyframe_update,
+            EstimatorOptions().non_keyframe_update);
+  EXPECT_EQ(EstimatorOptions().non_keyframe_update, "single_step");
+  IniReader full = IniReader::fromText("[estimator]\nnon_keyframe_update = full\n", "e.ini");
+  EXPECT_EQ(EstimatorOptions::load(full).non_keyframe_update, "full");
+  IniReader bad = IniReader::fromText("[estimator]\nnon_keyframe_update = none\n", "bad.ini");
+  try {
+    EstimatorOptions::load(bad);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.ini"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("non_keyframe_update"), std::string::npos) << msg;
+  }
+}

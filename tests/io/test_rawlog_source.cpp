@@ -917,4 +917,36 @@ TEST_F(RawlogSourceTest, RealOpenNi2Rawlog) {
 }
 
 }  // namespace
+
+TEST_F(RawlogSourceTest, DamagedExternalImagesAreReportedWithTheirFileAndSkipped) {
+  // The decoders of image_decode.h name the damaged file (MRPT's own reader returned a
+  // truncated range file as zeros); the frame is skipped, the others load.
+  const std::string dir = tempDir("rgbdi_io_extbad");
+  const std::string path = dir + "/d.rawlog";
+  writeAll(path, writerOptions(Layout::Observations, false, true),
+           {Measurement(frameAt(kT0)), Measurement(frameAt(kT0 + 0.1)),
+            Measurement(frameAt(kT0 + 0.2))});
+  const auto truncate = [](const std::string& file) {
+    fs::resize_file(file, fs::file_size(file) / 2);
+  };
+  truncate(dir + "/d_Images/RGBD_1_color.png");
+  truncate(dir + "/d_Images/RGBD_2_depth.bin");
+  RawlogSource src(path);
+  const auto out = readAll(src);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(std::get<RgbdFrame>(out[0]).depth.at<std::uint16_t>(5, 7), 1501);
+  const auto& d = src.diagnostics();
+  EXPECT_EQ(d.unusable, 2u);
+  ASSERT_GE(d.warnings.size(), 2u);
+  EXPECT_EQ(d.warnings[0], path + " record 1: intensity image " + dir +
+                               "/d_Images/RGBD_1_color.png: PNG truncated inside a chunk; skipped");
+  // (which of its checks catches the cut depends on the bytes that end up last)
+  const std::string range_error = path +
+                                  " record 2: cannot load the observation's images: range file " +
+                                  dir + "/d_Images/RGBD_2_depth.bin is damaged: ";
+  EXPECT_EQ(d.warnings[1].rfind(range_error, 0), 0u) << d.warnings[1];
+  const std::string tail = "(truncated or corrupt); skipped";
+  EXPECT_EQ(d.warnings[1].substr(d.warnings[1].size() - tail.size()), tail) << d.warnings[1];
+}
+
 }  // namespace rgbdi::io

@@ -2,6 +2,8 @@
 // culling) and the map correction after a pose-graph solve.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "mapping/synthetic_frames.h"
 #include "rgbdi/mapping/mapper.h"
 
@@ -38,6 +40,8 @@ TEST(Mapper, AKeyframeFromAMappedViewpointAddsNoPointsButIsStored) {
   EXPECT_DOUBLE_EQ(m.insertions()[1].t, 1.0);
   EXPECT_THROW(m.addKeyframe(keyframeAt(1, Eigen::Vector3d::Zero()), f), std::invalid_argument);
   ASSERT_NE(m.occupancy(), nullptr);
+  EXPECT_EQ(m.occupancy()->leafCount(), 0u);  // cast by finish()
+  m.finish();
   EXPECT_GT(m.occupancy()->leafCount(), 0u);
 }
 
@@ -88,16 +92,35 @@ TEST(Mapper, AfterACorrectionTheViewpointsFollowTheCorrectedPoses) {
   EXPECT_GT(m.pointMap().pointCount(), before);
 }
 
-TEST(Mapper, FinishRebuildsTheOccupancyMapOnlyAfterACorrection) {
+TEST(Mapper, FinishCastsTheOccupancyMapOnceFromTheFinalPoses) {
   MappingOptions o;
   Mapper m(o, true);
   const RgbdFrame f = test::planeFrame(2000);
   m.addKeyframe(keyframeAt(0, Eigen::Vector3d::Zero()), f);
-  m.finish();
-  EXPECT_EQ(m.stats().occupancy_rebuild_ms, 0.0);
+  m.addKeyframe(keyframeAt(1, Eigen::Vector3d(1.0, 0, 0)), f);
+  ASSERT_EQ(m.stats().keyframes_adding_points, 2u);
   Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
   moved.translation() = Eigen::Vector3d(0, 0, 1.0);
   m.correct({{0, moved}});
+  EXPECT_EQ(m.occupancy()->leafCount(), 0u);  // nothing cast before finish()
+  EXPECT_EQ(m.stats().occupancy_rebuild_ms, 0.0);
   m.finish();
   EXPECT_GT(m.stats().occupancy_rebuild_ms, 0.0);
+  EXPECT_EQ(m.occupancy()->stats().scans, 2u);  // each keyframe cast once
+
+  // The same as casting the keyframes directly at their final poses, in insertion order.
+  OccupancyMap direct(o);
+  direct.insertPoints(m.store().get(0).points, moved);
+  direct.insertPoints(m.store().get(1).points, m.store().get(1).T_world_cam);
+  std::ostringstream ours, expected;
+  ASSERT_TRUE(m.occupancy()->tree().write(ours));
+  ASSERT_TRUE(direct.tree().write(expected));
+  EXPECT_EQ(ours.str(), expected.str());
+
+  // Nothing new: finish() casts nothing again; a new keyframe makes it cast everything again.
+  m.finish();
+  EXPECT_EQ(m.occupancy()->stats().scans, 2u);
+  m.addKeyframe(keyframeAt(2, Eigen::Vector3d(-1.0, 0, 0)), f);
+  m.finish();
+  EXPECT_EQ(m.occupancy()->stats().scans, 3u);
 }

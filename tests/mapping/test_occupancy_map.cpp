@@ -4,6 +4,7 @@
 
 #include <octomap/OcTree.h>
 
+#include <sstream>
 #include <string>
 
 #include "rgbdi/common/atomic_file.h"
@@ -176,3 +177,47 @@ TEST(OccupancyMap, KeptPointsCastEveryStrideSquaredRayAndAllMarkTheirCellsOccupi
   EXPECT_EQ(cellAt(decimated.tree(), second), Cell::Occupied);
 }
 
+
+TEST(OccupancyMap, UpdatesInOctreeOrderGiveOctomapsOwnInsertionResult) {
+  // castRays updates the cells sorted by Morton code instead of in the hash set's order; every
+  // cell is updated once per scan, so the tree must be exactly OctoMap's insertPointCloud result.
+  MappingOptions every_ray;
+  every_ray.occupancy_grid_stride = 1;
+  PointMap points(every_ray);
+  rgbdi::RgbdFrame f = planeFrame(2000);
+  for (int v = 0; v < f.depth.rows; ++v)
+    for (int u = 0; u < f.depth.cols; ++u)
+      f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(1500 + 3 * u + 2 * v);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).matrix();
+  T.translation() = Eigen::Vector3d(0.31, -0.17, 0.05);
+  const std::vector<MapPoint> kept = points.insertKeyframe(f, T);
+  ASSERT_EQ(kept.size(), 2576u);
+  OccupancyMap ours(every_ray);
+  ours.insertPoints(kept, T);
+
+  octomap::OcTree reference(every_ray.occupancy_resolution_m);
+  reference.setProbHit(every_ray.occupancy_prob_hit);
+  reference.setProbMiss(every_ray.occupancy_prob_miss);
+  octomap::Pointcloud cloud;
+  for (const MapPoint& p : kept) {
+    const Eigen::Vector3d w = T * p.p_cam.cast<double>();
+    cloud.push_back(static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(w.z()));
+  }
+  const Eigen::Vector3d o = T.translation();
+  reference.insertPointCloud(cloud, octomap::point3d(static_cast<float>(o.x()), static_cast<float>(o.y()), static_cast<float>(o.z())),
+                             every_ray.depth_max_m, /*lazy_eval=*/true, /*discretize=*/true);
+  reference.updateInnerOccupancy();
+
+  ASSERT_EQ(ours.leafCount(), reference.getNumLeafNodes());
+  ASSERT_GT(ours.leafCount(), 1000u);
+  for (auto it = reference.begin_leafs(); it != reference.end_leafs(); ++it) {
+    const octomap::OcTreeNode* n = ours.tree().search(it.getKey());
+    ASSERT_NE(n, nullptr);
+    ASSERT_EQ(n->getLogOdds(), it->getLogOdds());
+  }
+  std::ostringstream ours_bytes, reference_bytes;
+  ASSERT_TRUE(ours.tree().write(ours_bytes));
+  ASSERT_TRUE(reference.write(reference_bytes));
+  EXPECT_EQ(ours_bytes.str(), reference_bytes.str());
+}

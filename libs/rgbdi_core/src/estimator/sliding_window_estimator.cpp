@@ -540,7 +540,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     prior_.reset();
     features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
     for (std::size_t k = 0; k < window_.size(); ++k) assignMotionFieldVelocities(k);
-    if (window_.size() >= 2) optimise(&out);
+    if (window_.size() >= 2) optimise(&out, false);
   } else {
     if (static_cast<int>(frame.features.size()) >= opt_.fail_min_features) {
       last_sighted_t_ = t;
@@ -578,7 +578,10 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     }
     addSlot(frame, t, true);
     out.ms_preintegration = last_preintegration_ms_;
-    optimise(&out);
+    // The second-newest frame leaves the window after this update unless it is a keyframe.
+    const bool leaving =
+        !newest_but_one_keyframe_ && static_cast<int>(window_.size()) > opt_.window_size;
+    optimise(&out, leaving && opt_.non_keyframe_update == "single_step");
     if (failureDetected()) {
       logFmt(mrpt::system::LVL_WARN, "failure detected at t=%.3f (%s): re-initialising\n", t,
              failureReason().c_str());
@@ -618,7 +621,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   return out;
 }
 
-void SlidingWindowEstimator::optimise(FrameEstimate* out) {
+void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   const double t0 = threadCpuSeconds();
   const Eigen::Vector3d g_w(0, 0, -imu_opt_.gravity_m_s2);
   ceres::Problem::Options popt;
@@ -714,8 +717,15 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out) {
   so.linear_solver_type = ceres::DENSE_SCHUR;
   so.linear_solver_ordering = ordering;
   so.trust_region_strategy_type = ceres::DOGLEG;
-  so.max_num_iterations = opt_.max_iterations;
+  // One step when the second-newest frame's measurements leave the window after this update
+  // (the window is solved fully again with the next keyframe); not without depth-verified
+  // features, where the scale rests on the IMU alone (as for the function tolerance below).
+  single_step = single_step && verified > 0;
+  so.max_num_iterations = single_step ? 1 : opt_.max_iterations;
+  if (single_step) ++stats_.single_step_updates;
   so.max_num_line_search_step_size_iterations = opt_.bound_line_search_iterations;
+  so.function_tolerance = verified > 0 ? opt_.solver_function_tolerance
+                                        : opt_.solver_function_tolerance_no_depth;
   so.num_threads = 1;
   so.logging_type = ceres::SILENT;
   if (opt_.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = opt_.max_solver_time_s;

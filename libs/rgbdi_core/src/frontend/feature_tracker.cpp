@@ -75,9 +75,10 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   std::vector<cv::Point2f> previous_uv(n), current_uv;
   for (size_t i = 0; i < n; ++i) previous_uv[i] = previous_tracks_[i].uv;
   std::vector<std::uint8_t> status;
-  std::vector<float> error;
+  // No error output (cv::noArray()): OpenCV would interpolate every window once more to fill it,
+  // and nothing here reads it.
   if (n > 0)
-    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_uv, current_uv, status, error, window,
+    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_uv, current_uv, status, cv::noArray(), window,
                              options_.klt_pyramid_levels, criteria);
 
   // Forward success and border check first, so the backward pass only runs on candidates.
@@ -101,7 +102,7 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   for (size_t k = 0; k < candidates.size(); ++k) forward[k] = current_uv[candidates[k]];
   std::vector<std::uint8_t> back_status;
   if (!forward.empty())
-    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status, error, window,
+    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status, cv::noArray(), window,
                              options_.klt_pyramid_levels, criteria);
   const double max_fb2 = options_.klt_max_forward_backward_px * options_.klt_max_forward_backward_px;
   std::vector<Track> survivors;

@@ -1,6 +1,8 @@
 #include "rgbdi/io/mrpt_conversions.h"
 
 #include <mrpt/img/CImage.h>
+#include <mrpt/system/filesystem.h>
+#include <mrpt/system/string_utils.h>
 
 #include <cmath>
 #include <cstdio>
@@ -8,8 +10,12 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <vector>
+
+#include "rgbdi/io/image_decode.h"
 
 namespace rgbdi::io {
 namespace {
@@ -28,6 +34,19 @@ double cleanFloat(float f) {
 }
 
 cv::Mat colorToRgb(const mrpt::img::CImage& img, const std::string& label) {
+  // External 8-bit PNGs (the usual layout) are decoded here straight to RGB; anything else, and
+  // damaged files, take MRPT's lazy load (OpenCV), which also names the problem.
+  if (img.isExternallyStored()) {
+    thread_local std::vector<std::uint8_t> bytes;
+    const std::string file = img.getExternalStorageFileAbsolutePath();
+    if (readWholeFile(file, bytes)) {
+      try {
+        if (auto rgb = decodePngToRgb(bytes.data(), bytes.size())) return std::move(*rgb);
+      } catch (const ImageDecodeError& e) {
+        throw ConversionError(label + ": intensity image " + file + ": " + e.what());
+      }
+    }
+  }
   // asCvMatRef() triggers the lazy load of externally stored images.
   const cv::Mat& m = img.asCvMatRef();
   if (m.empty()) throw ConversionError(label + ": intensity image is empty");
@@ -53,19 +72,25 @@ cv::Mat colorToRgb(const mrpt::img::CImage& img, const std::string& label) {
   return rgb;
 }
 
-cv::Mat rangeToDepth(const mrpt::obs::CObservation3DRangeScan& obs, const PinholeCamera& cam_depth,
-                     const std::string& label) {
+/// The observation's range matrix as CV_16UC1 (a copy).
+cv::Mat rangeMatrix(const mrpt::obs::CObservation3DRangeScan& obs) {
   const auto& ri = obs.rangeImage;
   const int rows = static_cast<int>(ri.rows()), cols = static_cast<int>(ri.cols());
-  if (rows == 0 || cols == 0) throw ConversionError(label + ": range image is empty (0x0)");
-  cv::Mat depth(rows, cols, CV_16UC1);
-  if (obs.range_is_depth) {
-    for (int r = 0; r < rows; ++r) {
-      auto* row = depth.ptr<std::uint16_t>(r);
-      for (int c = 0; c < cols; ++c) row[c] = ri(r, c);
-    }
-    return depth;
+  cv::Mat m(rows, cols, CV_16UC1);
+  for (int r = 0; r < rows; ++r) {
+    auto* row = m.ptr<std::uint16_t>(r);
+    for (int c = 0; c < cols; ++c) row[c] = ri(r, c);
   }
+  return m;
+}
+
+/// `range` (CV_16UC1, the observation's range image) as depth along the optical axis.
+cv::Mat rangeToDepth(const mrpt::obs::CObservation3DRangeScan& obs, cv::Mat range,
+                     const PinholeCamera& cam_depth, const std::string& label) {
+  const int rows = range.rows, cols = range.cols;
+  if (rows == 0 || cols == 0) throw ConversionError(label + ": range image is empty (0x0)");
+  if (obs.range_is_depth) return range;
+  cv::Mat depth(rows, cols, CV_16UC1);
   // Euclidean ranges along each pixel's ray: depth = range / |(xn, yn, 1)|.
   if (!cam_depth.valid()) {
     throw ConversionError(label +
@@ -75,14 +100,15 @@ cv::Mat rangeToDepth(const mrpt::obs::CObservation3DRangeScan& obs, const Pinhol
   }
   for (int r = 0; r < rows; ++r) {
     auto* row = depth.ptr<std::uint16_t>(r);
+    const auto* in = range.ptr<std::uint16_t>(r);
     for (int c = 0; c < cols; ++c) {
-      const std::uint16_t range = ri(r, c);
-      if (range == 0) {
+      const std::uint16_t value = in[c];
+      if (value == 0) {
         row[c] = 0;
         continue;
       }
       const Eigen::Vector2d xn = cam_depth.pixelToNormalized(Eigen::Vector2d(c, r));
-      row[c] = static_cast<std::uint16_t>(std::lround(range / std::sqrt(1.0 + xn.squaredNorm())));
+      row[c] = static_cast<std::uint16_t>(std::lround(value / std::sqrt(1.0 + xn.squaredNorm())));
     }
   }
   return depth;
@@ -170,19 +196,26 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
   if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored())
     requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
   try {
-    // Externally stored range matrices are only read by load(); images load lazily on access.
-    obs.load();
+    // An external binary range file not loaded yet is read here (libdeflate, image_decode.h);
+    // otherwise, or when that fails, load() reads it (images load lazily on access).
+    std::optional<cv::Mat> range;
+    if (obs.hasRangeImage && obs.rangeImage_isExternallyStored() && obs.rangeImage.rows() == 0) {
+      const std::string file = obs.rangeImage_getExternalStorageFileAbsolutePath("");
+      if (!mrpt::system::strCmpI(mrpt::system::extractFileExtension(file), "txt")) range = readMrptRangeFile(file);
+    }
+    if (!range) obs.load();
     f.cam_depth = fromMrpt(obs.cameraParams, label + " cameraParams");
     f.cam_color = fromMrpt(obs.cameraParamsIntensity, label + " cameraParamsIntensity");
     if (obs.hasRangeImage) {
+      if (!range) range = rangeMatrix(obs);
       // MRPT "auto-fixes" the depth intrinsics' size to the serialised matrix size, which is 0x0
       // for externally stored range images: restore it from the loaded matrix.
       if (obs.rangeImage_isExternallyStored() && f.cam_depth.width == 0 &&
           f.cam_depth.height == 0) {
-        f.cam_depth.width = static_cast<int>(obs.rangeImage.cols());
-        f.cam_depth.height = static_cast<int>(obs.rangeImage.rows());
+        f.cam_depth.width = range->cols;
+        f.cam_depth.height = range->rows;
       }
-      f.depth = rangeToDepth(obs, f.cam_depth, label);
+      f.depth = rangeToDepth(obs, std::move(*range), f.cam_depth, label);
       f.depth_unit_m = cleanFloat(obs.rangeUnits);
       if (!(f.depth_unit_m > 0.0) || !std::isfinite(f.depth_unit_m)) {
         std::ostringstream os;

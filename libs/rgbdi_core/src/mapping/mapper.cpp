@@ -32,7 +32,8 @@ void Mapper::addKeyframe(Keyframe k, const RgbdFrame& frame) {
     viewpoints_.add(k.T_world_cam);
     adding_ids_.push_back(k.id);
   }
-  if (occupancy_) occupancy_->insertPoints(k.points, k.T_world_cam);
+  // Ray casting waits for finish() (see mapper.h): the poses known now are not the final ones.
+  occupancy_outdated_ = occupancy_ != nullptr;
   insertions_.push_back({k.id, k.t, k.points.size()});
   store_.add(std::move(k));
   ++stats_.keyframes;
@@ -52,9 +53,9 @@ void Mapper::restore(const KeyframeStore& saved) {
       viewpoints_.add(k.T_world_cam);
       adding_ids_.push_back(k.id);
     }
-    if (occupancy_) occupancy_->insertPoints(k.points, k.T_world_cam);
     store_.add(std::move(k));
   }
+  occupancy_outdated_ = occupancy_ != nullptr;
   stats_.keyframes_adding_points = adding_ids_.size();
 }
 

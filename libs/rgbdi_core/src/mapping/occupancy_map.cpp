@@ -1,10 +1,14 @@
 #include "rgbdi/mapping/occupancy_map.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <utility>
 #include <limits>
 #include <stdexcept>
 
 #include "mapping/depth_grid_sampler.h"
+#include "rgbdi/mapping/morton_code.h"
 #include "mapping/pose_check.h"
 #include "rgbdi/common/atomic_file.h"
 
@@ -24,6 +28,8 @@ struct OccupancyMap::Impl {
   octomap::OcTree tree;
   OccupancyStats stats;
   std::vector<MapPoint> scratch;
+  std::vector<std::pair<std::uint64_t, octomap::OcTreeKey>> sorted;  ///< inOctreeOrder's buffers
+  std::vector<octomap::OcTreeKey> ordered_keys;
   bool inner_nodes_stale = false;
 
   /// Brings the inner nodes up to date with the leaves (needed by pruning, queries at coarse
@@ -75,12 +81,28 @@ struct OccupancyMap::Impl {
         free_cells.erase(key);
       }
     }
-    for (const octomap::OcTreeKey& k : free_cells) tree.updateNode(k, false, /*lazy_eval=*/true);
-    for (const octomap::OcTreeKey& k : occupied_cells) tree.updateNode(k, true, /*lazy_eval=*/true);
+    // Each cell is updated once per scan (free and occupied sets are disjoint), so the order of
+    // the updates does not change the tree; in octree (Morton) order consecutive updates share
+    // the path from the root, instead of a cache miss per level in the hash set's order.
+    for (const octomap::OcTreeKey& k : inOctreeOrder(free_cells)) tree.updateNode(k, false, true);
+    for (const octomap::OcTreeKey& k : inOctreeOrder(occupied_cells)) tree.updateNode(k, true, true);
     inner_nodes_stale = true;
     ++stats.scans;
     stats.rays += rays.size();
     stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  /// The keys sorted by their Morton code (the octree's depth-first order).
+  const std::vector<octomap::OcTreeKey>& inOctreeOrder(const octomap::KeySet& keys) {
+    sorted.clear();
+    sorted.reserve(keys.size());
+    for (const octomap::OcTreeKey& k : keys) sorted.push_back({detail::mortonCode(k), k});
+    std::sort(sorted.begin(), sorted.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    ordered_keys.clear();
+    ordered_keys.reserve(sorted.size());
+    for (const auto& e : sorted) ordered_keys.push_back(e.second);
+    return ordered_keys;
   }
 
   /// Every how many kept points a ray is cast: occupancy_grid_stride in both image directions.

@@ -76,6 +76,7 @@ struct EstimatorStats {
   int optimisations = 0;             ///< solver runs (window updates)
   int solver_iterations = 0;         ///< Ceres iterations summed over those runs
   int solver_iterations_capped = 0;  ///< runs that stopped at max_iterations
+  int single_step_updates = 0;  ///< of the runs: limited to one step (non_keyframe_update)
 };
 
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {
@@ -114,7 +115,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
                            const std::vector<Eigen::Vector3d>& v_ref, const Eigen::Vector3d& g_ref,
                            const Eigen::Vector3d& bg);
   void addSlot(const frontend::FeatureFrame& frame, double t, bool predict_from_previous);
-  void optimise(FrameEstimate* out);
+  /// Solves the window; `single_step`: the second-newest frame is no keyframe and leaves the
+  /// window afterwards (one solver iteration when non_keyframe_update = single_step).
+  void optimise(FrameEstimate* out, bool single_step);
   void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
   bool failureDetected() const;
   std::string failureReason() const;

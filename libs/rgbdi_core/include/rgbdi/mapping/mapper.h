@@ -4,9 +4,11 @@
 // moves the keyframes and the map follows them (paper section 4.5).
 //
 // Keyframes seen from an already mapped viewpoint add no points (viewpoint_index.h), so the map
-// grows with the explored space, not with time. The occupancy map is ray cast at insertion with
-// the pose known then; after a correction it is rebuilt once, by finish() (ray casting every
-// keyframe again after every loop would cost more than the whole odometry).
+// grows with the explored space, not with time. The occupancy map is ray cast once, by finish(),
+// from the keyframes' final poses: casting at insertion (with the odometry's pose) had to be
+// redone at the end whenever a loop correction moved keyframes, which every loop-closing run's
+// final correction does, so half of that work was always thrown away. Only the written map.bt
+// and map directory read it.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -46,7 +48,7 @@ struct MapperStats {
   double correction_ms_total = 0.0;  ///< correct() wall-clock time, summed
   double correction_ms_max = 0.0;
   std::size_t points_at_last_correction = 0;
-  double occupancy_rebuild_ms = 0.0;  ///< finish()'s occupancy rebuild (0 if not needed)
+  double occupancy_rebuild_ms = 0.0;  ///< finish()'s occupancy ray casting (0 if not needed)
 };
 
 class Mapper {
@@ -59,8 +61,8 @@ class Mapper {
   void addKeyframe(Keyframe keyframe, const RgbdFrame& frame);
 
   /// Starts from a saved map (before any addKeyframe): every keyframe with its kept points goes
-  /// into the store, the point map, the viewpoint index and the occupancy map, at its saved
-  /// pose. Throws std::logic_error when keyframes were added already, std::invalid_argument for
+  /// into the store, the point map and the viewpoint index at its saved pose (and into the
+  /// occupancy map at finish()). Throws std::logic_error when keyframes were added already, std::invalid_argument for
   /// a duplicate id.
   void restore(const KeyframeStore& saved);
 
@@ -70,12 +72,13 @@ class Mapper {
   /// keyframes only (PointMap::update: the result of a full rebuild, isolated leaves dropped).
   MapCorrection correct(const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& poses);
 
-  /// Brings the occupancy map up to the corrected poses (once, at the end of a run).
+  /// Ray casts the occupancy map from every stored keyframe at its current pose, in insertion
+  /// order (once, at the end of a run; again only after further keyframes or corrections).
   void finish();
 
   const KeyframeStore& store() const { return store_; }
   const PointMap& pointMap() const { return points_; }
-  /// nullptr when built without occupancy.
+  /// nullptr when built without occupancy; empty until finish().
   const OccupancyMap* occupancy() const { return occupancy_.get(); }
   const MapperStats& stats() const { return stats_; }
   /// Every addKeyframe call in order: how the map grew (e.g. points added per lap).
