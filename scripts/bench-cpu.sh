@@ -63,7 +63,7 @@ stage = {
     # occupancy ray casting happens once, at the end (Mapper::finish), outside mapping_ms_total
     "mapping": (s["map"].get("mapping_ms_total", 0.0) +
                 s["map"].get("occupancy_rebuild_ms", 0.0)) / frames,
-    "output": s["map"].get("output_ms", 0.0) / frames,
+    "output": s.get("timing_ms_total", {}).get("output", 0.0) / frames,
 }
 # Stages added later (e.g. loop closing) are listed after the known ones, inside "other".
 extra = {k: v for k, v in tm.items()

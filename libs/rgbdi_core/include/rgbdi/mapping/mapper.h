@@ -44,11 +44,11 @@ struct MapperStats {
   std::size_t keyframes = 0;
   std::size_t keyframes_adding_points = 0;
   std::size_t corrections = 0;       ///< correct() calls that moved keyframes
-  double insert_ms_total = 0.0;      ///< addKeyframe wall-clock time, summed
+  double insert_ms_total = 0.0;      ///< addKeyframe CPU time (mapping thread), summed
   double correction_ms_total = 0.0;  ///< correct() wall-clock time, summed
   double correction_ms_max = 0.0;
   std::size_t points_at_last_correction = 0;
-  double occupancy_rebuild_ms = 0.0;  ///< finish()'s occupancy ray casting (0 if not needed)
+  double occupancy_rebuild_ms = 0.0;  ///< finish()'s occupancy ray casting, CPU time (0 if not needed)
 };
 
 class Mapper {
