@@ -2,6 +2,7 @@
 // Intel's code, not ours): facts from ../shared/data/README.md.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <vector>
 
@@ -41,12 +42,23 @@ TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
   EXPECT_NEAR(conv.colorCamera().fx, 613.20, 0.005);
   EXPECT_NEAR(conv.colorCamera().cx, 319.94, 0.005);
   EXPECT_DOUBLE_EQ(conv.depthUnit(), 0.001);
-  // The tf is the colour camera in the depth camera: T_depth_color translation (0.0143, 0.0006,
-  // 0.0006).
-  const Eigen::Isometry3d T_depth_color = conv.T_color_depth().inverse();
-  EXPECT_NEAR(T_depth_color.translation().x(), 0.0143, 5e-5);
-  EXPECT_NEAR(T_depth_color.translation().y(), 0.0006, 5e-5);
-  EXPECT_NEAR(T_depth_color.translation().z(), 0.0006, 5e-5);
+  // The SDK's extrinsic from depth to colour on this recording (rs2_get_extrinsics(depth ->
+  // color) in librealsense 2.56.5 playback): p_color = R p_depth + t, t = (+0.014311, 0.000602,
+  // 0.000611) m, 0.947 deg. The rotation's sign is that of rs2_extrinsics' column-major matrix
+  // (rotation[6] = R(0,2) = +0.01293 from the recording's quaternion; a transposed reading
+  // would give -0.01293).
+  const Eigen::Isometry3d& T_color_depth = conv.T_color_depth();
+  EXPECT_NEAR(T_color_depth.translation().x(), 0.014311, 1e-6);
+  EXPECT_NEAR(T_color_depth.translation().y(), 0.000602, 1e-6);
+  EXPECT_NEAR(T_color_depth.translation().z(), 0.000611, 1e-6);
+  EXPECT_NEAR(Eigen::AngleAxisd(T_color_depth.rotation()).angle() * 180.0 / M_PI, 0.947, 5e-4);
+  EXPECT_NEAR(T_color_depth.linear()(0, 2), 0.012926, 1e-6);
+  EXPECT_NEAR(T_color_depth.linear()(0, 1), -0.010310, 1e-6);
+  // The geometry of a D435: the colour camera sits beside the left imager (the depth origin),
+  // about 15 mm on the side away from the right imager (depth x < 0).
+  const Eigen::Vector3d color_in_depth = T_color_depth.inverse().translation();
+  EXPECT_LT(color_in_depth.x(), -0.013);
+  EXPECT_GT(color_in_depth.x(), -0.016);
   // No IMU in the recording: the sensor pose is the configured extrinsic.
   EXPECT_TRUE(conv.T_body_cam().isApprox(FallbackCalibration::defaults().T_body_cam));
 }

@@ -41,7 +41,8 @@ class SyntheticDevice : public RealSenseDevice {
     calib.depth.fx = calib.depth.fy = 58.0;
     calib.depth.cx = 31.0;
     calib.depth.cy = 23.0;
-    calib.T_color_depth.translation() = Eigen::Vector3d(-0.015, 0.0002, 0.0001);
+    // As on a D435: p_color = R p_depth + t, the depth origin 15 mm on the colour camera's +x.
+    calib.T_color_depth.translation() = Eigen::Vector3d(0.015, 0.0002, 0.0001);
     calib.T_imu_color.linear() =
         Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     calib.T_imu_color.translation() = Eigen::Vector3d(0.0055, 0.0051, 0.0117);
