@@ -290,6 +290,64 @@ TEST(RgbdiSlamLive, ACameraThatGoesSilentEndsWithStatus3AndEveryOutput) {
     EXPECT_TRUE(fs::exists(r.out + "/" + f)) << f;
 }
 
+TEST(RgbdiSlamLive, ImuStallAndTimeJumpsAreReportedAndTheRunGoesOn) {
+  // The first 12 s of the sequence without IMU samples for 0.5 s of data from 6 s on: the IMU
+  // stalls on the wall clock and its stamps jump by 0.5 s. (A sample stamped in the past cannot
+  // be replayed: the rawlog reader re-orders the file; LiveSource's tests feed that one.)
+  const std::string dir = makeTempDir("rgbdi_live_imu");
+  const std::string faulty = dir + "/imu.rawlog";
+  std::size_t imu_written = 0;
+  {
+    const auto cfg = rgbdi::system::SystemConfig::load(sequenceDir() + "/config.ini");
+    rgbdi::io::RawlogWriterOptions wo;
+    wo.external_images = true;
+    wo.T_body_cam = cfg.extrinsic.T_body_cam;
+    rgbdi::io::RawlogWriter w(faulty, wo);
+    rgbdi::io::RawlogSource src(sequenceDir() + "/sequence.rawlog", cfg.streamConfig());
+    rgbdi::io::Measurement m;
+    double t0 = -1.0;
+    while (src.next(m)) {
+      const double t = rgbdi::io::measurementTime(m);
+      if (t0 < 0.0) t0 = t;
+      if (t - t0 > 12.0) break;
+      if (auto* imu = std::get_if<rgbdi::ImuSample>(&m)) {
+        if (t - t0 > 6.0 && t - t0 < 6.5) continue;
+        w.write(*imu);
+        ++imu_written;
+      } else {
+        w.write(std::get<rgbdi::RgbdFrame>(m));
+      }
+    }
+    w.close();
+  }
+  const SlamRun r = runSlam(
+      "--live " + replayIni(dir, faulty, 1.0) + " --config " + sequenceDir() + "/config.ini",
+      "rgbdi_live_imu_out");
+  ASSERT_EQ(r.rc, 0) << r.log;
+  const auto& l = r.summary["live"];
+  EXPECT_EQ(l["stop_reason"], "end_of_data");
+  EXPECT_EQ(l["received"]["imu"].get<std::size_t>(), imu_written);
+  // The stall on the wall clock (no sample for 0.5 s > live_imu_stall_s, then resumed; a loaded
+  // machine may stall the replay's thread more often) and the jump in the stamps (exactly one:
+  // the replay re-stamps by the data's time), each listed; every sample delivered.
+  EXPECT_GE(l["imu_stalls"].get<int>(), 1) << l.dump(2);
+  EXPECT_EQ(l["imu_time_jumps"].get<int>(), 1) << l.dump(2);
+  EXPECT_EQ(l["delivered"]["imu"].get<std::size_t>(), imu_written);
+  const std::string events = l["events"].dump();
+  EXPECT_NE(events.find("[REPLAY] (RgbdiRawlogReplay): IMU stall: no sample for more than 0.100 s"),
+            std::string::npos)
+      << events;
+  EXPECT_NE(events.find("IMU data resumed after "), std::string::npos) << events;
+  EXPECT_NE(events.find("IMU time jump of 0.50"), std::string::npos) << events;
+  EXPECT_NE(r.log.find(" jumps 1, stamp to pose"), std::string::npos) << r.log;
+  // The run goes on to the end of the data and writes everything.
+  const auto traj = rgbdi::eval::readTum(r.out + "/trajectory.tum");
+  ASSERT_FALSE(traj.empty());
+  EXPECT_GT(traj.back().t - traj.front().t, 10.0) << r.log;
+  for (const char* f : {"keyframes.tum", "map.ply", "summary.json"})
+    EXPECT_TRUE(fs::exists(r.out + "/" + f)) << f;
+}
+
 TEST(RgbdiSlamLive, DurationAndSigtermStopTheRunWithEveryOutput) {
   const std::string dir = makeTempDir("rgbdi_live_stop");
   const std::string ini = replayIni(dir, sequenceDir() + "/sequence.rawlog", 1.0);
