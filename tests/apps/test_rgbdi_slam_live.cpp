@@ -228,11 +228,12 @@ TEST(RgbdiSlamLive, TooFastAReplayDropsImagesNeverImuKeepsTrackingAndItsRecordin
   const int resets = live.summary["resets"].get<int>();
   const double max_gap_s = re.summary["stream_diagnostics"]["images"]["max_gap_s"].get<double>();
   const double delivered = l["delivered"]["frames"].get<double>();
-  if (resets > 0)
+  if (resets > 0) {
     EXPECT_GE(max_gap_s, kUnbridgedGapS)
         << resets << " reset(s) though the largest gap between the images taken was only "
         << max_gap_s << " s (speed " << speed << ")\n"
         << live.log;
+  }
   constexpr double kImagesPerReinit = 10.0;
   EXPECT_GE(live.summary["poses"].get<double>(), 0.9 * delivered - kImagesPerReinit * resets)
       << resets << " reset(s), largest image gap " << max_gap_s << " s";

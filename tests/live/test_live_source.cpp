@@ -565,13 +565,15 @@ TEST_F(LiveSourceTest, ShippedSensorFilesConfigureTheirSensors) {
     return "";
   };
   EXPECT_EQ(openError("simulator.ini"), "");  // builds the 60 s sequence, starts nothing
-  if (!realSenseSdkAvailable())
+  if (!realSenseSdkAvailable()) {
     EXPECT_NE(openError("d435i.ini").find("built without librealsense2"), std::string::npos);
+  }
   const std::string replay = openError("replay.ini");
-  if (!replay.empty())
+  if (!replay.empty()) {
     EXPECT_NE(replay.find("demo_wheeled_slopes/sequence/sequence.rawlog: file does not exist"),
               std::string::npos)
         << replay;
+  }
 }
 
 TEST_F(LiveSourceTest, StopReadingEndsALiveStreamCleanly) {
