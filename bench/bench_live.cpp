@@ -4,6 +4,7 @@
 // per speed: wall time against the data's duration, frames dropped, IMU delivered, latency from
 // stamp to delivery (p50/p95/max) and the queue high-water marks, then the highest speed that
 // ran without drops. The stream is generated once in a temporary directory (external images).
+// Every row ends with the 1-minute load average after it (load1): the machine is shared.
 //
 // bench_live --slam SEQ.rawlog CONFIG.ini [SPEED...]: end to end, exactly `rgbdi-slam --live`
 // (system::runLive, the full threaded SLAM system) on a replay of SEQ.rawlog (e.g. rgbdi-sim's
@@ -29,6 +30,15 @@
 namespace {
 
 using namespace rgbdi;
+
+/// The 1-minute load average (/proc/loadavg; -1 where there is none): the machine is shared,
+/// and a figure means little without the load it was measured at.
+double loadAverage1() {
+  std::ifstream in("/proc/loadavg");
+  double l = -1.0;
+  in >> l;
+  return in ? l : -1.0;
+}
 
 RgbdFrame frame(std::size_t i, double t) {
   RgbdFrame f;
@@ -95,9 +105,9 @@ int slamMode(const std::string& rawlog, const std::string& config, std::vector<d
       "rgbdi-slam --live on a replay of %s (speed 1: stamps = now, others: source), "
       "config %s\n",
       rawlog.c_str(), config.c_str());
-  std::printf("%6s %8s %8s %8s %7s %8s | %8s %8s %8s | %8s %8s %8s | %6s %6s\n", "speed", "ideal_s",
-              "stream_s", "run_s", "frames", "dropped", "dlv_p50", "dlv_p95", "dlv_max", "pose_p50",
-              "pose_p95", "pose_max", "poses", "resets");
+  std::printf("%6s %8s %8s %8s %7s %8s | %8s %8s %8s | %8s %8s %8s | %6s %6s %6s\n", "speed",
+              "ideal_s", "stream_s", "run_s", "frames", "dropped", "dlv_p50", "dlv_p95", "dlv_max",
+              "pose_p50", "pose_p95", "pose_max", "poses", "resets", "load1");
   double best = 0.0;
   double wall_at_1 = -1.0, ideal_at_1 = 0.0;
   for (double speed : speeds) {
@@ -130,7 +140,8 @@ int slamMode(const std::string& rawlog, const std::string& config, std::vector<d
     } else {
       std::printf(" | %8s %8s %8s | %8s %8s %8s", "-", "-", "-", "-", "-", "-");
     }
-    std::printf(" | %6zu %6d\n", s["poses"].get<std::size_t>(), s["resets"].get<int>());
+    std::printf(" | %6zu %6d %6.2f\n", s["poses"].get<std::size_t>(), s["resets"].get<int>(),
+                loadAverage1());
     std::fflush(stdout);
     if (dropped == 0 && speed > best) best = speed;
     if (speed == 1.0) {
@@ -176,8 +187,8 @@ int main(int argc, char** argv) {
   writeStream(rawlog, seconds);
 
   std::printf("consumer: %.1f ms per frame\n", consumer_ms);
-  std::printf("%6s %8s %8s %8s %8s %9s %9s %9s %6s %6s\n", "speed", "wall_s", "ideal_s", "frames",
-              "dropped", "p50_ms", "p95_ms", "max_ms", "qimu", "qimg");
+  std::printf("%6s %8s %8s %8s %8s %9s %9s %9s %6s %6s %6s\n", "speed", "wall_s", "ideal_s",
+              "frames", "dropped", "p50_ms", "p95_ms", "max_ms", "qimu", "qimg", "load1");
   double best = 0.0;
   for (double speed : {1.0, 2.0, 4.0, 8.0, 16.0, 32.0}) {
     const std::string ini = (dir / "sensors.ini").string();
@@ -190,10 +201,11 @@ int main(int argc, char** argv) {
     c.per_frame = std::chrono::microseconds(static_cast<long>(consumer_ms * 1000.0));
     src.pump(c);
     const live::LiveStats s = src.stats();
-    std::printf("%6.1f %8.2f %8.2f %8zu %8zu %9.2f %9.2f %9.2f %6zu %6zu\n", speed,
+    std::printf("%6.1f %8.2f %8.2f %8zu %8zu %9.2f %9.2f %9.2f %6zu %6zu %6.2f\n", speed,
                 s.wall_duration_s, seconds / speed, s.frames_received, s.frames_dropped,
                 s.frame_latency.p50_s * 1e3, s.frame_latency.p95_s * 1e3,
-                s.frame_latency.max_s * 1e3, s.imu_queue_high_water, s.frame_queue_high_water);
+                s.frame_latency.max_s * 1e3, s.imu_queue_high_water, s.frame_queue_high_water,
+                loadAverage1());
     if (s.frames_dropped == 0) best = speed;
   }
   std::printf("highest replay speed without drops: %.0fx\n", best);

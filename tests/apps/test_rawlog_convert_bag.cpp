@@ -248,7 +248,11 @@ TEST_F(RawlogConvertBag, RealSenseRecording) {
     EXPECT_NEAR(f.cam_color.fx, 613.20, 0.005);
     EXPECT_DOUBLE_EQ(f.depth_unit_m, 0.001);
     EXPECT_FALSE(f.depth_aligned_to_color);
-    EXPECT_NEAR(f.T_color_depth.inverse().translation().x(), 0.0143, 5e-5);
+    // The SDK's depth -> colour extrinsic (p_color = R p_depth + t), through the rawlog.
+    EXPECT_NEAR(f.T_color_depth.translation().x(), 0.014311, 1e-6);
+    EXPECT_NEAR(f.T_color_depth.translation().y(), 0.000602, 1e-6);
+    EXPECT_NEAR(f.T_color_depth.translation().z(), 0.000611, 1e-6);
+    EXPECT_NEAR(f.T_color_depth.linear()(0, 2), 0.012926, 1e-6);
   }
   if (fs::exists("/usr/bin/rawlog-edit")) {
     ASSERT_EQ(runCommand("/usr/bin/rawlog-edit --info -i " + rawlog, &out), 0) << out;

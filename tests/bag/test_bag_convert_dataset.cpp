@@ -146,13 +146,16 @@ sensor_msgs::CameraInfo info(double fx, double cx) {
   return i;
 }
 
-geometry_msgs::Transform transform(const Eigen::Isometry3d& T) {
+/// A RealSense tf message as the SDK writes it: T_stream_ref (p_stream = R p_ref + t). The SDK's
+/// rot2quat yields the negated quaternion (w < 0 for small rotations); `negate` does the same.
+geometry_msgs::Transform transform(const Eigen::Isometry3d& T, bool negate = false) {
   geometry_msgs::Transform tf;
   const Eigen::Quaterniond q(T.rotation());
-  tf.rotation.x = q.x();
-  tf.rotation.y = q.y();
-  tf.rotation.z = q.z();
-  tf.rotation.w = q.w();
+  const double s = negate ? -1.0 : 1.0;
+  tf.rotation.x = s * q.x();
+  tf.rotation.y = s * q.y();
+  tf.rotation.z = s * q.z();
+  tf.rotation.w = s * q.w();
   tf.translation.x = T.translation().x();
   tf.translation.y = T.translation().y();
   tf.translation.z = T.translation().z();
@@ -162,9 +165,11 @@ geometry_msgs::Transform transform(const Eigen::Isometry3d& T) {
 TEST(BagConvertDataset, RealSenseRecordingWithImuStreams) {
   const std::string dir = test::makeTempDir("bag_convert");
   const std::string path = dir + "/rs.bag";
-  const Eigen::Isometry3d T_depth_color(Eigen::Translation3d(0.015, 0.0, 0.0) *
+  // The SDK's tf convention: each stream's tf/0 is T_stream_depth (the depth stream is the
+  // reference, its own tf the identity).
+  const Eigen::Isometry3d T_color_depth(Eigen::Translation3d(0.015, 0.0, 0.0) *
                                         Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()));
-  const Eigen::Isometry3d T_depth_imu(Eigen::Translation3d(-0.01, 0.005, 0.02) *
+  const Eigen::Isometry3d T_imu_depth(Eigen::Translation3d(-0.01, 0.005, 0.02) *
                                       Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()));
   const ros::Time t0(1.0e-9);
   {
@@ -173,9 +178,9 @@ TEST(BagConvertDataset, RealSenseRecordingWithImuStreams) {
     bag.write("/device_0/sensor_0/Depth_0/info/camera_info", t0, info(20.0, 15.0));
     bag.write("/device_0/sensor_1/Color_0/info/camera_info", t0, info(30.0, 16.0));
     bag.write("/device_0/sensor_0/Depth_0/tf/0", t0, transform(Eigen::Isometry3d::Identity()));
-    bag.write("/device_0/sensor_1/Color_0/tf/0", t0, transform(T_depth_color));
-    bag.write("/device_0/sensor_2/Accel_0/tf/0", t0, transform(T_depth_imu));
-    bag.write("/device_0/sensor_2/Gyro_0/tf/0", t0, transform(T_depth_imu));
+    bag.write("/device_0/sensor_1/Color_0/tf/0", t0, transform(T_color_depth));
+    bag.write("/device_0/sensor_2/Accel_0/tf/0", t0, transform(T_imu_depth, true));
+    bag.write("/device_0/sensor_2/Gyro_0/tf/0", t0, transform(T_imu_depth, true));
     std_msgs::Float32 units;
     units.data = 0.0001f;
     bag.write("/device_0/sensor_0/option/Depth Units/value", t0, units);
@@ -219,8 +224,9 @@ TEST(BagConvertDataset, RealSenseRecordingWithImuStreams) {
   EXPECT_DOUBLE_EQ(conv.depthUnit(), 0.0001);
   EXPECT_DOUBLE_EQ(conv.depthCamera().fx, 20.0);
   EXPECT_DOUBLE_EQ(conv.colorCamera().fx, 30.0);
-  EXPECT_TRUE(conv.T_color_depth().isApprox(T_depth_color.inverse(), 1e-12));
-  EXPECT_TRUE(conv.T_body_cam().isApprox(T_depth_imu.inverse() * T_depth_color, 1e-12));
+  EXPECT_TRUE(conv.T_color_depth().isApprox(T_color_depth, 1e-12));
+  // rgbdi's body is the IMU: T_body_cam = T_imu_color = T_imu_depth * T_depth_color.
+  EXPECT_TRUE(conv.T_body_cam().isApprox(T_imu_depth * T_color_depth.inverse(), 1e-12));
 
   RecordingSink sink;
   const ConversionReport r = conv.run(sink);
@@ -242,6 +248,76 @@ TEST(BagConvertDataset, RealSenseRecordingWithImuStreams) {
   EXPECT_DOUBLE_EQ(f.depth_unit_m, 0.0001);
   EXPECT_FALSE(f.depth_aligned_to_color);
   EXPECT_EQ(f.rgb.at<cv::Vec3b>(5, 5), cv::Vec3b(30, 30, 30));
+}
+
+/// A RealSense recording with one image / IMU message per stream and the given tf topics.
+void writeRealSenseExtrinsics(const std::string& path,
+                              const std::vector<std::pair<std::string, Eigen::Isometry3d>>& tfs) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  const ros::Time t0(1.0);
+  for (const auto& [topic, T] : tfs) bag.write(topic, t0, transform(T));
+  sensor_msgs::Image img;
+  img.header.stamp = t0;
+  img.width = 32;
+  img.height = 24;
+  img.encoding = "mono16";
+  img.step = 64;
+  img.data.assign(64 * 24, 0);
+  bag.write("/device_0/sensor_0/Depth_0/image/data", t0, img);
+  img.encoding = "rgb8";
+  img.step = 96;
+  img.data.assign(96 * 24, 0);
+  bag.write("/device_0/sensor_1/Color_0/image/data", t0, img);
+  sensor_msgs::Imu m;
+  m.header.stamp = t0;
+  bag.write("/device_0/sensor_2/Accel_0/imu/data", t0, m);
+  bag.write("/device_0/sensor_2/Gyro_0/imu/data", t0, m);
+}
+
+TEST(BagConvertDataset, RealSenseExtrinsicsComposeThroughTheirCommonReference) {
+  const std::string dir = test::makeTempDir("bag_convert");
+  // A reference that is none of the streams: every tf is T_stream_ref.
+  const Eigen::Isometry3d T_depth_ref(Eigen::Translation3d(0.05, -0.01, 0.002) *
+                                      Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitZ()));
+  const Eigen::Isometry3d T_color_ref(Eigen::Translation3d(0.035, 0.001, 0.0) *
+                                      Eigen::AngleAxisd(-0.02, Eigen::Vector3d::UnitY()));
+  const Eigen::Isometry3d T_imu_ref(Eigen::Translation3d(-0.006, 0.005, 0.012) *
+                                    Eigen::AngleAxisd(0.04, Eigen::Vector3d::UnitX()));
+  writeRealSenseExtrinsics(dir + "/a.bag", {{"/device_0/sensor_0/Depth_0/tf/0", T_depth_ref},
+                                            {"/device_0/sensor_1/Color_0/tf/0", T_color_ref},
+                                            {"/device_0/sensor_2/Accel_0/tf/0", T_imu_ref},
+                                            {"/device_0/sensor_2/Gyro_0/tf/0", T_imu_ref}});
+  BagConverter conv(dir + "/a.bag", ConvertOptions(), BagInputOptions(), smallCamera());
+  // A point seen by the depth camera, in the colour camera: through the reference frame.
+  const Eigen::Vector3d p_depth(0.3, -0.2, 1.7);
+  const Eigen::Vector3d p_ref = T_depth_ref.inverse() * p_depth;
+  EXPECT_LT((conv.T_color_depth() * p_depth - T_color_ref * p_ref).norm(), 1e-12);
+  EXPECT_LT((conv.T_body_cam() * (T_color_ref * p_ref) - T_imu_ref * p_ref).norm(), 1e-12);
+  std::string cal;
+  for (const std::string& line : conv.calibration()) cal += line + "\n";
+  EXPECT_NE(cal.find("depth camera in the colour camera (T_color_depth): translation"),
+            std::string::npos)
+      << cal;
+  EXPECT_NE(cal.find("colour camera in the IMU (body) frame (T_body_cam)"), std::string::npos)
+      << cal;
+
+  // Extrinsics of different groups cannot be combined: identity / the configured extrinsic.
+  writeRealSenseExtrinsics(dir + "/b.bag", {{"/device_0/sensor_0/Depth_0/tf/0", T_depth_ref},
+                                            {"/device_0/sensor_1/Color_0/tf/1", T_color_ref},
+                                            {"/device_0/sensor_2/Accel_0/tf/0", T_imu_ref}});
+  BagConverter other(dir + "/b.bag", ConvertOptions(), BagInputOptions(), smallCamera());
+  EXPECT_TRUE(other.T_color_depth().isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(other.T_body_cam().isApprox(smallCamera().T_body_cam));
+  std::string cal2;
+  for (const std::string& line : other.calibration()) cal2 += line + "\n";
+  EXPECT_NE(cal2.find("/device_0/sensor_1/Color_0/tf/1 and /device_0/sensor_0/Depth_0/tf/0 "
+                      "have different references); identity used"),
+            std::string::npos)
+      << cal2;
+  EXPECT_NE(cal2.find("/device_0/sensor_2/Accel_0/tf/0 and /device_0/sensor_1/Color_0/tf/1 have "
+                      "different references)"),
+            std::string::npos)
+      << cal2;
 }
 
 TEST(BagConvertDataset, CompressedAndFloatDepthOnUserTopics) {

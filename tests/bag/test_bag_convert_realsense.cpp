@@ -2,7 +2,11 @@
 // Intel's code, not ours): facts from ../shared/data/README.md.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include <cmath>
 #include <filesystem>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "rgbdi/bag/bag_converter.h"
@@ -41,14 +45,89 @@ TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
   EXPECT_NEAR(conv.colorCamera().fx, 613.20, 0.005);
   EXPECT_NEAR(conv.colorCamera().cx, 319.94, 0.005);
   EXPECT_DOUBLE_EQ(conv.depthUnit(), 0.001);
-  // The tf is the colour camera in the depth camera: T_depth_color translation (0.0143, 0.0006,
-  // 0.0006).
-  const Eigen::Isometry3d T_depth_color = conv.T_color_depth().inverse();
-  EXPECT_NEAR(T_depth_color.translation().x(), 0.0143, 5e-5);
-  EXPECT_NEAR(T_depth_color.translation().y(), 0.0006, 5e-5);
-  EXPECT_NEAR(T_depth_color.translation().z(), 0.0006, 5e-5);
+  // The SDK's extrinsic from depth to colour on this recording (rs2_get_extrinsics(depth ->
+  // color) in librealsense 2.56.5 playback): p_color = R p_depth + t, t = (+0.014311, 0.000602,
+  // 0.000611) m, 0.947 deg. The rotation's sign is that of rs2_extrinsics' column-major matrix
+  // (rotation[6] = R(0,2) = +0.01293 from the recording's quaternion; a transposed reading
+  // would give -0.01293).
+  const Eigen::Isometry3d& T_color_depth = conv.T_color_depth();
+  EXPECT_NEAR(T_color_depth.translation().x(), 0.014311, 1e-6);
+  EXPECT_NEAR(T_color_depth.translation().y(), 0.000602, 1e-6);
+  EXPECT_NEAR(T_color_depth.translation().z(), 0.000611, 1e-6);
+  EXPECT_NEAR(Eigen::AngleAxisd(T_color_depth.rotation()).angle() * 180.0 / M_PI, 0.947, 5e-4);
+  EXPECT_NEAR(T_color_depth.linear()(0, 2), 0.012926, 1e-6);
+  EXPECT_NEAR(T_color_depth.linear()(0, 1), -0.010310, 1e-6);
+  // The geometry of a D435: the colour camera sits beside the left imager (the depth origin),
+  // about 15 mm on the side away from the right imager (depth x < 0).
+  const Eigen::Vector3d color_in_depth = T_color_depth.inverse().translation();
+  EXPECT_LT(color_in_depth.x(), -0.013);
+  EXPECT_GT(color_in_depth.x(), -0.016);
   // No IMU in the recording: the sensor pose is the configured extrinsic.
   EXPECT_TRUE(conv.T_body_cam().isApprox(FallbackCalibration::defaults().T_body_cam));
+}
+
+/// Mean distance [px] (each capped at 10 px) from the depth discontinuities of `f`, moved into
+/// the colour image with T_color_depth, to the nearest colour edge (Canny); `n` = discontinuities.
+double depthEdgeToColourEdgePx(const RgbdFrame& f, const Eigen::Isometry3d& T_color_depth,
+                               int* n) {
+  cv::Mat gray, edges, dist;
+  cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
+  cv::Canny(gray, edges, 50, 150);
+  cv::distanceTransform(255 - edges, dist, cv::DIST_L2, 3);
+  const PinholeCamera &cd = f.cam_depth, &cc = f.cam_color;
+  const auto z = [&](int u, int v) { return f.depth.at<std::uint16_t>(v, u) * f.depth_unit_m; };
+  double sum = 0.0;
+  *n = 0;
+  for (int v = 0; v < f.depth.rows; ++v)
+    for (int u = 0; u < f.depth.cols; ++u) {
+      const double z0 = z(u, v);
+      if (z0 < 0.2 || z0 > 5.0) continue;
+      for (const auto& [du, dv] : {std::pair<int, int>{1, 0}, {0, 1}}) {
+        // The next valid pixel right / below (occlusion boundaries have holes), at most 7 away.
+        int k = 1;
+        while (k < 8 && u + du * k < f.depth.cols && v + dv * k < f.depth.rows &&
+               z(u + du * k, v + dv * k) <= 0.0)
+          ++k;
+        if (u + du * k >= f.depth.cols || v + dv * k >= f.depth.rows) continue;
+        const double z1 = z(u + du * k, v + dv * k);
+        if (z1 < 0.2 || z1 > 5.0 || std::abs(z1 - z0) < 0.15) continue;
+        // The foreground side of the discontinuity, where the colour image has its edge.
+        const int uf = z0 < z1 ? u : u + du * k, vf = z0 < z1 ? v : v + dv * k;
+        const double zf = std::min(z0, z1);
+        const Eigen::Vector3d p_depth((uf - cd.cx) / cd.fx * zf, (vf - cd.cy) / cd.fy * zf, zf);
+        const Eigen::Vector3d p_color = T_color_depth * p_depth;
+        const int uc = static_cast<int>(std::lround(cc.fx * p_color.x() / p_color.z() + cc.cx));
+        const int vc = static_cast<int>(std::lround(cc.fy * p_color.y() / p_color.z() + cc.cy));
+        if (uc < 0 || vc < 0 || uc >= cc.width || vc >= cc.height) continue;
+        sum += std::min(dist.at<float>(vc, uc), 10.0f);
+        ++*n;
+      }
+    }
+  return *n ? sum / *n : 0.0;
+}
+
+TEST(BagConvertRealSense, TheReadExtrinsicRegistersDepthEdgesOntoColourEdges) {
+  // Independent of librealsense: the recording's own images. Its colour image and first depth
+  // image (0.1 s apart) paired; depth discontinuities moved into the colour
+  // image with the extrinsic as read land on colour edges (measured 2.6 px mean, 55
+  // discontinuities), with its inverse (the reading before 2026-12-03) 9.0 px, with none 7.7 px.
+  RGBDI_REQUIRE_FIXTURE(fixture());
+  ConvertOptions o;
+  o.pair_tolerance_s = 0.15;
+  BagConverter conv(fixture(), o, BagInputOptions(), FallbackCalibration::defaults());
+  RecordingSink sink;
+  conv.run(sink);
+  ASSERT_FALSE(sink.frames.empty());
+  const RgbdFrame& f = sink.frames[0];
+  ASSERT_TRUE(f.hasColor());
+  int n_read = 0, n_inverse = 0, n_none = 0;
+  const double read = depthEdgeToColourEdgePx(f, conv.T_color_depth(), &n_read);
+  const double inverse = depthEdgeToColourEdgePx(f, conv.T_color_depth().inverse(), &n_inverse);
+  const double none = depthEdgeToColourEdgePx(f, Eigen::Isometry3d::Identity(), &n_none);
+  EXPECT_GT(n_read, 40);
+  EXPECT_LT(read, 3.0) << "inverse " << inverse << " px, identity " << none << " px";
+  EXPECT_LT(read, 0.5 * inverse);
+  EXPECT_LT(read, 0.5 * none);
 }
 
 TEST(BagConvertRealSense, TwoDepthOnlyFramesAndOneUnpairedColourFrame) {

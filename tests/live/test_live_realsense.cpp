@@ -8,6 +8,7 @@
 #include <mrpt/obs/CObservationIMU.h>
 
 #include <atomic>
+#include <fstream>
 #include <thread>
 
 #include "rgbdi/bag/bag_converter.h"
@@ -41,7 +42,8 @@ class SyntheticDevice : public RealSenseDevice {
     calib.depth.fx = calib.depth.fy = 58.0;
     calib.depth.cx = 31.0;
     calib.depth.cy = 23.0;
-    calib.T_color_depth.translation() = Eigen::Vector3d(-0.015, 0.0002, 0.0001);
+    // As on a D435: p_color = R p_depth + t, the depth origin 15 mm on the colour camera's +x.
+    calib.T_color_depth.translation() = Eigen::Vector3d(0.015, 0.0002, 0.0001);
     calib.T_imu_color.linear() =
         Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     calib.T_imu_color.translation() = Eigen::Vector3d(0.0055, 0.0051, 0.0117);
@@ -199,6 +201,75 @@ TEST(RgbdiRealSense, RecordedAdapterPlaysTheRealSenseSdkFixtureBag) {
     EXPECT_EQ(f.depth_aligned_to_color, r.depth_aligned_to_color);
     EXPECT_LT((f.T_color_depth.matrix() - r.T_color_depth.matrix()).norm(), 1e-6);
   }
+}
+
+TEST(RgbdiRealSense, RecordedAdapterTakesRawlogConvertsConfigFile) {
+  const std::string bag = test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+  RGBDI_REQUIRE_FIXTURE(bag);
+  const std::string dir = test::makeTempDir("rs_config");
+  // The colour image is 0.1016 s before the first depth image: a 0.15 s tolerance pairs them
+  // (the default 0.02 s does not, RecordedAdapterPlaysTheRealSenseSdkFixtureBag).
+  const std::string cal = dir + "/cal.ini";
+  std::ofstream(cal) << "[convert]\npair_tolerance_s = 0.15\n";
+  const auto play = [&](const std::string& extra) {
+    mrpt::config::CConfigFileMemory cfg(
+        "[RS]\ndriver = RgbdiRealSense\nprocess_rate = 100\ndevice = recorded\nplayback_file = " +
+        bag + "\nstamps = source\nspeed = 10\nconfig = " + cal + "\n" + extra);
+    RgbdiRealSense s;
+    s.loadConfig(cfg, "RS");
+    s.initialize();
+    return runToEnd(s);
+  };
+  const Collected c = play("");
+  ASSERT_EQ(c.frames.size(), 2u);
+  const RgbdFrame f0 = io::fromMrpt(*c.frames[0], "rs");
+  ASSERT_TRUE(f0.hasColor());
+  EXPECT_NEAR(f0.t, 360.7135, 5e-5);  // a pair takes the colour stamp
+  EXPECT_EQ(f0.rgb.cols, 640);
+  EXPECT_FALSE(io::fromMrpt(*c.frames[1], "rs").hasColor());
+
+  // [convert] require_colour drops the depth-only frame, as rawlog-convert does.
+  std::ofstream(cal) << "[convert]\npair_tolerance_s = 0.15\nrequire_colour = true\n";
+  const Collected strict = play("");
+  ASSERT_EQ(strict.frames.size(), 1u);
+  EXPECT_TRUE(io::fromMrpt(*strict.frames[0], "rs").hasColor());
+}
+
+TEST(RgbdiRealSense, CalibrationKeysAreRefusedWhereTheyDoNotApplyOrAreBad) {
+  const std::string dir = test::makeTempDir("rs_config");
+  const std::string cal = dir + "/cal.ini";
+  std::ofstream(cal) << "[convert]\npair_tolerance_s = 0.1\n";
+  const auto configError = [](const std::string& text) -> std::string {
+    try {
+      LiveSource src(SensorConfig::fromText(text, "rs.ini"));
+    } catch (const LiveError& e) {
+      EXPECT_EQ(e.kind(), LiveError::Kind::OpenFailed);
+      EXPECT_NE(std::string(e.what()).find("[RS] (RgbdiRealSense): invalid configuration"),
+                std::string::npos)
+          << e.what();
+      return e.what();
+    }
+    return "";
+  };
+  // The SDK reads the calibration from the device: a config there would be ignored.
+  const std::string sdk =
+      configError("[RS]\ndriver = RgbdiRealSense\nprocess_rate = 200\nconfig = " + cal + "\n");
+  EXPECT_NE(sdk.find("[RS] config: applies to device = recorded only"), std::string::npos) << sdk;
+  // A bad value in the file names the sensor key, the file and its key.
+  std::ofstream(cal) << "[convert]\npair_tolerance_s = -1\n";
+  const std::string bad = configError(
+      "[RS]\ndriver = RgbdiRealSense\nprocess_rate = 200\ndevice = recorded\n"
+      "playback_file = x.bag\nconfig = " +
+      cal + "\n");
+  EXPECT_NE(bad.find("[RS] config: "), std::string::npos) << bad;
+  EXPECT_NE(bad.find(cal), std::string::npos) << bad;
+  EXPECT_NE(bad.find("pair_tolerance_s"), std::string::npos) << bad;
+  const std::string missing = configError(
+      "[RS]\ndriver = RgbdiRealSense\nprocess_rate = 200\ndevice = recorded\n"
+      "playback_file = x.bag\ncamera_yaml = " +
+      dir + "/none.yaml\n");
+  EXPECT_NE(missing.find("[RS] camera_yaml: "), std::string::npos) << missing;
+  EXPECT_NE(missing.find(dir + "/none.yaml"), std::string::npos) << missing;
 }
 
 TEST(RgbdiRealSense, WithoutTheSdkTheCameraAdapterExplainsWhatToDo) {

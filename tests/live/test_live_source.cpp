@@ -9,11 +9,15 @@
 #include <filesystem>
 
 #include "live_test_data.h"
+#include "rgbdi/bag/bag_converter.h"
+#include "rgbdi/bag/bag_writer.h"
+#include "rgbdi/convert/dataset_conversion.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/live/live_source.h"
 #include "rgbdi/live/realsense_device.h"
 #include "testing/fixtures.h"
+#include "testing/recording_sink.h"
 
 namespace rgbdi::live::testsensors {
 
@@ -427,6 +431,126 @@ TEST_F(LiveSourceTest, ReplaysARealSenseSdkBagAsRawlogConvertReadsIt) {
   EXPECT_FALSE(sink.frames[0].depth_aligned_to_color);
 }
 
+TEST_F(LiveSourceTest, BagReplayTakesRawlogConvertsConfigFile) {
+  const std::string bag = test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+  RGBDI_REQUIRE_FIXTURE(bag);
+  // rawlog-convert --config cal.ini: a 0.15 s pairing tolerance (the colour image pairs with the
+  // first depth image) and the extrinsic for a recording without IMU extrinsics.
+  const std::string cal = test::writeFile(
+      dir + "/cal.ini",
+      "[convert]\npair_tolerance_s = 0.15 ; [s]\n[extrinsic]\n"
+      "R_body_cam = 0 0 1  -1 0 0  0 -1 0\nt_body_cam_m = 0.01 0.02 0.03\n");
+  const convert::ConversionSettings settings = convert::loadConversionSettings(cal, "");
+  bag::BagConverter conv(bag, settings.options, bag::BagInputOptions(), settings.calibration);
+  test::RecordingSink ref;
+  ASSERT_TRUE(conv.run(ref).ok());
+  ASSERT_EQ(ref.frames.size(), 2u);
+  ASSERT_TRUE(ref.frames[0].hasColor());
+
+  LiveSource src(SensorConfig::fromFile(
+      ini("[global]\nlive_camera_timeout_s = 5\n[BAG]\ndriver = RgbdiRawlogReplay\n"
+          "process_rate = 100\nstamps = source\nspeed = 5\nconfig = cal.ini\nfile = " +
+          bag + "\n")));
+  test::CollectingSink sink;
+  src.pump(sink);
+  ASSERT_EQ(sink.frames.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const RgbdFrame& f = sink.frames[i];
+    EXPECT_NEAR(f.t, ref.frames[i].t, 1e-6) << i;
+    EXPECT_EQ(f.hasColor(), ref.frames[i].hasColor()) << i;
+    ASSERT_TRUE(f.has_source_T_body_cam);
+    EXPECT_LT((f.source_T_body_cam.translation() - Eigen::Vector3d(0.01, 0.02, 0.03)).norm(),
+              1e-9);
+    EXPECT_LT((f.T_color_depth.matrix() - ref.frames[i].T_color_depth.matrix()).norm(), 1e-9);
+  }
+  EXPECT_EQ(cv::norm(sink.frames[0].rgb, ref.frames[0].rgb, cv::NORM_INF), 0.0);
+}
+
+TEST_F(LiveSourceTest, BagReplayOnOtherTopicsTakesTheTopicsAndAVinsYaml) {
+  // A bag on topics no layout knows, without camera_info: rawlog-convert needs --color-topic
+  // ... and --camera-yaml for it; the replay the equivalent keys.
+  bag::BagTopics topics;
+  topics.color = "/cam/rgb";
+  topics.depth = "/cam/depth";
+  topics.imu = "/cam/imu";
+  {
+    bag::BagWriter w(dir + "/other.bag", bag::Compression::None, topics);
+    for (std::size_t k = 0, i = 0; k < 100; ++k) {  // 0.5 s of IMU, 15 frames
+      w.writeImu(test::liveImu(k));
+      if (i < 15 && test::liveFrame(i).t <= test::liveImu(k).t) w.writeRgbd(test::liveFrame(i++));
+    }
+    w.close();
+  }
+  test::writeFile(dir + "/cam.yaml",
+                  "%YAML:1.0\nmodel_type: PINHOLE\nimage_width: 32\nimage_height: 24\n"
+                  "projection_parameters:\n   fx: 31.5\n   fy: 31.25\n   cx: 15.5\n   cy: 11.5\n"
+                  "extrinsicRotation: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                  "   data: [ 0, 0, 1, -1, 0, 0, 0, -1, 0 ]\n"
+                  "extrinsicTranslation: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n"
+                  "   data: [ 0.04, 0.05, 0.06 ]\nacc_n: 0.1\ngyr_n: 0.01\nacc_w: 0.0002\n"
+                  "gyr_w: 2.0e-5\ng_norm: 9.81\n");
+  const std::string keys = "color_topic = /cam/rgb\ndepth_topic = /cam/depth\n"
+                           "imu_topic = /cam/imu\ncamera_yaml = cam.yaml\n";
+  LiveSource src(SensorConfig::fromFile(
+      ini("[BAG]\ndriver = RgbdiRawlogReplay\nprocess_rate = 200\nstamps = source\n"
+          "speed = 2\nfile = other.bag\n" +
+          keys)));
+  test::CollectingSink sink;
+  src.pump(sink);
+  EXPECT_EQ(sink.imu.size(), 100u);
+  ASSERT_EQ(sink.frames.size(), 15u);
+  for (const RgbdFrame& f : sink.frames) {
+    EXPECT_DOUBLE_EQ(f.cam_color.fx, 31.5);
+    EXPECT_DOUBLE_EQ(f.cam_color.cy, 11.5);
+    EXPECT_TRUE(f.depth_aligned_to_color);
+    ASSERT_TRUE(f.has_source_T_body_cam);
+    EXPECT_LT((f.source_T_body_cam.translation() - Eigen::Vector3d(0.04, 0.05, 0.06)).norm(),
+              1e-9);
+  }
+
+  // Without the topic keys the bag has no known layout: the error lists its topics.
+  try {
+    LiveSource none(SensorConfig::fromFile(ini(
+        "[BAG]\ndriver = RgbdiRawlogReplay\nprocess_rate = 200\nfile = other.bag\n")));
+    FAIL() << "no error";
+  } catch (const LiveError& e) {
+    EXPECT_EQ(e.kind(), LiveError::Kind::OpenFailed);
+    EXPECT_NE(std::string(e.what()).find("no colour or depth image topic found"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("/cam/rgb"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(LiveSourceTest, BagKeysAreRefusedForARawlogAndBadValuesNameTheKey) {
+  test::writeLiveRawlog(dir + "/seq.rawlog", 0.2);
+  test::writeFile(dir + "/cal.ini", "[convert]\npair_tolerance_s = 0.1\n");
+  const auto openError = [&](const std::string& extra) -> std::string {
+    try {
+      LiveSource src(SensorConfig::fromFile(ini(replayIni(extra))));
+    } catch (const LiveError& e) {
+      EXPECT_EQ(e.kind(), LiveError::Kind::OpenFailed);
+      EXPECT_EQ(e.section(), "REPLAY");
+      return e.what();
+    }
+    return "";
+  };
+  // A rawlog carries its calibration: a key that would be ignored is an error.
+  const std::string rawlog = openError("config = cal.ini\ncolor_topic = /c\n");
+  EXPECT_NE(rawlog.find("[REPLAY] (RgbdiRawlogReplay): cannot open the sensor: config, "
+                        "color_topic apply to ROS1 bags only; " +
+                        dir + "/seq.rawlog is an MRPT rawlog"),
+            std::string::npos)
+      << rawlog;
+  const std::string aligned = openError("depth_aligned = maybe\n");
+  EXPECT_NE(aligned.find("[REPLAY] depth_aligned: 'maybe' is not one of auto|yes|no"),
+            std::string::npos)
+      << aligned;
+  const std::string missing = openError("config = nowhere.ini\n");
+  EXPECT_NE(missing.find("[REPLAY] config: "), std::string::npos) << missing;
+  EXPECT_NE(missing.find(dir + "/nowhere.ini"), std::string::npos) << missing;
+}
+
 TEST_F(LiveSourceTest, ShippedSensorFilesConfigureTheirSensors) {
   const std::string share = test::sourceDir() + "/share/sensors/";
   // Every key of the shipped files is accepted by MRPT's loadConfig and the sensor's own keys;
@@ -441,13 +565,15 @@ TEST_F(LiveSourceTest, ShippedSensorFilesConfigureTheirSensors) {
     return "";
   };
   EXPECT_EQ(openError("simulator.ini"), "");  // builds the 60 s sequence, starts nothing
-  if (!realSenseSdkAvailable())
+  if (!realSenseSdkAvailable()) {
     EXPECT_NE(openError("d435i.ini").find("built without librealsense2"), std::string::npos);
+  }
   const std::string replay = openError("replay.ini");
-  if (!replay.empty())
+  if (!replay.empty()) {
     EXPECT_NE(replay.find("demo_wheeled_slopes/sequence/sequence.rawlog: file does not exist"),
               std::string::npos)
         << replay;
+  }
 }
 
 TEST_F(LiveSourceTest, StopReadingEndsALiveStreamCleanly) {

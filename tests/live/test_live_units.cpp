@@ -1,6 +1,10 @@
 // The small pieces of the live stage with exact answers: the sensors INI parser, the latency
 // histogram and the playback clock.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+
+#include <string>
+#include <vector>
 
 #include "rgbdi/live/latency_histogram.h"
 #include "rgbdi/live/playback_clock.h"
@@ -68,6 +72,24 @@ TEST(SensorConfig, ShippedSensorFilesAreValid) {
   EXPECT_EQ(
       SensorConfig::fromFile(test::sourceDir() + "/share/sensors/d435i.ini").sensors[0].driver,
       "RgbdiRealSense");
+}
+
+TEST(SensorConfig, ShippedFilesGiveRawlogGrabbersStringKeysWithoutTheirComments) {
+  // MRPT's reader (rawlog-grabber's) keeps a trailing "; comment" in a string value: a comment
+  // after rawlog_prefix named the recording "./x_grab       ; output rawlog name prefix_DATE".
+  for (const char* name : {"d435i", "replay", "simulator"}) {
+    const mrpt::config::CConfigFile cfg(test::sourceDir() + "/share/sensors/" + name + ".ini");
+    std::vector<std::string> sections;
+    cfg.getAllSections(sections);
+    for (const std::string& sec : sections)
+      for (const char* key : {"rawlog_prefix", "driver", "sensorLabel", "external_images_format"})
+        if (cfg.keyExists(sec, key)) {
+          const std::string v = cfg.read_string(sec, key, "");
+          EXPECT_EQ(v.find_first_of(";#"), std::string::npos) << name << " [" << sec << "] " << v;
+          EXPECT_FALSE(v.empty()) << name << " [" << sec << "] " << key;
+        }
+    EXPECT_EQ(cfg.read_string("global", "rawlog_prefix", ""), std::string("./") + name + "_grab");
+  }
 }
 
 TEST(LatencyHistogram, PercentilesAreTheUpperBinEdgeAndTheMaximumIsExact) {

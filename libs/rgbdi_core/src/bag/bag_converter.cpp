@@ -63,6 +63,12 @@ std::string describePose(const Eigen::Isometry3d& T) {
   return os.str();
 }
 
+/// Two RealSense extrinsic topics ".../tf/<group>" of the same extrinsic group (comparable).
+bool sameReference(const std::string& tf_a, const std::string& tf_b) {
+  const auto group = [](const std::string& t) { return t.substr(t.rfind('/') + 1); };
+  return group(tf_a) == group(tf_b);
+}
+
 }  // namespace
 
 FallbackCalibration FallbackCalibration::defaults() {
@@ -148,17 +154,26 @@ struct BagConverter::Impl {
                                   " mm for 16-bit depth (default; the bag does not say)");
     }
 
+    // The SDK writes each stream's "<stream>/tf/<group>" as the extrinsic from the group's
+    // reference stream to that stream (librealsense ros_writer::write_extrinsics stores
+    // get_extrinsics(stream) = the pin stream -> stream): p_stream = R p_ref + t, T_stream_ref.
+    // The reference is the depth stream on D4xx cameras, but only the group has to be common.
     geometry_msgs::Transform tf;
-    Eigen::Isometry3d T_ref_color = Eigen::Isometry3d::Identity(),
-                      T_ref_depth = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_color_ref = Eigen::Isometry3d::Identity(),
+                      T_depth_ref = Eigen::Isometry3d::Identity();
     const bool have_color_tf = firstMessage(layout.color_tf, tf);
-    if (have_color_tf) T_ref_color = isometryFromTransform(tf, path + " " + layout.color_tf);
-    if (firstMessage(layout.depth_tf, tf))
-      T_ref_depth = isometryFromTransform(tf, path + " " + layout.depth_tf);
+    if (have_color_tf) T_color_ref = isometryFromTransform(tf, path + " " + layout.color_tf);
+    const bool have_depth_tf = firstMessage(layout.depth_tf, tf);
+    if (have_depth_tf) T_depth_ref = isometryFromTransform(tf, path + " " + layout.depth_tf);
     if (!layout.depth_aligned) {
-      if (have_color_tf) {
-        T_color_depth = T_ref_color.inverse() * T_ref_depth;
-        calibration_lines.push_back("depth camera in the colour camera: " +
+      if (have_color_tf && have_depth_tf && !sameReference(layout.color_tf, layout.depth_tf)) {
+        calibration_lines.push_back("depth camera in the colour camera: unknown (" +
+                                    layout.color_tf + " and " + layout.depth_tf +
+                                    " have different references); identity used");
+      } else if (have_color_tf) {
+        // Without a depth tf the depth stream is taken as the reference (its tf is the identity).
+        T_color_depth = T_color_ref * T_depth_ref.inverse();
+        calibration_lines.push_back("depth camera in the colour camera (T_color_depth): " +
                                     describePose(T_color_depth) + " (" + layout.color_tf + ")");
       } else {
         calibration_lines.push_back(
@@ -167,17 +182,22 @@ struct BagConverter::Impl {
     }
 
     const bool has_imu = !layout.imu.empty() || !layout.accel.empty();
-    if (has_imu && have_color_tf && firstMessage(layout.imu_tf, tf)) {
-      const Eigen::Isometry3d T_ref_imu = isometryFromTransform(tf, path + " " + layout.imu_tf);
-      T_body_cam = T_ref_imu.inverse() * T_ref_color;
+    const bool have_imu_tf = has_imu && have_color_tf && firstMessage(layout.imu_tf, tf);
+    if (have_imu_tf && sameReference(layout.imu_tf, layout.color_tf)) {
+      const Eigen::Isometry3d T_imu_ref = isometryFromTransform(tf, path + " " + layout.imu_tf);
+      T_body_cam = T_imu_ref * T_color_ref.inverse();  // T_imu_color: rgbdi's body is the IMU
       calibration_lines.push_back(
-          "colour camera in the IMU (body) frame: " + describePose(T_body_cam) + " (" +
-          layout.imu_tf + ", " + layout.color_tf + ")");
+          "colour camera in the IMU (body) frame (T_body_cam): " + describePose(T_body_cam) +
+          " (" + layout.imu_tf + ", " + layout.color_tf + ")");
     } else {
       T_body_cam = fallback.T_body_cam;
       calibration_lines.push_back(
           "colour camera in the body frame (sensorPose): " + describePose(T_body_cam) + " (" +
-          fallback.extrinsic_source + ")");
+          fallback.extrinsic_source +
+          (have_imu_tf ? "; " + layout.imu_tf + " and " + layout.color_tf +
+                             " have different references"
+                       : std::string()) +
+          ")");
     }
   }
 

@@ -9,7 +9,8 @@ namespace rgbdi::live {
 /// The original message inside an MRPT exception text. MRPT 2.5 wraps an exception thrown inside
 /// MRPT_START/MRPT_END as "Message: <text after the first ']'>" and "Location: <text before
 /// it>" plus a call stack; a message of ours ("FILE [section] key: what") is split that way, so
-/// it is put back together. Texts without that frame are returned as their first line.
+/// it is put back together. Texts without that frame are returned whole (a bag whose topics are
+/// not found lists them on the following lines).
 inline std::string mrptMessage(const std::string& what) {
   const auto lineAfter = [&](const std::string& tag, std::string& out) {
     const auto p = what.find(tag);
@@ -27,8 +28,7 @@ inline std::string mrptMessage(const std::string& what) {
     const auto b = message.find_first_not_of(" \t");
     return b == std::string::npos ? std::string() : message.substr(b);
   }
-  const auto nl = what.find('\n');
-  return nl == std::string::npos ? what : what.substr(0, nl);
+  return what;
 }
 
 /// The message of the innermost exception (MRPT_END wraps the original one with

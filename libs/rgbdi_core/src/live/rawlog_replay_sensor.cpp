@@ -8,6 +8,7 @@
 #include <optional>
 #include <thread>
 
+#include "live/bag_playback_keys.h"
 #include "live/external_images.h"
 #include "live/sensor_keys.h"
 #include "rgbdi/bag/bag_converter.h"
@@ -36,6 +37,7 @@ struct RgbdiRawlogReplay::Impl {
   bool restamp = true;
   int read_ahead = 256;
   std::string external_dir;
+  BagPlaybackKeys bag_keys;  ///< how a bag is converted (rawlog-convert's options)
 
   // Input (initialize).
   std::unique_ptr<io::RawlogSource> rawlog;
@@ -119,6 +121,7 @@ void RgbdiRawlogReplay::loadConfig_sensorSpecific(const mrpt::config::CConfigFil
   d.read_ahead = k.getInt("read_ahead", d.read_ahead, 1, 1000000);
   d.camera_label = k.getString("camera_label", d.camera_label);
   d.imu_label = k.getString("imu_label", d.imu_label);
+  d.bag_keys = BagPlaybackKeys::load(k, true);
 }
 
 void RgbdiRawlogReplay::setPathForExternalImages(const std::string& directory) {
@@ -133,12 +136,17 @@ void RgbdiRawlogReplay::initialize() {
   if (!fs::exists(d.file, ec)) throw std::runtime_error(d.file + ": file does not exist");
   const io::InputFormat fmt = io::detectInputFormat(d.file);
   if (fmt == io::InputFormat::Rawlog) {
+    // A rawlog's observations carry their calibration; silently ignoring a bag key would leave
+    // the user believing it applied.
+    if (!d.bag_keys.given.empty())
+      throw std::runtime_error(d.bag_keys.givenList() + " apply to ROS1 bags only; " + d.file +
+                               " is an MRPT rawlog (its observations carry their calibration)");
     d.rawlog = std::make_unique<io::RawlogSource>(d.file);
     d.rawlog->logging_enable_console_output = false;
   } else if (fmt == io::InputFormat::Ros1Bag) {
-    d.bag =
-        std::make_unique<bag::BagConverter>(d.file, bag::ConvertOptions(), bag::BagInputOptions(),
-                                            bag::FallbackCalibration::defaults());
+    d.bag = std::make_unique<bag::BagConverter>(d.file, d.bag_keys.settings.options,
+                                                d.bag_keys.input,
+                                                d.bag_keys.settings.calibration);
   } else {
     throw std::runtime_error(d.file + ": " + io::formatName(fmt) +
                              " input cannot be replayed directly; convert it with rawlog-convert "

@@ -34,8 +34,10 @@ void deserialize(const bag::BagMessage& m, M& out) {
 
 class RecordedRealSenseDevice : public RealSenseDevice {
  public:
-  RecordedRealSenseDevice(std::string path, double speed, bool restamp)
-      : path_(std::move(path)), clock_(speed, restamp) {}
+  RecordedRealSenseDevice(std::string path, double speed, bool restamp,
+                          const bag::ConvertOptions& options,
+                          const bag::FallbackCalibration& fallback)
+      : path_(std::move(path)), options_(options), fallback_(fallback), clock_(speed, restamp) {}
   ~RecordedRealSenseDevice() override { stop(); }
 
   std::vector<RealSenseDeviceInfo> enumerate() override {
@@ -44,8 +46,8 @@ class RecordedRealSenseDevice : public RealSenseDevice {
 
   RealSenseCalibration open(const RealSenseRequest& request) override {
     try {
-      converter_ = std::make_unique<bag::BagConverter>(path_, options_, bag::BagInputOptions(),
-                                                       bag::FallbackCalibration::defaults());
+      converter_ =
+          std::make_unique<bag::BagConverter>(path_, options_, bag::BagInputOptions(), fallback_);
     } catch (const std::exception& e) {
       throw RealSenseError(e.what());
     }
@@ -107,6 +109,7 @@ class RecordedRealSenseDevice : public RealSenseDevice {
     bag::PairedImages p;
     while (pairer.pop(p)) {
       if (!p.depth) continue;  // colour without depth is dropped, as rawlog-convert does
+      if (!p.color && options_.require_colour) continue;  // [convert] require_colour
       RealSenseFrameset fs;
       fs.t = clock_.outputStamp(p.color ? p.color->t : p.depth->t);
       fs.number = frames_++;
@@ -189,6 +192,7 @@ class RecordedRealSenseDevice : public RealSenseDevice {
 
   std::string path_;
   bag::ConvertOptions options_;
+  bag::FallbackCalibration fallback_;
   PlaybackClock clock_;
   std::unique_ptr<bag::BagConverter> converter_;
   bag::BagLayout layout_;
@@ -206,9 +210,10 @@ class RecordedRealSenseDevice : public RealSenseDevice {
 
 }  // namespace
 
-std::unique_ptr<RealSenseDevice> makeRecordedRealSenseDevice(const std::string& bag_path,
-                                                             double speed, bool restamp) {
-  return std::make_unique<RecordedRealSenseDevice>(bag_path, speed, restamp);
+std::unique_ptr<RealSenseDevice> makeRecordedRealSenseDevice(
+    const std::string& bag_path, double speed, bool restamp, const bag::ConvertOptions& options,
+    const bag::FallbackCalibration& fallback) {
+  return std::make_unique<RecordedRealSenseDevice>(bag_path, speed, restamp, options, fallback);
 }
 
 }  // namespace rgbdi::live

@@ -4,6 +4,7 @@
 #include <deque>
 #include <mutex>
 
+#include "live/bag_playback_keys.h"
 #include "live/external_images.h"
 #include "live/sensor_keys.h"
 #include "rgbdi/io/mrpt_conversions.h"
@@ -20,6 +21,7 @@ struct RgbdiRealSense::Impl {
   double max_accel_gap_s = 0.05, max_merge_wait_s = 0.1, speed = 1.0;
   bool restamp = true;
   int frameset_queue_len = 8;
+  BagPlaybackKeys bag_keys;  ///< device = recorded: rawlog-convert's calibration options
 
   std::unique_ptr<RealSenseDevice> device;
   RealSenseCalibration calib;
@@ -101,6 +103,13 @@ void RgbdiRealSense::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBa
   d.restamp = k.getEnum("stamps", "now", {"now", "source"}) == "now";
   d.camera_label = k.getString("camera_label", d.camera_label);
   d.imu_label = k.getString("imu_label", d.imu_label);
+  d.bag_keys = BagPlaybackKeys::load(k, false);
+  // The SDK takes the calibration from the camera or its recording; a key it ignored would
+  // leave the user believing it applied.
+  if (d.adapter == "sdk" && !d.bag_keys.given.empty())
+    k.fail(d.bag_keys.given.front(),
+           "applies to device = recorded only (the SDK reads the calibration from the camera or "
+           "its recording)");
 }
 
 void RgbdiRealSense::setDevice(std::unique_ptr<RealSenseDevice> device) {
@@ -115,7 +124,9 @@ void RgbdiRealSense::initialize() {
   Impl& d = *impl_;
   if (!d.device) {
     if (d.adapter == "recorded") {
-      d.device = makeRecordedRealSenseDevice(d.playback_file, d.speed, d.restamp);
+      d.device = makeRecordedRealSenseDevice(d.playback_file, d.speed, d.restamp,
+                                             d.bag_keys.settings.options,
+                                             d.bag_keys.settings.calibration);
     } else {
       d.device = makeSdkRealSenseDevice(d.playback_file, d.speed, d.restamp);
     }

@@ -78,6 +78,7 @@ void RgbdiSimulator::doProcess() {
   const sim::SimulatedSequence& s = *d.seq;
   const Eigen::Isometry3d& T_body_cam = s.options().extrinsic.T_body_cam;
   // In stamp order (an IMU sample before a frame with the same stamp), as the offline pump.
+  bool appended = false;
   for (;;) {
     const bool imu_left = d.next_imu < s.imuCount();
     const bool frame_left = d.next_frame < s.frameCount();
@@ -95,6 +96,12 @@ void RgbdiSimulator::doProcess() {
       ++d.skipped;
       continue;
     }
+    // Rendering takes a while (tens of ms, more on a loaded machine) and LiveSource collects
+    // what was appended only when doProcess() returns: hand the IMU samples over first, render
+    // on the next call, so that rendering never holds IMU samples back (a real camera's IMU
+    // does not wait for its images).
+    if (!take_imu && appended) break;
+    appended = true;
     if (take_imu) {
       ImuSample imu = s.imuSample(d.next_imu++);
       imu.t = d.clock->outputStamp(imu.t);

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "rgbdi/bag/bag_converter.h"
 #include "rgbdi/common/camera.h"
 
 namespace rgbdi::live {
@@ -103,8 +104,12 @@ bool realSenseSdkAvailable();
 std::unique_ptr<RealSenseDevice> makeSdkRealSenseDevice(const std::string& playback_bag = "",
                                                         double speed = 1.0, bool restamp = false);
 /// The recorded adapter: replays an SDK .bag with rgbdi's bag reader, paced by its stamps at
-/// `speed`; stamps are re-based onto the wall clock when `restamp`.
-std::unique_ptr<RealSenseDevice> makeRecordedRealSenseDevice(const std::string& bag_path,
-                                                             double speed, bool restamp);
+/// `speed`; stamps are re-based onto the wall clock when `restamp`. `options` and `fallback` as
+/// for rawlog-convert (--config's [convert], [camera] and [extrinsic], --camera-yaml): pairing,
+/// depth units and the calibration the recording does not carry.
+std::unique_ptr<RealSenseDevice> makeRecordedRealSenseDevice(
+    const std::string& bag_path, double speed, bool restamp,
+    const bag::ConvertOptions& options = bag::ConvertOptions(),
+    const bag::FallbackCalibration& fallback = bag::FallbackCalibration::defaults());
 
 }  // namespace rgbdi::live

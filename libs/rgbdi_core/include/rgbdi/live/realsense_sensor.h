@@ -23,6 +23,9 @@
 //   frameset_queue_len = 8   [framesets] received but not yet turned into observations;
 //                            older ones are dropped (counted) if the thread falls behind
 //   speed = 1.0, stamps = now  playback (either adapter): playback speed, now|source stamps
+//   config = FILE, camera_yaml = FILE   device = recorded only: rgbdi INI / VINS yaml as
+//                            rawlog-convert's --config / --camera-yaml ([convert] pairing and
+//                            depth units; calibration the recording does not carry)
 //   camera_label = RGBD, imu_label = IMU
 #pragma once
 
