@@ -15,6 +15,14 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   if (!fs::exists(opt.input)) throw UserError(opt.input + ": input file does not exist");
   SystemConfig cfg = loadRunConfig(opt.config_path);
   if (opt.no_loop) cfg.loop.enable = false;
+  if (cfg.estimator.max_solver_time_s > 0.0) {
+    // A wall-clock budget makes the result depend on the machine's load: offline runs stay
+    // deterministic (same input + config = same output), so it applies to --live only.
+    log << "rgbdi-slam: [estimator] max_solver_time_s = " << cfg.estimator.max_solver_time_s
+        << " s is a live-mode budget; ignored for --input (the solver runs to its iteration "
+           "limit)\n";
+    cfg.estimator.max_solver_time_s = 0.0;
+  }
   const Trajectory gt = readGroundTruth(opt.gt_path);  // before the run: bad files fail fast
   prepareOutputDir(opt.out_dir);
 
