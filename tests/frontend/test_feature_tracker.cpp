@@ -501,7 +501,10 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
     return tracker.track(f1);
   };
 
-  const FrontendOptions options;
+  // Without the occlusion-boundary check, so that corners near edges stay and the small depth
+  // window's edge test below has work (NoFeatureKeepsAWindowOnAnOcclusionBoundary covers the check).
+  FrontendOptions options;
+  options.occlusion_window_px = 0;
   FeatureFrame a0;
   const FeatureFrame a1 = runPair(options, &a0);
 
@@ -582,4 +585,63 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   EXPECT_GT(exact, 20);
   EXPECT_GT(edge_rejected, 3);
   EXPECT_EQ(a0.n_with_depth, exact);
+}
+
+namespace {
+
+/// Features whose KLT window shows surfaces at different depths (truth from the renderer).
+std::set<std::uint64_t> straddlingFeatures(const FeatureFrame& f, const LayeredScene& s, const RenderOutput& truth,
+                                           int half_window) {
+  std::set<std::uint64_t> ids;
+  for (const FeatureObservation& o : f.features) {
+    const int uc = static_cast<int>(std::lround(o.uv.x())), vc = static_cast<int>(std::lround(o.uv.y()));
+    double lo = 1e9, hi = 0.0;
+    for (int v = std::max(0, vc - half_window); v <= std::min(truth.surface.rows - 1, vc + half_window); ++v)
+      for (int u = std::max(0, uc - half_window); u <= std::min(truth.surface.cols - 1, uc + half_window); ++u) {
+        const int k = truth.surface.at<int>(v, u);
+        const double z = k < 0 ? 0.0 : s.surface_depth[static_cast<size_t>(k)];
+        lo = std::min(lo, z);
+        hi = std::max(hi, z);
+      }
+    if (hi > lo) ids.insert(o.id);
+  }
+  return ids;
+}
+
+}  // namespace
+
+TEST(FeatureTracker, NoFeatureKeepsAWindowOnAnOcclusionBoundary) {
+  // KLT follows a blend of two surfaces that move differently in the image: such a point slides
+  // against every 3-D point. With depth, corners there are refused (and replaced by the next
+  // candidates), and a tracked feature whose window comes to straddle an edge is dropped.
+  const PinholeCamera cam = simpleCamera();
+  const LayeredScene s = makeLayeredScene(Eigen::Vector3d::Zero());
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
+  T1.translation() = Eigen::Vector3d(0.08, 0.0, 0.0);  // near panel moves 15 px more than the wall
+  RenderOutput truth0, truth1;
+  const RgbdFrame f0 = renderFrame(s, cam, Eigen::Isometry3d::Identity(), 0.0, 0, &truth0);
+  const RgbdFrame f1 = renderFrame(s, cam, T1, kDt, 1, &truth1);
+
+  const FrontendOptions with_check;
+  FrontendOptions without_check = with_check;
+  without_check.occlusion_window_px = 0;
+  FeatureTracker checked(with_check, cam), unchecked(without_check, cam);
+  const FeatureFrame a0 = checked.track(f0), a1 = checked.track(f1);
+  const FeatureFrame b0 = unchecked.track(f0), b1 = unchecked.track(f1);
+  const int half = with_check.occlusion_window_px;
+
+  const auto b0_straddling = straddlingFeatures(b0, s, truth0, half);
+  ASSERT_GE(b0_straddling.size(), 10u) << "the scene must put corners on its edges for this test to mean anything";
+  EXPECT_EQ(b0.n_occluded_skipped, 0);
+  EXPECT_TRUE(straddlingFeatures(a0, s, truth0, half).empty());
+  EXPECT_TRUE(straddlingFeatures(a1, s, truth1, half).empty());
+  EXPECT_GE(a0.n_occluded_skipped, static_cast<int>(b0_straddling.size()));
+  // The refused corners were replaced: as many features as without the check.
+  EXPECT_EQ(a0.features.size(), b0.features.size());
+  // The sideways motion brings the panel's edge into windows that were clear in frame 0.
+  EXPECT_GE(a1.n_occluded, 1);
+  EXPECT_EQ(a1.n_tracked + a1.n_new, static_cast<int>(a1.features.size()));
+  std::cout << "without the check " << b0_straddling.size() << " of " << b0.features.size()
+            << " features straddle an edge; with it: refused corners " << a0.n_occluded_skipped
+            << ", tracks dropped in frame 1 " << a1.n_occluded << "\n";
 }

@@ -36,6 +36,10 @@ TEST(FrontendOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.depth_neighbourhood_px, d.depth_neighbourhood_px);
   EXPECT_DOUBLE_EQ(f.depth_max_relative_spread, d.depth_max_relative_spread);
   EXPECT_DOUBLE_EQ(f.registration_fill_max_relative_diff, d.registration_fill_max_relative_diff);
+  EXPECT_EQ(f.occlusion_window_px, d.occlusion_window_px);
+  EXPECT_EQ(f.occlusion_sample_step_px, d.occlusion_sample_step_px);
+  EXPECT_DOUBLE_EQ(f.occlusion_max_residual_sigmas, d.occlusion_max_residual_sigmas);
+  EXPECT_DOUBLE_EQ(f.occlusion_min_valid_fraction, d.occlusion_min_valid_fraction);
   EXPECT_EQ(f.opencv_threads, d.opencv_threads);
   EXPECT_EQ(f.opencv_threads, 1);
 }
@@ -83,6 +87,25 @@ TEST(FrontendOptions, DepthRangeMustBeOrdered) {
   FrontendOptions o;
   o.depth_min_m = o.depth_max_m + 1.0;
   EXPECT_THROW(o.validate(), ConfigError);
+}
+
+TEST(FrontendOptions, TheOcclusionTestNeedsADepthNoiseScale) {
+  // The test's threshold is sigmas x depth_noise_coeff: with no noise scale every window would be
+  // a boundary.
+  IniReader bad = IniReader::fromText("[frontend]\ndepth_noise_coeff = 0\n", "n.ini");
+  try {
+    FrontendOptions::load(bad);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("occlusion_window_px"), std::string::npos) << e.what();
+  }
+  IniReader off = IniReader::fromText("[frontend]\ndepth_noise_coeff = 0\nocclusion_window_px = 0\n", "o.ini");
+  EXPECT_NO_THROW(FrontendOptions::load(off));
+  FrontendOptions o;
+  o.depth_noise_coeff = 0.0;
+  EXPECT_THROW(o.validate(), ConfigError);
+  o.occlusion_window_px = 0;
+  EXPECT_NO_THROW(o.validate());
 }
 
 TEST(FrontendOptions, ValidateRejectsCodeBuiltNonsense) {

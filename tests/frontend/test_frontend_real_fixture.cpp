@@ -15,6 +15,7 @@
 #include "rgbdi/frontend/depth_registration.h"
 #include "rgbdi/frontend/depth_sampling.h"
 #include "rgbdi/frontend/feature_tracker.h"
+#include "rgbdi/frontend/occlusion_test.h"
 #include "testing/fixtures.h"
 
 using rgbdi::PinholeCamera;
@@ -177,7 +178,8 @@ TEST(FrontendRealFixture, TrackedFeaturesGetDepth) {
   const Fixture fx = loadFixture(path);
   FeatureTracker tracker(FrontendOptions(), fx.frame.cam_color);
   const FeatureFrame ff = tracker.track(fx.frame);
-  std::cout << "features " << ff.features.size() << ", with depth " << ff.n_with_depth << "\n";
+  std::cout << "features " << ff.features.size() << ", with depth " << ff.n_with_depth
+            << ", corners refused on occlusion boundaries " << ff.n_occluded_skipped << "\n";
   EXPECT_EQ(static_cast<int>(ff.features.size()), FrontendOptions().max_features);
   EXPECT_EQ(ff.n_new, static_cast<int>(ff.features.size()));
   EXPECT_GT(ff.n_with_depth, static_cast<int>(ff.features.size()) / 2);
@@ -186,6 +188,8 @@ TEST(FrontendRealFixture, TrackedFeaturesGetDepth) {
   int counted = 0;
   for (const FeatureObservation& f : ff.features) {
     EXPECT_EQ(f.depth_m, sampleDepth(full, f.uv, FrontendOptions())) << f.uv.transpose();
+    // ... and the same occlusion-boundary decisions (every kept feature passed it).
+    EXPECT_FALSE(straddlesOcclusion(full, f.uv, FrontendOptions())) << f.uv.transpose();
     if (f.depth_m > 0) {
       ++counted;
       EXPECT_GE(f.depth_m, 1.62);

@@ -74,6 +74,8 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, cons
     throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives and a CV_8UC1 mask of the same size");
   if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
   std::vector<cv::Point2f> corners;
+  candidates_.clear();  // detectMore() never continues the candidates of an earlier image
+  next_candidate_ = 0;
   if (max_corners <= 0) return corners;
   computeResponse(derivatives, block_size);
 
@@ -83,7 +85,6 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, cons
   const float threshold = static_cast<float>(quality * strongest);
 
   // Candidates: allowed 3x3 local maxima at or above the threshold.
-  candidates_.clear();
   const int w = response_.cols, h = response_.rows;
   for (int v = 1; v + 1 < h; ++v) {
     const float* up = response_.ptr<float>(v - 1);
@@ -103,12 +104,17 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, cons
     if (p.response != q.response) return p.response > q.response;
     return p.v != q.v ? p.v < q.v : p.u < q.u;
   });
-  for (const Candidate& cand : candidates_) {
+  return detectMore(max_corners, spacing);
+}
+
+std::vector<cv::Point2f> CornerDetector::detectMore(int max_corners, FeatureSpacing& spacing) {
+  std::vector<cv::Point2f> corners;
+  while (static_cast<int>(corners.size()) < max_corners && next_candidate_ < candidates_.size()) {
+    const Candidate& cand = candidates_[next_candidate_++];
     const cv::Point2f p(static_cast<float>(cand.u), static_cast<float>(cand.v));
     if (!spacing.isFree(p)) continue;
     spacing.accept(p);
     corners.push_back(p);
-    if (static_cast<int>(corners.size()) == max_corners) break;
   }
   return corners;
 }

@@ -24,6 +24,11 @@ class CornerDetector {
   std::vector<cv::Point2f> detect(const cv::Mat& derivatives, const cv::Mat& mask, int max_corners,
                                   double quality, int block_size, FeatureSpacing& spacing);
 
+  /// More corners from the candidates of the last detect() call, continuing after the last one
+  /// taken (the same order and spacing rule): for a caller that refused some of the corners it
+  /// got. Empty when the candidates are used up.
+  std::vector<cv::Point2f> detectMore(int max_corners, FeatureSpacing& spacing);
+
   /// The response image of the last call (CV_32FC1), for tests and diagnostics.
   const cv::Mat& response() const { return response_; }
 
@@ -39,7 +44,8 @@ class CornerDetector {
     float response;
     int u, v;
   };
-  std::vector<Candidate> candidates_;
+  std::vector<Candidate> candidates_;  ///< of the last detect(), strongest first
+  size_t next_candidate_ = 0;          ///< first candidate detectMore() looks at
 };
 
 }  // namespace rgbdi::frontend

@@ -261,6 +261,28 @@ void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCa
   prepare(frame, cam_color);
   out.create(cam_color.height, cam_color.width, CV_32F);
   out.setTo(0.0f);
+  if (!frame.depth_aligned_to_color) {
+    const std::uint16_t lowest = smallestDepthValue(frame.depth);
+    any_depth_ = lowest != 0;
+    // No depth point is nearer to the colour camera than this (triangle inequality).
+    nearest_range_m_ =
+        any_depth_ ? std::max(0.0, lowest * frame.depth_unit_m - frame.T_color_depth.translation().norm()) : 0.0;
+    if (any_depth_ && !(nearest_range_m_ > 0.0)) splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
+  }
+  registerWindows(frame, cam_color, centres, radius_px, out);
+}
+
+void DepthRegistrar::registerMoreDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
+                                             const std::vector<Eigen::Vector2d>& centres, int radius_px,
+                                             cv::Mat& out) {
+  if (radius_px < 0) throw std::invalid_argument("registerDepthAround: negative radius " + std::to_string(radius_px));
+  if (out.type() != CV_32FC1 || out.cols != cam_color.width || out.rows != cam_color.height)
+    throw std::invalid_argument("registerMoreDepthAround: `out` is not the result of registerDepthAround");
+  registerWindows(frame, cam_color, centres, radius_px, out);
+}
+
+void DepthRegistrar::registerWindows(const RgbdFrame& frame, const PinholeCamera& cam_color,
+                                     const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
   const cv::Rect all(0, 0, cam_color.width, cam_color.height);
   if (frame.depth_aligned_to_color) {
     for (const Eigen::Vector2d& c : centres) {
@@ -269,19 +291,14 @@ void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCa
     }
     return;
   }
-  const std::uint16_t lowest = smallestDepthValue(frame.depth);
-  if (lowest == 0) return;  // no depth at all
-  // No depth point is nearer to the colour camera than this (triangle inequality).
-  const double nearest_range =
-      std::max(0.0, lowest * frame.depth_unit_m - frame.T_color_depth.translation().norm());
-  if (!(nearest_range > 0.0)) {
-    splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
-  } else {
+  if (!any_depth_) return;
+  if (nearest_range_m_ > 0.0) {
     // A pixel's result depends on values and covers one pixel away (pairs of neighbours), and
     // those on the points landing within one pixel of them: three pixels with a safety pixel.
+    // (Without a bound the whole image was projected once by registerDepthAround.)
     for (const Eigen::Vector2d& c : centres) {
       const cv::Rect colour = grown(aroundPixel(c, radius_px), 3) & all;
-      if (!colour.empty()) splat(frame, depthRoiFor(colour, nearest_range, frame, cam_color));
+      if (!colour.empty()) splat(frame, depthRoiFor(colour, nearest_range_m_, frame, cam_color));
     }
   }
   for (const Eigen::Vector2d& c : centres) {

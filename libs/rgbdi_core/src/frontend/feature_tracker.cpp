@@ -14,6 +14,7 @@
 #include "frontend/feature_spacing.h"
 #include "frontend/stopwatch.h"
 #include "rgbdi/frontend/depth_sampling.h"
+#include "rgbdi/frontend/occlusion_test.h"
 
 namespace rgbdi::frontend {
 namespace {
@@ -137,8 +138,7 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   return kept;
 }
 
-void FeatureTracker::distributeAndDetect(const cv::Mat& grey, const cv::Mat& derivatives, std::vector<Track>& tracks,
-                                         FeatureFrame& out) {
+FeatureSpacing FeatureTracker::distribute(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out) {
   // Longest-tracked features claim their neighbourhood first: they carry the most constraints
   // for the estimator. Ties go to the older (smaller) id, which keeps the result deterministic.
   std::vector<size_t> order(tracks.size());
@@ -161,9 +161,33 @@ void FeatureTracker::distributeAndDetect(const cv::Mat& grey, const cv::Mat& der
   for (size_t i = 0; i < tracks.size(); ++i)
     if (keep[i]) kept.push_back(tracks[i]);  // stays in id order
   tracks.swap(kept);
-  out.n_tracked = static_cast<int>(tracks.size());
+  return spacing;
+}
 
-  const int missing = options_.max_features - static_cast<int>(tracks.size());
+int FeatureTracker::depthWindowRadius() const {
+  // sampleDepth reads depth_neighbourhood_px around the rounded position plus the bilinear
+  // support one pixel further; the occlusion test reads its whole window.
+  return std::max(options_.depth_neighbourhood_px + 1, options_.occlusion_window_px);
+}
+
+void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, int& dropped) const {
+  std::vector<Track> kept;
+  kept.reserve(tracks.size());
+  for (const Track& t : tracks) {
+    if (straddlesOcclusion(depth_m_, Eigen::Vector2d(t.uv.x, t.uv.y), options_)) {
+      occupied.push_back(t.uv);
+      ++dropped;
+    } else {
+      kept.push_back(t);
+    }
+  }
+  tracks.swap(kept);
+}
+
+void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey, const cv::Mat& derivatives,
+                               std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing,
+                               FeatureFrame& out) {
+  int missing = options_.max_features - static_cast<int>(tracks.size());
   if (missing <= 0) return;
   // The mask keeps the detector away from the border band and from existing features (which
   // also makes the quality threshold relative to the strongest corner where new ones can go);
@@ -178,11 +202,31 @@ void FeatureTracker::distributeAndDetect(const cv::Mat& grey, const cv::Mat& der
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px)) + 1;
   for (const Track& t : tracks)
     cv::circle(mask, cv::Point(cvRound(t.uv.x), cvRound(t.uv.y)), radius, cv::Scalar(0), cv::FILLED);
-  const std::vector<cv::Point2f> corners =
+  for (const cv::Point2f& p : occupied)
+    cv::circle(mask, cv::Point(cvRound(p.x), cvRound(p.y)), radius, cv::Scalar(0), cv::FILLED);
+  std::vector<cv::Point2f> corners =
       detector_->detect(derivatives, mask, missing, options_.shi_tomasi_quality, options_.shi_tomasi_block_size, spacing);
-  for (const cv::Point2f& c : corners) {
-    tracks.push_back(Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
-    ++out.n_new;
+  const bool with_depth = frame.hasDepth();
+  const bool check = with_depth && options_.occlusion_window_px > 0;
+  // Refused corners are replaced by the next candidates; a few rounds at most bound the cost
+  // when a scene is full of edges (what is still missing then is detected in the next image).
+  constexpr int kMaxRounds = 4;
+  for (int round = 0; !corners.empty(); ++round) {
+    std::vector<Eigen::Vector2d> centres;
+    for (const cv::Point2f& c : corners) centres.emplace_back(c.x, c.y);
+    if (with_depth) registrar_.registerMoreDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
+    for (size_t k = 0; k < corners.size(); ++k) {
+      if (check && straddlesOcclusion(depth_m_, centres[k], options_)) {
+        ++out.n_occluded_skipped;
+        continue;
+      }
+      const cv::Point2f& c = corners[k];
+      tracks.push_back(Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
+      ++out.n_new;
+      --missing;
+    }
+    if (missing <= 0 || round + 1 == kMaxRounds) break;
+    corners = detector_->detectMore(missing, spacing);
   }
 }
 
@@ -221,19 +265,30 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
   std::vector<Track> tracks;
   if (has_previous_) tracks = trackPrevious(pyramid, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
-  // pyramid[1]: Scharr derivatives of the full-resolution image (stored after each level).
-  distributeAndDetect(grey, pyramid[1], tracks, out);
+  FeatureSpacing spacing = distribute(grey, tracks, out);
+  out.n_tracked = static_cast<int>(tracks.size());
   out.timings.detect_ms = step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
   const bool with_depth = frame.hasDepth();
+  // Depth is registered only in the windows around features (the full image would cost several
+  // times more): first around the tracked ones, which are checked for occlusion boundaries
+  // before new corners are placed, then around each batch of new corners.
+  std::vector<cv::Point2f> occupied;
   if (with_depth) {
-    // Only the sampling windows are registered: the full image would cost several times more.
     std::vector<Eigen::Vector2d> centres;
     centres.reserve(tracks.size());
     for (const Track& t : tracks) centres.emplace_back(t.uv.x, t.uv.y);
-    registrar_.registerDepthAround(frame, cam_, centres, options_.depth_neighbourhood_px + 1, depth_m_);
+    registrar_.registerDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
+    dropOccluded(tracks, occupied, out.n_occluded);
+    out.n_tracked = static_cast<int>(tracks.size());
   }
+  out.timings.depth_ms = step.lapMs();
+  // pyramid[1]: Scharr derivatives of the full-resolution image (stored after each level).
+  detectNew(frame, grey, pyramid[1], tracks, occupied, spacing, out);
+  out.timings.detect_ms += step.lapMs();
+  // tracks: the tracked ones in id order, then the new ones with larger ids.
+
   out.features.reserve(tracks.size());
   for (const Track& t : tracks) {
     FeatureObservation obs;
@@ -246,7 +301,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
     if (obs.depth_m > 0.0) ++out.n_with_depth;
     out.features.push_back(obs);
   }
-  out.timings.depth_ms = step.lapMs();
+  out.timings.depth_ms += step.lapMs();
 
   std::swap(previous_pyramid_, spare_pyramid_);
   previous_tracks_ = std::move(tracks);

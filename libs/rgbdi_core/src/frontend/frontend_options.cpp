@@ -30,6 +30,8 @@ const IntKey kIntKeys[] = {
     {"klt_max_iterations", &FrontendOptions::klt_max_iterations, 1, 1000},
     {"depth_neighbourhood_px", &FrontendOptions::depth_neighbourhood_px, 0, 20},
     {"opencv_threads", &FrontendOptions::opencv_threads, 0, 256},
+    {"occlusion_window_px", &FrontendOptions::occlusion_window_px, 0, 50},
+    {"occlusion_sample_step_px", &FrontendOptions::occlusion_sample_step_px, 1, 20},
 };
 
 const DoubleKey kDoubleKeys[] = {
@@ -47,6 +49,8 @@ const DoubleKey kDoubleKeys[] = {
     {"depth_max_noise_sigmas", &FrontendOptions::depth_max_noise_sigmas, 0.0, 100.0},
     {"registration_fill_max_relative_diff", &FrontendOptions::registration_fill_max_relative_diff,
      0.0, 1.0},
+    {"occlusion_max_residual_sigmas", &FrontendOptions::occlusion_max_residual_sigmas, 0.1, 1000.0},
+    {"occlusion_min_valid_fraction", &FrontendOptions::occlusion_min_valid_fraction, 0.0, 1.0},
 };
 
 [[noreturn]] void failKey(const std::string& key, const std::string& what) {
@@ -73,6 +77,8 @@ void FrontendOptions::validate() const {
     }
   }
   if (depth_min_m >= depth_max_m) failKey("depth_min_m", "must be smaller than depth_max_m");
+  if (occlusion_window_px > 0 && !(depth_noise_coeff > 0.0))
+    failKey("depth_noise_coeff", "must be positive while occlusion_window_px is on (it scales the occlusion test)");
 }
 
 FrontendOptions FrontendOptions::load(IniReader& ini) {
@@ -83,6 +89,9 @@ FrontendOptions FrontendOptions::load(IniReader& ini) {
     o.*k.field = ini.getDouble(kSection, k.key, o.*k.field, k.min, k.max);
   if (o.depth_min_m >= o.depth_max_m)
     ini.fail(kSection, "depth_min_m", "must be smaller than depth_max_m");
+  if (o.occlusion_window_px > 0 && !(o.depth_noise_coeff > 0.0))
+    ini.fail(kSection, "depth_noise_coeff",
+             "must be positive while occlusion_window_px is on (it scales the occlusion test)");
   return o;
 }
 

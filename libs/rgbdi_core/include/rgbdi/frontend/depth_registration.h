@@ -44,6 +44,11 @@ class DepthRegistrar {
   /// (re)allocated as CV_32FC1 of the colour image size.
   void registerDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
                            const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out);
+  /// Adds the windows around further `centres` to `out` of the last registerDepthAround() call,
+  /// which must have been made with the same `frame` and `cam_color` (the depth points projected
+  /// then are kept); pixels already registered keep their values.
+  void registerMoreDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
+                               const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out);
 
  private:
   /// Validates the frame; for unaligned depth also prepares rays, projection and buffers.
@@ -58,6 +63,9 @@ class DepthRegistrar {
   /// Writes the final depth of the pixels in `rect` to `out` (needs values_ and cover_ one pixel
   /// around `rect`).
   void resolve(const cv::Rect& rect, cv::Mat& out) const;
+  /// Registers the windows around `centres` into `out` (prepared by the caller).
+  void registerWindows(const RgbdFrame& frame, const PinholeCamera& cam_color,
+                       const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out);
 
   FrontendOptions options_;
   PinholeCamera rays_camera_;    ///< intrinsics the cached rays belong to
@@ -68,6 +76,8 @@ class DepthRegistrar {
   float max_radius2_ = 0.0f;     ///< projection validity bound (see maxNormalisedRadius2)
   cv::Mat values_;               ///< nearest-pixel z-buffer, +max float = no point
   cv::Mat cover_;                ///< 2x2-footprint z-buffer, +max float = no point
+  double nearest_range_m_ = 0.0;  ///< of the current frame: no depth point is nearer (0 = none known)
+  bool any_depth_ = false;        ///< the current frame has a valid depth pixel
 };
 
 /// One-shot registration with the frame's own colour intrinsics (see DepthRegistrar).

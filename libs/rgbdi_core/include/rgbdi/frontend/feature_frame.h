@@ -45,6 +45,8 @@ struct FeatureFrame {
   int n_border_rejected = 0;  ///< tracked too close to (or beyond) the image border
   int n_ransac_rejected = 0;  ///< rejected as outliers of the fundamental matrix
   int n_too_close = 0;        ///< dropped because a longer-tracked feature is within min distance
+  int n_occluded = 0;         ///< tracked features dropped: their window straddles an occlusion boundary
+  int n_occluded_skipped = 0; ///< corners not taken as new features for the same reason
   int n_with_depth = 0;       ///< features with depth_m > 0
   FrontendTimings timings;
 };

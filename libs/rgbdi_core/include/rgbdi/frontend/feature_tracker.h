@@ -30,6 +30,8 @@ class CornerDetector;
 ///
 /// Deterministic: the same images give the same ids and positions (ids start at 0).
 /// Not thread-safe; use one tracker per camera stream.
+class FeatureSpacing;
+
 class FeatureTracker {
  public:
   /// `cam_color` is the colour camera used for undistortion and depth registration (the
@@ -65,9 +67,17 @@ class FeatureTracker {
   /// Forward/backward KLT, border and RANSAC checks; returns the surviving tracks moved to the
   /// current image (positions updated, lengths incremented).
   std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid, FeatureFrame& out);
-  /// Keeps features min_distance_px apart (longest-tracked first), then tops up with new corners.
-  void distributeAndDetect(const cv::Mat& grey, const cv::Mat& derivatives, std::vector<Track>& tracks,
-                           FeatureFrame& out);
+  /// Keeps features min_distance_px apart (longest-tracked first); returns the spacing of those kept.
+  FeatureSpacing distribute(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out);
+  /// Drops the tracks whose window straddles an occlusion boundary in depth_m_ (their places stay
+  /// taken in `spacing` and in `occupied`, so no corner on the same edge replaces them at once).
+  void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, int& dropped) const;
+  /// Tops `tracks` up to max_features with new corners away from `occupied`; with depth, corners
+  /// on occlusion boundaries are refused and the next candidates taken instead.
+  void detectNew(const RgbdFrame& frame, const cv::Mat& grey, const cv::Mat& derivatives, std::vector<Track>& tracks,
+                 std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing, FeatureFrame& out);
+  /// Half-size of the depth windows registered around features.
+  int depthWindowRadius() const;
 
   FrontendOptions options_;
   PinholeCamera cam_;

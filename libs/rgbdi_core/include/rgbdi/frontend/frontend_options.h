@@ -40,6 +40,14 @@ struct FrontendOptions {
   /// never rejects a feature at range; 0 disables the allowance.
   double depth_noise_coeff = 0.004;
   double depth_max_noise_sigmas = 5.0;  ///< [unitless]
+  /// Occlusion boundaries (rgbdi/frontend/occlusion_test.h): a feature whose KLT window holds two
+  /// surfaces (the inverse-depth plane fit of the window leaves more than
+  /// occlusion_max_residual_sigmas of depth noise) is not detected there and is dropped when a
+  /// tracked one comes to straddle one. 0 turns the check off.
+  int occlusion_window_px = 10;           ///< [px] half-size of the checked window (KLT window / 2)
+  int occlusion_sample_step_px = 2;       ///< [px] pixel step of the depth samples in that window
+  double occlusion_max_residual_sigmas = 5.0;  ///< [unitless] RMS plane residual allowed, in sigmas
+  double occlusion_min_valid_fraction = 0.5;   ///< [unitless] samples with depth needed to judge
   /// [unitless] depth registration: a crack pixel is filled only when its two opposite neighbours
   /// agree within this fraction of their depth.
   double registration_fill_max_relative_diff = 0.02;
