@@ -103,6 +103,30 @@ TEST(RosImage, DepthEncodingsKeepUnits) {
   EXPECT_EQ(decodeDepthImage(bef, 1e-3, 1e-4, "l").depth.at<std::uint16_t>(0, 0), 20000);
 }
 
+TEST(RosImage, RowPaddingThatIsNotAWholeValueIsCopiedOut) {
+  // Fuzzing finding (2026-12-03): a 16/32-bit image whose row step is not a multiple of the value
+  // size made OpenCV throw from the Mat header (an uncaught cv::Exception ended the converter).
+  // Two rows of 2 uint16 with 1 byte of padding: step 5.
+  const DepthImage d = decodeDepthImage(
+      image("16UC1", 2, 2, 5, {0x01, 0x00, 0x02, 0x00, 0xff, 0x03, 0x00, 0x04, 0x00, 0xff}), 1e-3,
+      1e-3, "l");
+  ASSERT_EQ(d.depth.type(), CV_16UC1);
+  EXPECT_EQ(d.depth.at<std::uint16_t>(0, 0), 1);
+  EXPECT_EQ(d.depth.at<std::uint16_t>(0, 1), 2);
+  EXPECT_EQ(d.depth.at<std::uint16_t>(1, 0), 3);
+  EXPECT_EQ(d.depth.at<std::uint16_t>(1, 1), 4);
+  const float a = 1.5f, b = 2.5f;
+  std::vector<std::uint8_t> bytes(2 * 7, 0xee);  // 1x1 float rows, step 7
+  std::memcpy(bytes.data(), &a, 4);
+  std::memcpy(bytes.data() + 7, &b, 4);
+  const DepthImage f = decodeDepthImage(image("32FC1", 1, 2, 7, bytes), 1e-3, 1e-3, "l");
+  EXPECT_EQ(f.depth.at<std::uint16_t>(0, 0), 1500);
+  EXPECT_EQ(f.depth.at<std::uint16_t>(1, 0), 2500);
+  // Sizes beyond what an image header holds are refused, not wrapped round.
+  EXPECT_THROW(decodeDepthImage(image("16UC1", 0x80000000u, 1, 0, {}), 1e-3, 1e-3, "l"),
+               ImageDecodeError);
+}
+
 TEST(RosImage, ErrorsNameTheMessageAndTheEncoding) {
   try {
     decodeDepthImage(image("bayer_rggb8", 2, 1, 2, {1, 2}), 1e-3, 1e-3, "x.bag /d message 3");

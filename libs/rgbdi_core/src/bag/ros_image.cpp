@@ -29,8 +29,19 @@ cv::Mat view(const sensor_msgs::Image& m, int type, const std::string& label) {
     throw ImageDecodeError(label + ": " + std::to_string(m.data.size()) + " bytes of data for " +
                            std::to_string(m.height) + " rows of " + std::to_string(m.step) +
                            " bytes");
-  return cv::Mat(static_cast<int>(m.height), static_cast<int>(m.width), type,
-                 const_cast<std::uint8_t*>(m.data.data()), m.step);
+  if (m.width > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
+      m.height > static_cast<std::uint32_t>(std::numeric_limits<int>::max()))
+    throw ImageDecodeError(label + ": image size " + std::to_string(m.width) + "x" +
+                           std::to_string(m.height) + " is too large");
+  const int rows = static_cast<int>(m.height), cols = static_cast<int>(m.width);
+  if (m.step % CV_ELEM_SIZE1(type) == 0)
+    return cv::Mat(rows, cols, type, const_cast<std::uint8_t*>(m.data.data()), m.step);
+  // A row padding that is not a whole number of channel values (legal in the message, refused
+  // by a cv::Mat header): copy the rows out.
+  cv::Mat packed(rows, cols, type);
+  for (int r = 0; r < rows; ++r)
+    std::memcpy(packed.ptr(r), m.data.data() + static_cast<std::size_t>(r) * m.step, cols * bpp);
+  return packed;
 }
 
 /// 16-bit data in host order (copy; byte-swapped when the message is big-endian).
