@@ -44,6 +44,7 @@ TEST(LoopVerificationOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.min_depth_inliers, d.min_depth_inliers);
   EXPECT_EQ(f.min_depth_inlier_fraction, d.min_depth_inlier_fraction);
   EXPECT_EQ(f.refine_rounds, d.refine_rounds);
+  EXPECT_DOUBLE_EQ(f.keypoint_sigma_px, d.keypoint_sigma_px);
   EXPECT_EQ(f.max_gravity_deg, d.max_gravity_deg);
   EXPECT_EQ(f.max_yaw_deg, d.max_yaw_deg);
   EXPECT_EQ(f.max_translation_m, d.max_translation_m);
@@ -60,7 +61,7 @@ TEST(LoopVerificationOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(d.min_pnp_inliers, 25);
   EXPECT_EQ(d.max_yaw_deg, 30.0);
   // Every verify_* key of the file was read (other [loop] keys belong to other modules), and
-  // the file has exactly the 26 keys compared above.
+  // the file has exactly the 27 keys compared above.
   for (const char* s : {"camera", "imu", "extrinsic", "stream", "frontend", "estimator", "mapping",
                         "output", "sim", "convert"})
     ini.acceptSection(s);
@@ -76,7 +77,7 @@ TEST(LoopVerificationOptions, DefaultsEqualTheShippedConfig) {
     if (!line.empty() && line[0] == '[') section = line;
     if (section == "[loop]" && line.rfind("verify_", 0) == 0) ++verify_keys;
   }
-  EXPECT_EQ(verify_keys, 26);
+  EXPECT_EQ(verify_keys, 27);
 }
 
 TEST(LoopVerificationOptions, ReadsValuesFromTheFile) {

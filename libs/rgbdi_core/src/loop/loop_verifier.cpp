@@ -50,8 +50,11 @@ struct DepthPair {
   Eigen::Vector3d p_query;  ///< query camera frame
   Eigen::Vector3d p_cand;   ///< candidate camera frame
   double tolerance_m;
-  double weight;
 };
+
+/// Gauss-Newton iterations of one refinement round (it starts at the PnP pose, a few
+/// millimetres away: two or three iterations converge; the rest is margin).
+constexpr int kRefineIterations = 5;
 
 /// Free-space evidence of one direction: the samples of grid `from` (in its camera frame) moved by
 /// T_to_from into the other camera and compared with grid `to` around where they land. A sample
@@ -267,8 +270,6 @@ LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyfr
     const double zq2 = p.p_query.z() * p.p_query.z(), zc2 = p.p_cand.z() * p.p_cand.z();
     const double sigma = o.depth_noise_coeff * std::sqrt(zq2 * zq2 + zc2 * zc2);
     p.tolerance_m = o.depth_tolerance_m + o.depth_tolerance_sigmas * sigma;
-    // Weight by the expected error; the floor only keeps a zero tolerance finite.
-    p.weight = 1.0 / std::max(p.tolerance_m * p.tolerance_m, 1e-18);
     pairs.push_back(p);
   }
   std::vector<char> agree(pairs.size(), 0);
@@ -281,17 +282,24 @@ LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyfr
     return n;
   };
   int n_agree = selectAgreeing(T_cc_qc);
+  // Each point's noise: across the ray verify_keypoint_sigma_px at its range, along it the
+  // depth noise (coeff z^2, stretched from z to the ray).
+  const double f = 0.5 * (cam_.fx + cam_.fy);
+  auto rgbdPoint = [&](const Eigen::Vector3d& p) {
+    const double range = p.norm();
+    // (The floor keeps the covariance invertible when the depth noise is configured as 0.)
+    return RgbdPoint{p, o.keypoint_sigma_px * range / f,
+                     std::max(1e-6, o.depth_noise_coeff * p.z() * range)};
+  };
   for (int round = 0; round < o.refine_rounds; ++round) {
-    std::vector<Eigen::Vector3d> src, dst;
-    std::vector<double> w;
+    std::vector<RgbdPoint> src, dst;
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       if (!agree[i]) continue;
-      src.push_back(pairs[i].p_query);
-      dst.push_back(pairs[i].p_cand);
-      w.push_back(pairs[i].weight);
+      src.push_back(rgbdPoint(pairs[i].p_query));
+      dst.push_back(rgbdPoint(pairs[i].p_cand));
     }
-    Eigen::Isometry3d T_fit;
-    if (!fitRigidWeighted(src, dst, w, T_fit)) break;
+    Eigen::Isometry3d T_fit = T_cc_qc;
+    if (!refineRigidAnisotropic(src, dst, kRefineIterations, T_fit)) break;
     const Eigen::Isometry3d T_prev = T_cc_qc;
     T_cc_qc = T_fit;
     const int n_new = selectAgreeing(T_cc_qc);

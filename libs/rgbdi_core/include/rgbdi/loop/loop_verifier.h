@@ -42,9 +42,12 @@ struct LoopVerificationOptions {
   int min_depth_inliers = 20;           ///< [count] agreeing pairs needed
   /// [unitless] agreeing share of the PnP inliers that have depth on both sides
   double min_depth_inlier_fraction = 0.6;
-  /// [count] re-selections of the agreeing pairs and weighted Horn fits after PnP (0 = keep
+  /// [count] re-selections of the agreeing pairs and maximum-likelihood rigid refinements of
+  /// the PnP pose on them (both keyframes' points with anisotropic noise, rigid_fit.h; 0 = keep
   /// the PnP pose)
   int refine_rounds = 2;
+  /// [px] keypoint position noise, the lateral part of a 3-D point's noise in that refinement
+  double keypoint_sigma_px = 1.0;
 
   // --- gates on the relative pose ---
   /// [deg] angle between the gravity direction in the query body frame implied by the loop and
