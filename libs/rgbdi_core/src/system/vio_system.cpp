@@ -63,7 +63,7 @@ void VioSystem::endOfStream() {
   // Nothing leaves the window any more: the images kept for that (about a dozen frames, 15 MB
   // at 640x480) and the tracker's pyramids are released before the outputs are written.
   recent_frames_ = {};
-  tracker_->reset();
+  if (tracker_) tracker_->reset();  // none when no image arrived
 }
 
 void VioSystem::processReady(bool flush) {
