@@ -134,6 +134,20 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   negative.replace(negative.find("gyr_w: 2.0e-5"), 13, "gyr_w: -1");
   expectError(negative, "gyr_w: must be positive");
   EXPECT_THROW(readVinsYaml(dir + "/none.yaml"), ConfigError);
+  // Fuzzing finding 5 (2026-12-03): a damaged matrix block made OpenCV's YAML parser throw
+  // std::length_error, which ended the converter instead of a ConfigError naming the file.
+  std::string damaged = text;
+  const std::size_t block = damaged.find("extrinsicTranslation");
+  damaged.replace(damaged.find("cols: 1", block), 7, ":cosl 1");
+  const std::string damaged_path = write(dir, "damaged.yaml", damaged);
+  try {
+    readVinsYaml(damaged_path);
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(damaged_path + ": not a readable OpenCV YAML file"),
+              std::string::npos)
+        << e.what();
+  }
   // A value rgbdi does not accept is reported when the INI is generated.
   std::string low_g = text;
   low_g.replace(low_g.find("g_norm: 9.805"), 13, "g_norm: 1.0");

@@ -20,6 +20,10 @@ class YamlReader {
       fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
     } catch (const cv::Exception& e) {
       throw ConfigError(path + ": not a readable OpenCV YAML file: " + e.err);
+    } catch (const std::exception& e) {
+      // OpenCV's parser also lets standard exceptions out of damaged text (fuzzing finding 5:
+      // std::length_error from a string it sizes by a corrupt length).
+      throw ConfigError(path + ": not a readable OpenCV YAML file: " + e.what());
     }
     if (!fs_.isOpened()) throw ConfigError(path + ": not a readable OpenCV YAML file");
   }
@@ -49,6 +53,8 @@ class YamlReader {
       fs_[key] >> m;
     } catch (const cv::Exception& e) {
       fail(key, "not an opencv-matrix: " + e.err);
+    } catch (const std::exception& e) {
+      fail(key, std::string("not an opencv-matrix: ") + e.what());
     }
     if (m.empty()) fail(key, "missing or not an opencv-matrix");
     if (m.total() != static_cast<std::size_t>(rows * cols))
