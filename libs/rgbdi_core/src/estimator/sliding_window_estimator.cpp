@@ -542,7 +542,8 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     for (std::size_t k = 0; k < window_.size(); ++k) assignMotionFieldVelocities(k);
     if (window_.size() >= 2) optimise(&out, false);
   } else {
-    if (static_cast<int>(frame.features.size()) >= opt_.fail_min_features) {
+    out.blind = static_cast<int>(frame.features.size()) < opt_.fail_min_features;
+    if (!out.blind) {
       last_sighted_t_ = t;
     } else if (opt_.fail_max_blind_s > 0.0 && t - last_sighted_t_ > opt_.fail_max_blind_s) {
       logFmt(mrpt::system::LVL_WARN,

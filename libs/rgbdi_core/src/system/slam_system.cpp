@@ -1,6 +1,7 @@
 #include "rgbdi/system/slam_system.h"
 
 #include <algorithm>
+#include <map>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -162,6 +163,7 @@ void SlamSystem::onFrame(const estimator::FrameEstimate& est, const RgbdFrame&) 
   r.t_image = est.t_image;
   r.segment = frame_segment_;
   r.T_world_body_odom = est.T_world_body;
+  r.blind = est.blind;
   bool in_origin = false;
   r.T_world_body_online = onlineDrift(frame_segment_, &in_origin) * est.T_world_body;
   r.online_in_map = options_.map && in_origin;
@@ -441,8 +443,19 @@ Trajectory SlamSystem::finalTrajectory() const {
   t.reserve(frames_.size());
   std::size_t k = 0;
   const std::size_t nk = keyframe_states_.size();
-  for (const FrameRecord& r : frames_) {
+  // A segment that ended in a reset ends with the frames the estimator went blind on: IMU-only
+  // dead reckoning it gave up on (on the wheeled circle its error grows to 4 cm in the blind
+  // second). The best estimate leaves them out: the gap starts where vision stopped. Frames of
+  // a blindness the odometry bridged (no reset) stay.
+  std::map<int, std::size_t> sight_end;  // per segment: index after its last frame with sight
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    auto& end = sight_end[frames_[i].segment];  // 0 for a segment not seen yet
+    if (!frames_[i].blind) end = i + 1;
+  }
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    const FrameRecord& r = frames_[i];
     if (hasMap() && !segmentInOrigin(r.segment)) continue;  // never placed in the map
+    if (r.segment < frame_segment_ && i >= sight_end[r.segment]) continue;  // blind before a reset
     while (k + 1 < nk && (keyframe_states_[k + 1].state.segment < r.segment ||
                           (keyframe_states_[k + 1].state.segment == r.segment &&
                            keyframe_states_[k + 1].state.t_imu <= r.t_imu)))
@@ -473,10 +486,14 @@ Trajectory SlamSystem::finalTrajectory() const {
 
 Trajectory SlamSystem::toCameraFrame(const Trajectory& body) const {
   // Camera poses carry the image stamps (camera clock): same order as frames_.
+  // `body` may leave frames out (blind frames before a reset, segments never placed in a map):
+  // each pose finds its frame by its IMU-clock stamp, walking both in order.
   Trajectory t;
   t.reserve(body.size());
+  std::size_t j = 0;
   for (std::size_t i = 0; i < body.size(); ++i) {
-    const double stamp = i < frames_.size() ? frames_[i].t_image : body[i].t;
+    while (j < frames_.size() && frames_[j].t_imu < body[i].t) ++j;
+    const double stamp = j < frames_.size() && frames_[j].t_imu == body[i].t ? frames_[j].t_image : body[i].t;
     t.push_back(StampedPose::fromIsometry(stamp, body[i].isometry() * cfg_.extrinsic.T_body_cam));
   }
   return t;

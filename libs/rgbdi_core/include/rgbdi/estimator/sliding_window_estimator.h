@@ -46,6 +46,9 @@ struct FrameEstimate {
   EstimatorStatus status = EstimatorStatus::kInitializing;
   bool just_initialised = false;
   bool reset = false;  ///< a failure was detected and the estimator restarted
+  /// While tracking: the frame had fewer than fail_min_features features (its pose is the IMU's
+  /// propagation; if the blindness lasts past fail_max_blind_s the estimator resets).
+  bool blind = false;
   int n_features_used = 0;
   int n_depth_verified = 0;
   double ms_optimisation = 0.0;

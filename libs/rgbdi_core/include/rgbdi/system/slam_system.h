@@ -66,6 +66,7 @@ struct FrameRecord {
       Eigen::Isometry3d::Identity();  ///< with the drift known then
   /// With a map: the online pose is in the map's frame (the segment was relocalised then).
   bool online_in_map = false;
+  bool blind = false;  ///< too few features: an IMU-only pose (FrameEstimate::blind)
 };
 
 /// Map state of a run (SlamProgress, summary).
