@@ -139,6 +139,16 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   std::string damaged = text;
   const std::size_t block = damaged.find("extrinsicTranslation");
   damaged.replace(damaged.find("cols: 1", block), 7, ":cosl 1");
+  // Finding 6: a top-level sequence made OpenCV assert in every key look-up.
+  const std::string list_path = write(dir, "list.yaml", "%YAML:1.0\n- model_type: PINHOLE\n- 1\n");
+  try {
+    readVinsYaml(list_path);
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(list_path + ": not a VINS yaml: the top level is not a mapping"),
+              std::string::npos)
+        << e.what();
+  }
   const std::string damaged_path = write(dir, "damaged.yaml", damaged);
   try {
     readVinsYaml(damaged_path);

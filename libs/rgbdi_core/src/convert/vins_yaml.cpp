@@ -26,6 +26,10 @@ class YamlReader {
       throw ConfigError(path + ": not a readable OpenCV YAML file: " + e.what());
     }
     if (!fs_.isOpened()) throw ConfigError(path + ": not a readable OpenCV YAML file");
+    // Keys are looked up in the top-level node: OpenCV asserts (throws) when it is not a mapping
+    // (fuzzing finding 6: a top-level sequence).
+    if (!fs_.root().isMap())
+      throw ConfigError(path + ": not a VINS yaml: the top level is not a mapping of keys");
   }
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
