@@ -257,7 +257,6 @@ cv::Mat DepthRegistrar::registerDepth(const RgbdFrame& frame, const PinholeCamer
 
 void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
                                          const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
-  if (radius_px < 0) throw std::invalid_argument("registerDepthAround: negative radius " + std::to_string(radius_px));
   prepare(frame, cam_color);
   out.create(cam_color.height, cam_color.width, CV_32F);
   out.setTo(0.0f);
@@ -275,7 +274,6 @@ void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCa
 void DepthRegistrar::registerMoreDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
                                              const std::vector<Eigen::Vector2d>& centres, int radius_px,
                                              cv::Mat& out) {
-  if (radius_px < 0) throw std::invalid_argument("registerDepthAround: negative radius " + std::to_string(radius_px));
   if (out.type() != CV_32FC1 || out.cols != cam_color.width || out.rows != cam_color.height)
     throw std::invalid_argument("registerMoreDepthAround: `out` is not the result of registerDepthAround");
   registerWindows(frame, cam_color, centres, radius_px, out);
@@ -283,6 +281,7 @@ void DepthRegistrar::registerMoreDepthAround(const RgbdFrame& frame, const Pinho
 
 void DepthRegistrar::registerWindows(const RgbdFrame& frame, const PinholeCamera& cam_color,
                                      const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
+  if (radius_px < 0) throw std::invalid_argument("registerDepthAround: negative radius " + std::to_string(radius_px));
   const cv::Rect all(0, 0, cam_color.width, cam_color.height);
   if (frame.depth_aligned_to_color) {
     for (const Eigen::Vector2d& c : centres) {

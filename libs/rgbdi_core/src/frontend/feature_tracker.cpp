@@ -266,7 +266,6 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
   if (has_previous_) tracks = trackPrevious(pyramid, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
   FeatureSpacing spacing = distribute(grey, tracks, out);
-  out.n_tracked = static_cast<int>(tracks.size());
   out.timings.detect_ms = step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
@@ -281,8 +280,8 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
     for (const Track& t : tracks) centres.emplace_back(t.uv.x, t.uv.y);
     registrar_.registerDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
     dropOccluded(tracks, occupied, out.n_occluded);
-    out.n_tracked = static_cast<int>(tracks.size());
   }
+  out.n_tracked = static_cast<int>(tracks.size());
   out.timings.depth_ms = step.lapMs();
   // pyramid[1]: Scharr derivatives of the full-resolution image (stored after each level).
   detectNew(frame, grey, pyramid[1], tracks, occupied, spacing, out);

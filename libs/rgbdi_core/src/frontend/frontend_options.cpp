@@ -53,6 +53,14 @@ const DoubleKey kDoubleKeys[] = {
     {"occlusion_min_valid_fraction", &FrontendOptions::occlusion_min_valid_fraction, 0.0, 1.0},
 };
 
+/// Rules between keys, shared by validate() and load(): `fail(key, what)` does not return.
+template <typename Fail>
+void checkConsistency(const FrontendOptions& o, Fail&& fail) {
+  if (o.depth_min_m >= o.depth_max_m) fail("depth_min_m", "must be smaller than depth_max_m");
+  if (o.occlusion_window_px > 0 && !(o.depth_noise_coeff > 0.0))
+    fail("depth_noise_coeff", "must be positive while occlusion_window_px is on (it scales the occlusion test)");
+}
+
 [[noreturn]] void failKey(const std::string& key, const std::string& what) {
   throw ConfigError("FrontendOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
@@ -76,9 +84,7 @@ void FrontendOptions::validate() const {
       failKey(k.key, os.str());
     }
   }
-  if (depth_min_m >= depth_max_m) failKey("depth_min_m", "must be smaller than depth_max_m");
-  if (occlusion_window_px > 0 && !(depth_noise_coeff > 0.0))
-    failKey("depth_noise_coeff", "must be positive while occlusion_window_px is on (it scales the occlusion test)");
+  checkConsistency(*this, failKey);
 }
 
 FrontendOptions FrontendOptions::load(IniReader& ini) {
@@ -87,11 +93,7 @@ FrontendOptions FrontendOptions::load(IniReader& ini) {
     o.*k.field = ini.getInt(kSection, k.key, o.*k.field, k.min, k.max);
   for (const DoubleKey& k : kDoubleKeys)
     o.*k.field = ini.getDouble(kSection, k.key, o.*k.field, k.min, k.max);
-  if (o.depth_min_m >= o.depth_max_m)
-    ini.fail(kSection, "depth_min_m", "must be smaller than depth_max_m");
-  if (o.occlusion_window_px > 0 && !(o.depth_noise_coeff > 0.0))
-    ini.fail(kSection, "depth_noise_coeff",
-             "must be positive while occlusion_window_px is on (it scales the occlusion test)");
+  checkConsistency(o, [&ini](const std::string& key, const std::string& what) { ini.fail(kSection, key, what); });
   return o;
 }
 

@@ -37,9 +37,6 @@ bool fitRigidWeighted(const std::vector<Eigen::Vector3d>& src,
   return true;
 }
 
-}  // namespace rgbdi::loop
-
-namespace rgbdi::loop {
 
 Eigen::Matrix3d rgbdPointCovariance(const RgbdPoint& point) {
   const double n = point.p.norm();

@@ -1,9 +1,9 @@
 #include "rgbdi/system/slam_system.h"
 
 #include <algorithm>
-#include <map>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -485,8 +485,7 @@ Trajectory SlamSystem::finalTrajectory() const {
 }
 
 Trajectory SlamSystem::toCameraFrame(const Trajectory& body) const {
-  // Camera poses carry the image stamps (camera clock): same order as frames_.
-  // `body` may leave frames out (blind frames before a reset, segments never placed in a map):
+  // Camera poses carry the image stamps (camera clock). `body` may leave frames out (blind frames before a reset, segments never placed in a map):
   // each pose finds its frame by its IMU-clock stamp, walking both in order.
   Trajectory t;
   t.reserve(body.size());

@@ -14,9 +14,6 @@ bool fitRigidWeighted(const std::vector<Eigen::Vector3d>& src,
                       const std::vector<Eigen::Vector3d>& dst, const std::vector<double>& weights,
                       Eigen::Isometry3d& T_dst_src);
 
-}  // namespace rgbdi::loop
-
-namespace rgbdi::loop {
 
 /// A 3-D point measured by an RGB-D camera: its position in that camera's frame and the
 /// standard deviations of the measurement across the viewing ray (pixel noise times range) and
