@@ -28,13 +28,17 @@ int main(int argc, char** argv) {
   const std::string gt_path = data + "/eval/euroc_v102_stamped_groundtruth.txt";
   const std::string est_path = data + "/eval/euroc_v102_stamped_estimate0.txt";
   if (!std::filesystem::exists(gt_path)) {
-    std::fprintf(stderr, "bench_eval: %s not found (pass the shared data directory)\n", gt_path.c_str());
+    std::fprintf(stderr, "bench_eval: %s not found (pass the shared data directory)\n",
+                 gt_path.c_str());
     return 1;
   }
   rgbdi::Trajectory gt, est;
-  std::printf("readTum ground truth          %8.2f ms\n", millis([&] { gt = rgbdi::eval::readTum(gt_path); }));
-  std::printf("readTum estimate             %8.2f ms\n", millis([&] { est = rgbdi::eval::readTum(est_path); }));
-  for (const auto mode : {rgbdi::eval::AlignMode::Se3, rgbdi::eval::AlignMode::Sim3, rgbdi::eval::AlignMode::PosYaw}) {
+  std::printf("readTum ground truth          %8.2f ms\n",
+              millis([&] { gt = rgbdi::eval::readTum(gt_path); }));
+  std::printf("readTum estimate             %8.2f ms\n",
+              millis([&] { est = rgbdi::eval::readTum(est_path); }));
+  for (const auto mode : {rgbdi::eval::AlignMode::Se3, rgbdi::eval::AlignMode::Sim3,
+                          rgbdi::eval::AlignMode::PosYaw}) {
     rgbdi::eval::EvalOptions opt;
     opt.align = mode;
     rgbdi::eval::EvalResult r;

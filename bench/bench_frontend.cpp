@@ -1,14 +1,13 @@
 // Front-end timing on synthetic 640x480 images: a random-rectangle texture panned, rotated and
 // zoomed across 300 frames, with D435-like depth that is not aligned to colour. Prints ms/frame
 // per step. Single-threaded OpenCV, as on one core of the target machine.
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <time.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <vector>
 
@@ -35,9 +34,11 @@ cv::Mat texture(int w, int h, std::uint64_t seed) {
 /// Texture -> image k: a slow pan with oscillating rotation and zoom (about 2-4 px per frame).
 cv::Mat motion(int k) {
   const double a = 0.02 * std::sin(0.05 * k), s = 1.0 + 0.05 * std::sin(0.03 * k);
-  cv::Mat M = (cv::Mat_<double>(3, 3) << s * std::cos(a), -s * std::sin(a), 0, s * std::sin(a), s * std::cos(a), 0, 0, 0, 1);
+  cv::Mat M = (cv::Mat_<double>(3, 3) << s * std::cos(a), -s * std::sin(a), 0, s * std::sin(a),
+               s * std::cos(a), 0, 0, 0, 1);
   const cv::Mat centre = (cv::Mat_<double>(3, 3) << 1, 0, 320, 0, 1, 240, 0, 0, 1);
-  const cv::Mat pan = (cv::Mat_<double>(3, 3) << 1, 0, -500 - 2.0 * k, 0, 1, -400 - 0.7 * k, 0, 0, 1);
+  const cv::Mat pan =
+      (cv::Mat_<double>(3, 3) << 1, 0, -500 - 2.0 * k, 0, 1, -400 - 0.7 * k, 0, 0, 1);
   return centre * M * pan;
 }
 
@@ -84,13 +85,15 @@ int main() {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int v = 0; v < 480; ++v)
     for (int u = 0; u < 640; ++u)
-      depth.at<std::uint16_t>(v, u) = unit(rng) < 0.02 ? 0 : static_cast<std::uint16_t>(1200 + 1.9 * u);
+      depth.at<std::uint16_t>(v, u) =
+          unit(rng) < 0.02 ? 0 : static_cast<std::uint16_t>(1200 + 1.9 * u);
 
   std::printf("preparing %d frames...\n", kFrames);
   std::vector<RgbdFrame> frames(kFrames);
   for (int k = 0; k < kFrames; ++k) {
     cv::Mat grey;
-    cv::warpPerspective(tex, grey, motion(k), cv::Size(640, 480), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+    cv::warpPerspective(tex, grey, motion(k), cv::Size(640, 480), cv::INTER_LINEAR,
+                        cv::BORDER_REFLECT);
     RgbdFrame& f = frames[static_cast<size_t>(k)];
     f.t = k / 30.0;
     f.index = static_cast<std::uint64_t>(k);
@@ -105,7 +108,8 @@ int main() {
 
   const FrontendOptions options;
   FeatureTracker tracker(options, cam);
-  Stat grey, pyramid, klt, ransac, detect, depth_ms, tracking, total, cpu, tracked, fresh, with_depth;
+  Stat grey, pyramid, klt, ransac, detect, depth_ms, tracking, total, cpu, tracked, fresh,
+      with_depth;
   for (int k = 0; k < kFrames; ++k) {
     const double cpu0 = threadCpuMs();
     const FeatureFrame f = tracker.track(frames[static_cast<size_t>(k)]);
@@ -115,7 +119,8 @@ int main() {
     pyramid.add(f.timings.pyramid_ms);
     klt.add(f.timings.klt_ms);
     ransac.add(f.timings.ransac_ms);
-    if (f.n_tracked < options.max_features) detect.add(f.timings.detect_ms);  // frames that detected
+    if (f.n_tracked < options.max_features)
+      detect.add(f.timings.detect_ms);  // frames that detected
     depth_ms.add(f.timings.depth_ms);
     tracking.add(f.timings.trackingMs());
     total.add(f.timings.total_ms);
@@ -124,11 +129,13 @@ int main() {
     fresh.add(f.n_new);
     with_depth.add(f.n_with_depth);
   }
-  std::printf("frontend, %d frames 640x480, max_features %d, 1 OpenCV thread\n", kFrames, options.max_features);
+  std::printf("frontend, %d frames 640x480, max_features %d, 1 OpenCV thread\n", kFrames,
+              options.max_features);
   std::printf("  wall-clock time per step (from FeatureFrame::timings):\n");
   std::printf("  %-32s %8s %8s %8s\n", "step", "min ms", "median", "p95");
   auto row = [](const char* name, const Stat& s) {
-    std::printf("  %-32s %8.3f %8.3f %8.3f\n", name, s.percentile(0.0), s.percentile(0.5), s.percentile(0.95));
+    std::printf("  %-32s %8.3f %8.3f %8.3f\n", name, s.percentile(0.0), s.percentile(0.5),
+                s.percentile(0.95));
   };
   row("grey conversion", grey);
   row("pyramid + derivatives", pyramid);
@@ -141,7 +148,7 @@ int main() {
   std::printf("  (* over the %zu frames that ran the detector)\n", detect.v.size());
   std::printf("  thread CPU time of track():\n");
   row("total per frame (CPU)", cpu);
-  std::printf("  features per frame (median): %.0f tracked, %.0f new, %.0f with depth\n", tracked.percentile(0.5),
-              fresh.percentile(0.5), with_depth.percentile(0.5));
+  std::printf("  features per frame (median): %.0f tracked, %.0f new, %.0f with depth\n",
+              tracked.percentile(0.5), fresh.percentile(0.5), with_depth.percentile(0.5));
   return 0;
 }

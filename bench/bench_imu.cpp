@@ -2,7 +2,6 @@
 // repropagated sample, and per ImuFactor evaluation with and without Jacobians.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -83,7 +82,8 @@ int main() {
   std::array<double, 7> pose_i = {1, 2, 3, Qi.x(), Qi.y(), Qi.z(), Qi.w()};
   std::array<double, 7> pose_j = {Pj.x() + 0.01, Pj.y(), Pj.z(), Qj.x(), Qj.y(), Qj.z(), Qj.w()};
   std::array<double, 9> sb_i = {0.5, 0, 0, ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z()};
-  std::array<double, 9> sb_j = {Vj.x(), Vj.y(), Vj.z(), ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z()};
+  std::array<double, 9> sb_j = {Vj.x(), Vj.y(), Vj.z(), ba.x(), ba.y(),
+                                ba.z(), bg.x(), bg.y(), bg.z()};
   const ImuFactor factor(&frame, g);
   const double* params[] = {pose_i.data(), sb_i.data(), pose_j.data(), sb_j.data()};
   std::array<double, 15> res{};

@@ -134,15 +134,14 @@ void printDetail(const sim::SimulatedSequence& seq, const Session& first,
     for (const loop::LoopRecord& lr : lc->loops()) {
       const auto it = map_t.find(lr.constraint.from_id);
       if (it == map_t.end()) continue;
-      const Eigen::Isometry3d E =
-          (first.seq->groundTruth(it->second).T_world_body.inverse() *
-           seq.groundTruth(lr.t_query).T_world_body)
-              .inverse() *
-          lr.constraint.T_from_to;
+      const Eigen::Isometry3d E = (first.seq->groundTruth(it->second).T_world_body.inverse() *
+                                   seq.groundTruth(lr.t_query).T_world_body)
+                                      .inverse() *
+                                  lr.constraint.T_from_to;
       std::cout << "    map loop at " << std::fixed << std::setprecision(2) << lr.t_query - t0
                 << " s: map keyframe " << lr.constraint.from_id << " (first run "
-                << it->second - first.seq->frameStamp(0) << " s), error " << cm(E.translation().norm())
-                << " cm, yaw " << std::setprecision(3)
+                << it->second - first.seq->frameStamp(0) << " s), error "
+                << cm(E.translation().norm()) << " cm, yaw " << std::setprecision(3)
                 << std::atan2(E.linear()(1, 0), E.linear()(0, 0)) * 180.0 / M_PI << " deg"
                 << (lr.rolled_back ? " (rolled back)" : "") << "\n";
     }

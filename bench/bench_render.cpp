@@ -1,14 +1,13 @@
 // Renderer throughput on one core: a furnished room (~150 primitives) rendered at 640x480 from
 // several poses. Prints ms/frame and frames/s; `--save DIR` also writes the frames as PNG.
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <time.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -28,9 +27,9 @@ double threadCpuMs() {
 
 // Camera optical frame looking along `forward` (horizontal), z forward, y down.
 Eigen::Isometry3d lookFrom(const Eigen::Vector3d& eye, double yaw, double pitch) {
-  const Eigen::Matrix3d R_world_body =
-      (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
-          .toRotationMatrix();
+  const Eigen::Matrix3d R_world_body = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                        Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()))
+                                           .toRotationMatrix();
   Eigen::Matrix3d R_body_cam;  // optical (x right, y down, z fwd) in body (x fwd, y left, z up)
   R_body_cam << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -55,17 +54,20 @@ int main(int argc, char** argv) {
   const auto t_build0 = std::chrono::steady_clock::now();
   const rgbdi::sim::Scene scene = rgbdi::sim::makeFurnishedRoom(1);
   const double build_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_build0).count();
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_build0)
+          .count();
   const rgbdi::PinholeCamera cam = rgbdi::CameraOptions().camera;
   const rgbdi::sim::Renderer renderer(scene, cam);
-  std::printf("scene: %zu primitives, %zu materials, BVH %zu nodes depth %d, build+textures %.1f ms\n",
-              scene.primitiveCount(), scene.materialCount(), scene.bvh().nodeCount(),
-              scene.bvh().depth(), build_ms);
+  std::printf(
+      "scene: %zu primitives, %zu materials, BVH %zu nodes depth %d, build+textures %.1f ms\n",
+      scene.primitiveCount(), scene.materialCount(), scene.bvh().nodeCount(), scene.bvh().depth(),
+      build_ms);
 
   std::vector<Eigen::Isometry3d> poses;
   for (int k = 0; k < 8; ++k) {
     const double yaw = k * M_PI / 4.0;
-    poses.push_back(lookFrom({0.6 * std::cos(yaw), 0.6 * std::sin(yaw), 0.4}, yaw, 0.1 * (k % 3 - 1)));
+    poses.push_back(
+        lookFrom({0.6 * std::cos(yaw), 0.6 * std::sin(yaw), 0.4}, yaw, 0.1 * (k % 3 - 1)));
   }
   cv::Mat rgb, depth;
   renderer.render(poses[0], rgb, depth);  // warm-up (allocates the outputs)
@@ -78,7 +80,8 @@ int main(int argc, char** argv) {
     for (int k = 0; k < repeats; ++k) renderer.render(poses[p], rgb, depth);
     const double cpu_ms = (threadCpuMs() - c0) / repeats;
     const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeats;
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
+        repeats;
     total_ms += ms * repeats;
     total_cpu_ms += cpu_ms * repeats;
     frames += repeats;

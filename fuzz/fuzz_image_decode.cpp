@@ -3,9 +3,9 @@
 // of an input picks the decoder (even: PNG, odd: range file), the rest is the file.
 // Documented refusal: ImageDecodeError; nullopt for files of another kind.
 #include <mrpt/obs/CObservation3DRangeScan.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 
 #include "fuzz_target.h"
 #include "rgbdi/io/image_decode.h"

@@ -12,9 +12,9 @@
 
 #include "rgbdi/common/command_line.h"
 #include "rgbdi/system/live_module.h"
-#include "rgbdi/system/tool_status.h"
 #include "rgbdi/system/run_common.h"
 #include "rgbdi/system/slam_runner.h"
+#include "rgbdi/system/tool_status.h"
 
 namespace {
 
@@ -171,7 +171,10 @@ int main(int argc, char** argv) {
   if (!std::getenv("MALLOC_ARENA_MAX")) mallopt(M_ARENA_MAX, 2);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
-  return rgbdi::system::runReportingErrors("rgbdi-slam", [&] {
-    return args.live.sensors_path.empty() ? runOffline(args.offline) : runLive(args.live);
-  }, std::cerr);
+  return rgbdi::system::runReportingErrors(
+      "rgbdi-slam",
+      [&] {
+        return args.live.sensors_path.empty() ? runOffline(args.offline) : runLive(args.live);
+      },
+      std::cerr);
 }

@@ -37,7 +37,7 @@ struct SessionRun {
 };
 
 SessionRun run(const sim::SimOptions& so, std::shared_ptr<const map::MapData> map = nullptr,
-        bool localize_only = false) {
+               bool localize_only = false) {
   SessionRun r;
   r.seq = std::make_unique<sim::SimulatedSequence>(so);
   auto ini = IniReader::fromText(sim::slamConfigText(*r.seq), "generated config.ini");
@@ -51,7 +51,8 @@ SessionRun run(const sim::SimOptions& so, std::shared_ptr<const map::MapData> ma
 }
 
 /// ATE of `est` mapped by T_gt_map, without any alignment of its own.
-double ateInMapFrame(const Trajectory& gt, const Trajectory& est, const Eigen::Isometry3d& T_gt_map) {
+double ateInMapFrame(const Trajectory& gt, const Trajectory& est,
+                     const Eigen::Isometry3d& T_gt_map) {
   Trajectory moved;
   for (const StampedPose& p : est)
     moved.push_back(StampedPose::fromIsometry(p.t, T_gt_map * p.isometry()));
@@ -73,7 +74,8 @@ const FirstRun& firstRun() {
     SessionRun a = run(circle(20.0));
     eval::EvalOptions eo;
     eo.align = eval::AlignMode::PosYaw;
-    const eval::EvalResult ev = eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo);
+    const eval::EvalResult ev =
+        eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo);
     out.T_gt_map = ev.alignment.rigid();
     out.ate = ev.ate.rmse;
     out.map = std::make_shared<const map::MapData>(a.sys->mapToSave());

@@ -2,9 +2,8 @@
 // report) and its error behaviour (exit codes, one-line messages naming file and line).
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "testing/fixtures.h"
@@ -65,7 +64,10 @@ TEST(RgbdiEvalApp, JsonMatchesGoldenValues) {
 TEST(RgbdiEvalApp, OptionsChangeTheEvaluation) {
   RGBDI_REQUIRE_FIXTURE(fixturePath("eval/freiburg1_xyz-groundtruth.txt"));
   std::string out;
-  ASSERT_EQ(runCommand(evalCommand(goldenArgs() + " --align sim3 --json --rpe-delta 0.5 --max-dt=0.02"), &out), 0)
+  ASSERT_EQ(
+      runCommand(evalCommand(goldenArgs() + " --align sim3 --json --rpe-delta 0.5 --max-dt=0.02"),
+                 &out),
+      0)
       << out;
   const nlohmann::json j = nlohmann::json::parse(out);
   expectRel(j, "ate_rmse", 0.0133940549);
@@ -84,18 +86,25 @@ TEST(RgbdiEvalApp, MissingFileIsADataError) {
   RGBDI_REQUIRE_FIXTURE(fixturePath("eval/freiburg1_xyz-groundtruth.txt"));
   std::string out;
   const std::string missing = "/nonexistent/est.tum";
-  EXPECT_EQ(runCommand(evalCommand(fixturePath("eval/freiburg1_xyz-groundtruth.txt") + " " + missing), &out), 1);
+  EXPECT_EQ(
+      runCommand(evalCommand(fixturePath("eval/freiburg1_xyz-groundtruth.txt") + " " + missing),
+                 &out),
+      1);
   EXPECT_EQ(lineCount(out), 1u) << out;
   EXPECT_NE(out.find(missing + ": cannot open"), std::string::npos) << out;
 }
 
 TEST(RgbdiEvalApp, NanLineIsADataErrorNamingFileAndLine) {
   RGBDI_REQUIRE_FIXTURE(fixturePath("eval/freiburg1_xyz-groundtruth.txt"));
-  const std::string est = writeFile("nan.tum",
-                                    "# estimate\n1305031102.160407 1.34 0.62 1.66 0.658 0.611 -0.294 -0.326\n"
-                                    "1305031102.194330 nan 0.62 1.65 0.657 0.613 -0.295 -0.323\n");
+  const std::string est =
+      writeFile("nan.tum",
+                "# estimate\n1305031102.160407 1.34 0.62 1.66 0.658 0.611 -0.294 -0.326\n"
+                "1305031102.194330 nan 0.62 1.65 0.657 0.613 -0.295 -0.323\n");
   std::string out;
-  EXPECT_EQ(runCommand(evalCommand(fixturePath("eval/freiburg1_xyz-groundtruth.txt") + " " + est + " --json"), &out), 1);
+  EXPECT_EQ(runCommand(evalCommand(fixturePath("eval/freiburg1_xyz-groundtruth.txt") + " " + est +
+                                   " --json"),
+                       &out),
+            1);
   EXPECT_EQ(lineCount(out), 1u) << out;
   EXPECT_NE(out.find(est + ":3:"), std::string::npos) << out;
   EXPECT_NE(out.find("not finite"), std::string::npos) << out;
@@ -107,7 +116,9 @@ TEST(RgbdiEvalApp, UnsortedFileIsADataErrorNamingTheLine) {
                                     "1305031102.2 1 0 0 0 0 0 1\n1305031102.3 1 0 0 0 0 0 1\n"
                                     "1305031102.1 1 0 0 0 0 0 1\n");
   std::string out;
-  EXPECT_EQ(runCommand(evalCommand(fixturePath("eval/freiburg1_xyz-groundtruth.txt") + " " + est), &out), 1);
+  EXPECT_EQ(
+      runCommand(evalCommand(fixturePath("eval/freiburg1_xyz-groundtruth.txt") + " " + est), &out),
+      1);
   EXPECT_EQ(lineCount(out), 1u) << out;
   EXPECT_NE(out.find(est + ":3:"), std::string::npos) << out;
   EXPECT_NE(out.find("on line 2"), std::string::npos) << out;

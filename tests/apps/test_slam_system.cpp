@@ -1,6 +1,6 @@
 // The SLAM system object on generated sequences: threaded and sequential runs give identical
-// results, loop closures included; an odometry reset starts a new segment without losing the window's keyframes and
-// without an invented odometry edge between the segments.
+// results, loop closures included; an odometry reset starts a new segment without losing the
+// window's keyframes and without an invented odometry edge between the segments.
 #include <gtest/gtest.h>
 
 #include "rgbdi/common/fan_out_sink.h"

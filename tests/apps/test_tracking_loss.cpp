@@ -119,8 +119,8 @@ TEST(TrackingLoss, ThreeSecondsOfBlackFramesEndInOneContinuousTrajectory) {
   const Trajectory& cfin = clean.finalTrajectory();
   std::cout << "before the blackout: clean " << ate(gt, part(cfin, 0, t_black)) << " m, lossy "
             << ate(gt, part(fin, 0, t_black)) << " m; after it: clean "
-            << ate(gt, part(cfin, t_light, 1e18)) << " m, lossy " << ate(gt, part(fin, t_light, 1e18))
-            << " m" << std::endl;
+            << ate(gt, part(cfin, t_light, 1e18)) << " m, lossy "
+            << ate(gt, part(fin, t_light, 1e18)) << " m" << std::endl;
   EXPECT_LE(ate_lossy, 1.2 * ate_clean);
 }
 

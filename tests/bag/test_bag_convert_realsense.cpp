@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
@@ -68,8 +67,7 @@ TEST(BagConvertRealSense, LayoutAndCalibrationFromTheRecording) {
 
 /// Mean distance [px] (each capped at 10 px) from the depth discontinuities of `f`, moved into
 /// the colour image with T_color_depth, to the nearest colour edge (Canny); `n` = discontinuities.
-double depthEdgeToColourEdgePx(const RgbdFrame& f, const Eigen::Isometry3d& T_color_depth,
-                               int* n) {
+double depthEdgeToColourEdgePx(const RgbdFrame& f, const Eigen::Isometry3d& T_color_depth, int* n) {
   cv::Mat gray, edges, dist;
   cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
   cv::Canny(gray, edges, 50, 150);

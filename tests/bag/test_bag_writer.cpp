@@ -26,8 +26,8 @@ RgbdFrame makeFrame(double t, std::uint64_t index) {
   f.depth = cv::Mat(4, 5, CV_16UC1);
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 5; ++c) {
-      f.rgb.at<cv::Vec3b>(r, c) = cv::Vec3b(static_cast<uchar>(10 * r + c), static_cast<uchar>(index),
-                                            static_cast<uchar>(200 + c));
+      f.rgb.at<cv::Vec3b>(r, c) = cv::Vec3b(static_cast<uchar>(10 * r + c),
+                                            static_cast<uchar>(index), static_cast<uchar>(200 + c));
       f.depth.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(1000 * r + 7 * c + 300 * index);
     }
   return f;

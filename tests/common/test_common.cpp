@@ -101,8 +101,8 @@ TEST(IniReader, CommentsBlanksHeadersAndDirectivesAreAccepted) {
 }
 
 TEST(IniReader, ShippedConfigurationsPassTheLineCheck) {
-  for (const char* f : {"/share/config.ini", "/share/sensors/d435i.ini", "/share/sensors/replay.ini",
-                        "/share/sensors/simulator.ini"})
+  for (const char* f : {"/share/config.ini", "/share/sensors/d435i.ini",
+                        "/share/sensors/replay.ini", "/share/sensors/simulator.ini"})
     EXPECT_NO_THROW(IniReader::fromFile(rgbdi::test::sourceDir() + f)) << f;
 }
 

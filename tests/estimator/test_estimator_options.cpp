@@ -49,10 +49,10 @@ TEST(EstimatorOptions, SolverFunctionToleranceIsReadAndOutOfRangeNamesTheKey) {
   IniReader ok2 =
       IniReader::fromText("[estimator]\nsolver_function_tolerance_no_depth = 0.01\n", "e.ini");
   EXPECT_EQ(EstimatorOptions::load(ok2).solver_function_tolerance_no_depth, 0.01);
-  for (const std::string key : {"solver_function_tolerance", "solver_function_tolerance_no_depth"}) {
+  for (const std::string key :
+       {"solver_function_tolerance", "solver_function_tolerance_no_depth"}) {
     for (const char* value : {"0", "0.5"}) {
-      IniReader bad =
-          IniReader::fromText("[estimator]\n" + key + " = " + value + "\n", "bad.ini");
+      IniReader bad = IniReader::fromText("[estimator]\n" + key + " = " + value + "\n", "bad.ini");
       try {
         EstimatorOptions::load(bad);
         FAIL() << "expected ConfigError for " << key << " = " << value;

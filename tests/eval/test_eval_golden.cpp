@@ -61,7 +61,8 @@ TEST(EvalGolden, Fr1XyzSim3) {
 
 TEST(EvalGolden, EurocV102AllAlignments) {
   RGBDI_REQUIRE_FIXTURE(test::fixturePath("eval/euroc_v102_stamped_groundtruth.txt"));
-  const Fixture f = loadPair("euroc_v102_stamped_groundtruth.txt", "euroc_v102_stamped_estimate0.txt");
+  const Fixture f =
+      loadPair("euroc_v102_stamped_groundtruth.txt", "euroc_v102_stamped_estimate0.txt");
   EXPECT_EQ(associate(f.gt, f.est, 0.02).size(), 264u);
   const EvalResult posyaw = run(f, AlignMode::PosYaw);
   EXPECT_EQ(posyaw.pairs, 264u);
@@ -71,8 +72,8 @@ TEST(EvalGolden, EurocV102AllAlignments) {
   expectRel(sim3.ate.rmse, 0.0131862625, "Sim(3) ATE rmse");
   expectRel(sim3.alignment.scale, 1.00977752, "Sim(3) scale");
   // A yaw-only rotation leaves the vertical axis fixed.
-  EXPECT_NEAR((posyaw.alignment.R * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitZ()).norm(), 0.0,
-              1e-12);
+  EXPECT_NEAR((posyaw.alignment.R * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitZ()).norm(),
+              0.0, 1e-12);
 }
 
 }  // namespace

@@ -35,7 +35,8 @@ Trajectory curve(int n, double period) {
   Trajectory t;
   for (int k = 0; k <= n; ++k) {
     const double s = k * period;
-    const Eigen::Vector3d p(std::sin(0.7 * s) + 0.3 * s, std::cos(0.5 * s), 0.2 * std::sin(1.3 * s));
+    const Eigen::Vector3d p(std::sin(0.7 * s) + 0.3 * s, std::cos(0.5 * s),
+                            0.2 * std::sin(1.3 * s));
     t.push_back(pose(s, p, expQuat(Eigen::Vector3d(0.1 * std::sin(s), 0.05 * s, 0.3 * s))));
   }
   return t;
@@ -115,12 +116,14 @@ TEST(Alignment, RecoversKnownSim3Se3AndYaw) {
 
 TEST(Alignment, PosYawCannotAbsorbRollAndSe3NeverReflects) {
   const auto est = randomPoints(40, 11);
-  const auto tilted = transform(est, 1.0, expSO3(Eigen::Vector3d(0.2, 0, 0)), Eigen::Vector3d::Zero());
+  const auto tilted =
+      transform(est, 1.0, expSO3(Eigen::Vector3d(0.2, 0, 0)), Eigen::Vector3d::Zero());
   const Alignment yaw = alignPositions(est, tilted, AlignMode::PosYaw);
   EXPECT_NEAR(yaw.R(2, 2), 1.0, 1e-15);  // still a pure yaw
 
   // Mirror image: the best orthogonal matrix is a reflection; Umeyama must return a rotation.
-  const auto mirrored = transform(est, 1.0, Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d::Zero());
+  const auto mirrored =
+      transform(est, 1.0, Eigen::Vector3d(1, 1, -1).asDiagonal(), Eigen::Vector3d::Zero());
   const Alignment se3 = alignPositions(est, mirrored, AlignMode::Se3);
   EXPECT_NEAR(se3.R.determinant(), 1.0, 1e-12);
 }
@@ -145,7 +148,8 @@ TEST(Evaluate, TransformedCopyGivesZeroAteForEveryMode) {
     Trajectory est;
     for (const auto& g : gt) {
       // est = (1/s) R^T (gt - t): aligning est back onto gt needs exactly (s, R, t).
-      est.push_back(pose(g.t + 0.005, R.transpose() * (g.p - t) / s, Eigen::Quaterniond(R.transpose()) * g.q));
+      est.push_back(pose(g.t + 0.005, R.transpose() * (g.p - t) / s,
+                         Eigen::Quaterniond(R.transpose()) * g.q));
     }
     EvalOptions opt;
     opt.align = mode;
@@ -193,8 +197,9 @@ Trajectory line(double t0, double t1, double period, double speed, double yaw_ra
   const int n = static_cast<int>(std::lround((t1 - t0) / period));
   for (int k = 0; k <= n; ++k) {
     const double s = t0 + k * period;
-    t.push_back(pose(s, Eigen::Vector3d(speed * s, 0, 0),
-                     Eigen::Quaterniond(Eigen::AngleAxisd(yaw_rate * s, Eigen::Vector3d::UnitZ()))));
+    t.push_back(
+        pose(s, Eigen::Vector3d(speed * s, 0, 0),
+             Eigen::Quaterniond(Eigen::AngleAxisd(yaw_rate * s, Eigen::Vector3d::UnitZ()))));
   }
   return t;
 }
@@ -251,7 +256,8 @@ TEST(Coverage, GapsAndLateStartAreNotCovered) {
   // A single dropped frame (0.2 s = 2 periods) still counts as tracking.
   Trajectory one_drop = line(0, 10, 0.1, 1.0, 0.0);
   one_drop.erase(one_drop.begin() + 50);
-  EXPECT_NEAR(computeCoverage(gt, one_drop, associate(gt, one_drop, 0.02), 2.0).coverage, 1.0, 1e-10);
+  EXPECT_NEAR(computeCoverage(gt, one_drop, associate(gt, one_drop, 0.02), 2.0).coverage, 1.0,
+              1e-10);
 }
 
 TEST(EvaluateJson, HasTheKeysOtherToolsRead) {
@@ -261,9 +267,9 @@ TEST(EvaluateJson, HasTheKeysOtherToolsRead) {
   opt.rpe.delta_s = 5.0;  // longer than the run: no RPE pairs
   const EvalResult r = evaluate(gt, est, opt);
   const nlohmann::json j = toJson(r);
-  for (const char* key : {"pairs", "ate_rmse", "ate_mean", "ate_median", "ate_max", "scale",
-                          "rpe_trans_rmse", "rpe_rot_rmse_deg", "coverage", "align", "max_dt",
-                          "rpe_delta", "rpe_pairs"}) {
+  for (const char* key :
+       {"pairs", "ate_rmse", "ate_mean", "ate_median", "ate_max", "scale", "rpe_trans_rmse",
+        "rpe_rot_rmse_deg", "coverage", "align", "max_dt", "rpe_delta", "rpe_pairs"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["pairs"].get<int>(), 31);

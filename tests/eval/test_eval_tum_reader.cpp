@@ -27,7 +27,8 @@ void expectError(const std::string& text, const std::vector<std::string>& fragme
   } catch (const EvalError& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find(path), std::string::npos) << msg;
-    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+    for (const auto& f : fragments)
+      EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
   }
 }
 
@@ -100,7 +101,8 @@ TEST(TumReader, RejectsMissingFile) {
     readTum("/nonexistent/dir/traj.tum");
     FAIL();
   } catch (const EvalError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/traj.tum: cannot open"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/traj.tum: cannot open"),
+              std::string::npos);
   }
 }
 

@@ -5,13 +5,12 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <vector>
 
@@ -22,8 +21,8 @@ namespace rgbdi::test {
 
 /// Random rectangles of random grey levels, blurred so that bilinear resampling is faithful
 /// (KLT sub-pixel accuracy is only meaningful on band-limited images). CV_32FC1 in [0, 255].
-inline cv::Mat randomRectangleTexture(int width, int height, std::uint64_t seed, int rectangles = 600,
-                                      double blur_sigma = 1.2) {
+inline cv::Mat randomRectangleTexture(int width, int height, std::uint64_t seed,
+                                      int rectangles = 600, double blur_sigma = 1.2) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> grey(20.0f, 235.0f);
   std::uniform_int_distribution<int> x(0, width - 1), y(0, height - 1), side(4, 48);
@@ -43,7 +42,8 @@ inline cv::Mat toGrey8(const cv::Mat& f) {
 }
 
 /// An RGB frame (R = G = B = grey) with the given stamp and index; no depth.
-inline RgbdFrame colourFrame(const cv::Mat& grey8, double t, std::uint64_t index, const PinholeCamera& cam) {
+inline RgbdFrame colourFrame(const cv::Mat& grey8, double t, std::uint64_t index,
+                             const PinholeCamera& cam) {
   RgbdFrame f;
   f.t = t;
   f.index = index;
@@ -80,12 +80,12 @@ struct Scene {
     const int first = static_cast<int>(rects.size());
     const Eigen::Vector3d d = hi - lo;
     const Eigen::Vector3d ex(d.x(), 0, 0), ey(0, d.y(), 0), ez(0, 0, d.z());
-    rects.push_back({lo, ex, ey, texture});                 // z = lo.z
-    rects.push_back({lo + ez, ex, ey, texture});            // z = hi.z
-    rects.push_back({lo, ey, ez, texture});                 // x = lo.x
-    rects.push_back({lo + ex, ey, ez, texture});            // x = hi.x
-    rects.push_back({lo, ex, ez, texture});                 // y = lo.y
-    rects.push_back({lo + ey, ex, ez, texture});            // y = hi.y
+    rects.push_back({lo, ex, ey, texture});       // z = lo.z
+    rects.push_back({lo + ez, ex, ey, texture});  // z = hi.z
+    rects.push_back({lo, ey, ez, texture});       // x = lo.x
+    rects.push_back({lo + ex, ey, ez, texture});  // x = hi.x
+    rects.push_back({lo, ex, ez, texture});       // y = lo.y
+    rects.push_back({lo + ey, ex, ez, texture});  // y = hi.y
     return first;
   }
 };
@@ -107,7 +107,8 @@ inline float sampleTexture(const cv::Mat& tex, double x, double y) {
   return (1 - b) * ((1 - a) * r0[x0] + a * r0[x0 + 1]) + b * ((1 - a) * r1[x0] + a * r1[x0 + 1]);
 }
 
-inline RenderOutput render(const Scene& scene, const PinholeCamera& cam, const Eigen::Isometry3d& T_world_cam) {
+inline RenderOutput render(const Scene& scene, const PinholeCamera& cam,
+                           const Eigen::Isometry3d& T_world_cam) {
   RenderOutput out;
   out.grey = cv::Mat(cam.height, cam.width, CV_32FC1, cv::Scalar(0));
   out.depth = cv::Mat(cam.height, cam.width, CV_64FC1, cv::Scalar(0));
@@ -142,9 +143,10 @@ inline RenderOutput render(const Scene& scene, const PinholeCamera& cam, const E
       out.depth.at<double>(v, u) = best;
       out.surface.at<int>(v, u) = best_i;
       out.grey.at<float>(v, u) =
-          r.texture < 0 ? 128.0f
-                        : sampleTexture(scene.textures[static_cast<size_t>(r.texture)],
-                                        best_a * r.u.norm() / r.texel_m, best_b * r.v.norm() / r.texel_m);
+          r.texture < 0
+              ? 128.0f
+              : sampleTexture(scene.textures[static_cast<size_t>(r.texture)],
+                              best_a * r.u.norm() / r.texel_m, best_b * r.v.norm() / r.texel_m);
     }
   return out;
 }

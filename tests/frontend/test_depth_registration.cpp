@@ -45,14 +45,14 @@ RigScene makeRig() {
   r.cam_depth.cx = 331.4;
   r.cam_depth.cy = 237.8;
   r.cam_depth.dist = {0.01, -0.005, 0.0, 0.0, 0.0};
-  r.T_color_depth.linear() =
-      (Eigen::AngleAxisd(0.4 * M_PI / 180, Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(-0.25 * M_PI / 180, Eigen::Vector3d::UnitX()))
-          .toRotationMatrix();
+  r.T_color_depth.linear() = (Eigen::AngleAxisd(0.4 * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                              Eigen::AngleAxisd(-0.25 * M_PI / 180, Eigen::Vector3d::UnitX()))
+                                 .toRotationMatrix();
   r.T_color_depth.translation() = Eigen::Vector3d(-0.0143, -0.0006, -0.0006);
 
   // World = colour camera frame. Background: a plane about 2.2 m away turned 15 deg about y.
-  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(15.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3d tilt =
+      Eigen::AngleAxisd(15.0 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
   const Eigen::Vector3d centre(0, 0, 2.2);
   const Eigen::Vector3d ex = tilt * Eigen::Vector3d(6, 0, 0), ey = tilt * Eigen::Vector3d(0, 6, 0);
   r.scene.rects.push_back({centre - 0.5 * ex - 0.5 * ey, ex, ey, -1});
@@ -76,7 +76,8 @@ RigScene makeRig() {
   for (int v = 0; v < 480; ++v)
     for (int u = 0; u < 640; ++u) {
       const double z = r.depth_view.depth.at<double>(v, u);
-      if (z > 0) f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::lround(z / kDepthUnit));
+      if (z > 0)
+        f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::lround(z / kDepthUnit));
     }
   return r;
 }
@@ -91,7 +92,8 @@ bool seenByDepthCamera(const RigScene& r, int u, int v) {
   // Every depth pixel around the projection must see this same point (not an occluder).
   for (int dv = 0; dv <= 1; ++dv)
     for (int du = 0; du <= 1; ++du) {
-      const int x = static_cast<int>(std::floor(uv.x())) + du, y = static_cast<int>(std::floor(uv.y())) + dv;
+      const int x = static_cast<int>(std::floor(uv.x())) + du,
+                y = static_cast<int>(std::floor(uv.y())) + dv;
       if (std::abs(r.depth_view.depth.at<double>(y, x) - p_depth.z()) > 0.01) return false;
     }
   return true;
@@ -138,8 +140,8 @@ TEST(DepthRegistration, MatchesColourCameraDepthAndKeepsTheNearerSurface) {
       }
     }
   std::cout << "registration: " << compared << " pixels compared, worst error " << worst_inner * 1e3
-            << " mm (" << worst_near_edge * 1e3 << " mm within 2 px of an edge), coverage " << covered
-            << "/" << visible << ", box pixels " << box_pixels << "\n";
+            << " mm (" << worst_near_edge * 1e3 << " mm within 2 px of an edge), coverage "
+            << covered << "/" << visible << ", box pixels " << box_pixels << "\n";
   EXPECT_LT(worst_inner, 1e-3) << "largest |registered - true| depth [m]";
   // Steepest background slope in this scene: 1.3 mm per colour pixel.
   EXPECT_LT(worst_near_edge, 1.5e-3);
@@ -186,8 +188,8 @@ TEST(DepthRegistration, RegisteringAroundPointsGivesTheSameValuesThere) {
   ASSERT_EQ(sparse.size(), full.size());
   cv::Mat inside(480, 640, CV_8UC1, cv::Scalar(0));
   for (const Eigen::Vector2d& c : centres) {
-    const cv::Rect w(static_cast<int>(std::lround(c.x())) - radius, static_cast<int>(std::lround(c.y())) - radius,
-                     2 * radius + 1, 2 * radius + 1);
+    const cv::Rect w(static_cast<int>(std::lround(c.x())) - radius,
+                     static_cast<int>(std::lround(c.y())) - radius, 2 * radius + 1, 2 * radius + 1);
     inside(w & cv::Rect(0, 0, 640, 480)).setTo(255);
   }
   int compared = 0, with_depth = 0;
@@ -210,7 +212,8 @@ TEST(DepthRegistration, RegisteringAroundPointsGivesTheSameValuesThere) {
   RgbdFrame aligned = r.frame;
   aligned.depth_aligned_to_color = true;
   registrar.registerDepthAround(aligned, r.cam_color, {Eigen::Vector2d(100.2, 50.7)}, 2, sparse);
-  EXPECT_FLOAT_EQ(sparse.at<float>(51, 100), static_cast<float>(r.frame.depth.at<std::uint16_t>(51, 100) * kDepthUnit));
+  EXPECT_FLOAT_EQ(sparse.at<float>(51, 100),
+                  static_cast<float>(r.frame.depth.at<std::uint16_t>(51, 100) * kDepthUnit));
   EXPECT_EQ(sparse.at<float>(48, 100), 0.0f);
   EXPECT_EQ(cv::countNonZero(sparse), cv::countNonZero(r.frame.depth(cv::Rect(98, 49, 5, 5))));
 }
@@ -237,7 +240,8 @@ TEST(DepthRegistration, IdenticalCamerasReproduceTheDepthAndInterpolateAOnePixel
   f.depth_unit_m = 1e-3;
   f.depth = cv::Mat(480, 640, CV_16UC1);
   for (int v = 0; v < 480; ++v)
-    for (int u = 0; u < 640; ++u) f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(1000 + 2 * u + v);
+    for (int u = 0; u < 640; ++u)
+      f.depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(1000 + 2 * u + v);
   f.depth.at<std::uint16_t>(100, 101) = 0;  // a one-pixel hole
   const cv::Mat reg = registerDepthToColor(f);
   double worst = 0.0;

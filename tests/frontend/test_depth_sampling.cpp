@@ -24,7 +24,7 @@ TEST(SampleDepth, PlanarDepthGivesTheExactValueAtSubPixelPositions) {
   const FrontendOptions o;
   const cv::Mat d = affineDepth(1.5, 0.002, -0.001);
   for (const Eigen::Vector2d& uv : {Eigen::Vector2d(20.0, 20.0), Eigen::Vector2d(31.25, 17.6),
-                                   Eigen::Vector2d(10.5, 40.49), Eigen::Vector2d(50.9, 3.01)}) {
+                                    Eigen::Vector2d(10.5, 40.49), Eigen::Vector2d(50.9, 3.01)}) {
     const double expected = 1.5 + 0.002 * uv.x() - 0.001 * uv.y();
     EXPECT_NEAR(sampleDepth(d, uv, o), expected, 2e-6) << uv.transpose();
   }
@@ -60,8 +60,8 @@ TEST(SampleDepth, AHoleAnywhereInTheWindowRejects) {
 TEST(SampleDepth, AStepEdgeInTheWindowRejects) {
   const FrontendOptions o;  // spread 3 %
   cv::Mat d(48, 64, CV_32FC1, cv::Scalar(1.0f));
-  d.colRange(34, 64).setTo(1.5f);  // step edge between u = 33 and u = 34
-  EXPECT_EQ(sampleDepth(d, {32.0, 20.0}, o), 0.0);  // window u 30..34 spans the edge
+  d.colRange(34, 64).setTo(1.5f);                          // step edge between u = 33 and u = 34
+  EXPECT_EQ(sampleDepth(d, {32.0, 20.0}, o), 0.0);         // window u 30..34 spans the edge
   EXPECT_DOUBLE_EQ(sampleDepth(d, {31.0, 20.0}, o), 1.0);  // window u 29..33 does not
   EXPECT_DOUBLE_EQ(sampleDepth(d, {36.0, 20.0}, o), 1.5);
   // A small step (2 % < 3 %) is surface relief, not an edge.
@@ -92,5 +92,6 @@ TEST(SampleDepth, WindowLeavingTheImageRejects) {
 
 TEST(SampleDepth, WrongImageTypeThrows) {
   const FrontendOptions o;
-  EXPECT_THROW(sampleDepth(cv::Mat(48, 64, CV_16UC1, cv::Scalar(2000)), {20, 20}, o), std::invalid_argument);
+  EXPECT_THROW(sampleDepth(cv::Mat(48, 64, CV_16UC1, cv::Scalar(2000)), {20, 20}, o),
+               std::invalid_argument);
 }

@@ -2,11 +2,10 @@
 // homographies, and a rendered 3-D scene with an independently moving patch.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <opencv2/imgproc.hpp>
 #include <set>
 
 #include "rgbdi/frontend/feature_tracker.h"
@@ -61,7 +60,8 @@ struct HomographySequence {
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) Hcv.at<double>(r, c) = H(r, c);
       cv::Mat warped;
-      cv::warpPerspective(texture, warped, Hcv, cv::Size(640, 480), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+      cv::warpPerspective(texture, warped, Hcv, cv::Size(640, 480), cv::INTER_LINEAR,
+                          cv::BORDER_REFLECT);
       images.push_back(toGrey8(warped));
     }
   }
@@ -98,7 +98,8 @@ TEST(FeatureTracker, SubPixelHomographyIsTrackedToATenthOfAPixel) {
   double worst_step = 0.0, worst_step_border = 0.0, worst_drift = 0.0, sum_step = 0.0;
   int steps = 0, border_steps = 0;
   for (int k = 0; k < static_cast<int>(seq.images.size()); ++k) {
-    const FeatureFrame f = tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, 100 + k, cam));
+    const FeatureFrame f =
+        tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, 100 + k, cam));
     EXPECT_EQ(f.frame_index, static_cast<std::uint64_t>(100 + k));
     EXPECT_DOUBLE_EQ(f.t, k * kDt);
     ASSERT_EQ(static_cast<int>(f.features.size()), options.max_features) << "frame " << k;
@@ -106,7 +107,8 @@ TEST(FeatureTracker, SubPixelHomographyIsTrackedToATenthOfAPixel) {
     EXPECT_GE(minPairDistance(f), options.min_distance_px) << "frame " << k;
     if (k == 0) {
       EXPECT_EQ(f.n_new, options.max_features);
-      for (size_t i = 0; i < f.features.size(); ++i) EXPECT_EQ(f.features[i].id, i);  // ids start at 0
+      for (size_t i = 0; i < f.features.size(); ++i)
+        EXPECT_EQ(f.features[i].id, i);  // ids start at 0
     } else {
       // Almost every feature survives a smooth sub-pixel motion of a textured plane.
       EXPECT_GE(f.n_tracked, options.max_features * 95 / 100) << "frame " << k;
@@ -128,17 +130,20 @@ TEST(FeatureTracker, SubPixelHomographyIsTrackedToATenthOfAPixel) {
         continue;
       }
       // A continued track keeps its id from the previous frame and its length counts frames.
-      ASSERT_TRUE(previous_uv.count(o.id)) << "id " << o.id << " appeared with length " << o.track_length;
+      ASSERT_TRUE(previous_uv.count(o.id))
+          << "id " << o.id << " appeared with length " << o.track_length;
       const Birth& b = born.at(o.id);
       EXPECT_EQ(o.track_length, k - b.frame + 1);
       const auto& M = seq.motions;
       const Eigen::Vector2d from = previous_uv.at(o.id);
-      const double step_err = (o.uv - apply(M[size_t(k)] * M[size_t(k - 1)].inverse(), from)).norm();
+      const double step_err =
+          (o.uv - apply(M[size_t(k)] * M[size_t(k - 1)].inverse(), from)).norm();
       if (cam.inImage(from, half_window) && cam.inImage(o.uv, half_window)) {
         worst_step = std::max(worst_step, step_err);
         sum_step += step_err;
         ++steps;
-        const double drift = (o.uv - apply(M[size_t(k)] * M[size_t(b.frame)].inverse(), b.uv)).norm();
+        const double drift =
+            (o.uv - apply(M[size_t(k)] * M[size_t(b.frame)].inverse(), b.uv)).norm();
         worst_drift = std::max(worst_drift, drift);
       } else {
         worst_step_border = std::max(worst_step_border, step_err);
@@ -148,8 +153,9 @@ TEST(FeatureTracker, SubPixelHomographyIsTrackedToATenthOfAPixel) {
     for (const auto& [id, uv] : uv_now) max_id_so_far = std::max(max_id_so_far, id);
     previous_uv = uv_now;
   }
-  std::cout << "KLT frame-to-frame error over " << steps << " steps: mean " << sum_step / steps << " px, worst "
-            << worst_step << " px; " << border_steps << " steps near the border: worst " << worst_step_border
+  std::cout << "KLT frame-to-frame error over " << steps << " steps: mean " << sum_step / steps
+            << " px, worst " << worst_step << " px; " << border_steps
+            << " steps near the border: worst " << worst_step_border
             << " px; drift over up to 7 frames: worst " << worst_drift << " px\n";
   EXPECT_GT(steps, 800);
   EXPECT_LT(worst_step, 0.1);
@@ -167,7 +173,8 @@ TEST(FeatureTracker, DetectsTheCornersOfIsolatedSquares) {
   for (int i = 0; i < 4; ++i) {
     img(cv::Rect(x0[i], y0[i], 60, 60)).setTo(200);
     for (double dx : {-0.5, 59.5})
-      for (double dy : {-0.5, 59.5}) truth.emplace_back(x0[i] + dx, y0[i] + dy);  // pixel-edge corners
+      for (double dy : {-0.5, 59.5})
+        truth.emplace_back(x0[i] + dx, y0[i] + dy);  // pixel-edge corners
   }
   cv::GaussianBlur(img, img, cv::Size(0, 0), 1.0);
   FrontendOptions options;
@@ -178,8 +185,8 @@ TEST(FeatureTracker, DetectsTheCornersOfIsolatedSquares) {
   // The Shi-Tomasi response of a blurred right angle peaks slightly inside the bright square (on
   // the bisector, about 1.5 px per axis here), exactly as for cv::goodFeaturesToTrack.
   std::vector<cv::Point2f> reference;
-  cv::goodFeaturesToTrack(img, reference, 16, options.shi_tomasi_quality, options.min_distance_px, cv::noArray(),
-                          options.shi_tomasi_block_size, false);
+  cv::goodFeaturesToTrack(img, reference, 16, options.shi_tomasi_quality, options.min_distance_px,
+                          cv::noArray(), options.shi_tomasi_block_size, false);
   std::set<size_t> matched;
   for (const FeatureObservation& o : f.features) {
     size_t best = 0;
@@ -205,8 +212,8 @@ TEST(FeatureTracker, CornersAgreeWithOpenCvGoodFeaturesToTrack) {
   cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
   mask(cv::Rect(1, 1, 638, 478)).setTo(255);
   std::vector<cv::Point2f> reference;
-  cv::goodFeaturesToTrack(grey, reference, options.max_features, options.shi_tomasi_quality, options.min_distance_px,
-                          mask, options.shi_tomasi_block_size, false);
+  cv::goodFeaturesToTrack(grey, reference, options.max_features, options.shi_tomasi_quality,
+                          options.min_distance_px, mask, options.shi_tomasi_block_size, false);
   ASSERT_EQ(f.features.size(), reference.size());
   int agreeing = 0;
   for (const FeatureObservation& o : f.features)
@@ -215,8 +222,8 @@ TEST(FeatureTracker, CornersAgreeWithOpenCvGoodFeaturesToTrack) {
         ++agreeing;
         break;
       }
-  std::cout << "corners within 1.5 px of a goodFeaturesToTrack corner: " << agreeing << " of " << reference.size()
-            << "\n";
+  std::cout << "corners within 1.5 px of a goodFeaturesToTrack corner: " << agreeing << " of "
+            << reference.size() << "\n";
   // Scharr instead of Sobel derivatives changes the response slightly, so where corners of
   // similar strength compete for the same neighbourhood a few choices differ.
   EXPECT_GE(agreeing, static_cast<int>(reference.size()) * 85 / 100);
@@ -231,7 +238,8 @@ TEST(FeatureTracker, NormalisedPositionsAndVelocitiesFollowTheCameraModel) {
   int with_velocity = 0;
   for (int k = 0; k < 3; ++k) {
     const double t = 5.0 + k * kDt;
-    const FeatureFrame f = tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], t, k, cam));
+    const FeatureFrame f =
+        tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], t, k, cam));
     std::map<std::uint64_t, Eigen::Vector2d> xn;
     for (const FeatureObservation& o : f.features) {
       EXPECT_LT((o.xn - cam.pixelToNormalized(o.uv)).norm(), 1e-12);
@@ -256,7 +264,8 @@ TEST(FeatureTracker, ZoomingOutKeepsFeaturesApartAndTopsUp) {
   FeatureTracker tracker(options, cam);
   int too_close = 0;
   for (int k = 0; k < 8; ++k) {
-    const FeatureFrame f = tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam));
+    const FeatureFrame f =
+        tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam));
     too_close += f.n_too_close;
     EXPECT_GE(minPairDistance(f), options.min_distance_px) << "frame " << k;
     EXPECT_EQ(static_cast<int>(f.features.size()), options.max_features) << "frame " << k;
@@ -298,7 +307,8 @@ TEST(FeatureTracker, ContrastEqualisationIsAppliedAndStillTracks) {
     const RgbdFrame frame = colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam);
     const FeatureFrame a = plain.track(frame), b = clahe.track(frame);
     ASSERT_EQ(b.features.size(), a.features.size());
-    for (size_t i = 0; i < a.features.size(); ++i) differing += (a.features[i].uv != b.features[i].uv) ? 1 : 0;
+    for (size_t i = 0; i < a.features.size(); ++i)
+      differing += (a.features[i].uv != b.features[i].uv) ? 1 : 0;
     if (k > 0) {
       EXPECT_GE(b.n_tracked, 140);
     }
@@ -322,8 +332,8 @@ TEST(FeatureTracker, ForwardBackwardCheckDropsTracksWhoseContentChanged) {
     std::set<std::uint64_t> inside;
     const int m = options.klt_window_px / 2 + 1;  // whole window inside the changed region
     for (const FeatureObservation& o : f0.features)
-      if (o.uv.x() >= region.x + m && o.uv.x() < region.x + region.width - m && o.uv.y() >= region.y + m &&
-          o.uv.y() < region.y + region.height - m)
+      if (o.uv.x() >= region.x + m && o.uv.x() < region.x + region.width - m &&
+          o.uv.y() >= region.y + m && o.uv.y() < region.y + region.height - m)
         inside.insert(o.id);
     *inside_before = static_cast<int>(inside.size());
     int survivors = 0;
@@ -338,8 +348,8 @@ TEST(FeatureTracker, ForwardBackwardCheckDropsTracksWhoseContentChanged) {
   int inside = 0;
   const int without_check = survivorsInRegion(no_check, &inside);
   ASSERT_GE(inside, 8);
-  std::cout << "features in the changed region: " << inside << ", kept without the round trip: " << without_check
-            << "\n";
+  std::cout << "features in the changed region: " << inside
+            << ", kept without the round trip: " << without_check << "\n";
   EXPECT_GE(without_check, 2) << "the test needs KLT to report false tracks without the check";
   EXPECT_EQ(survivorsInRegion(with_check, &inside), 0);
 }
@@ -351,7 +361,8 @@ TEST(FeatureTracker, SameInputGivesIdenticalOutput) {
     FeatureTracker tracker(FrontendOptions(), cam);
     std::vector<FeatureFrame> out;
     for (int k = 0; k < 4; ++k)
-      out.push_back(tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam)));
+      out.push_back(
+          tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam)));
     return out;
   };
   const auto a = run(), b = run();
@@ -455,23 +466,30 @@ LayeredScene makeLayeredScene(const Eigen::Vector3d& patch_offset) {
   LayeredScene s;
   auto addPlane = [&](double z, double x0, double x1, double y0, double y1, std::uint64_t seed) {
     const double texel = z / 500.0;  // about one texel per pixel
-    const int tw = static_cast<int>((x1 - x0) / texel) + 4, th = static_cast<int>((y1 - y0) / texel) + 4;
+    const int tw = static_cast<int>((x1 - x0) / texel) + 4,
+              th = static_cast<int>((y1 - y0) / texel) + 4;
     s.scene.textures.push_back(randomRectangleTexture(tw, th, seed, tw * th / 500));
-    TexturedRect r{{x0, y0, z}, {x1 - x0, 0, 0}, {0, y1 - y0, 0}, static_cast<int>(s.scene.textures.size()) - 1, texel};
+    TexturedRect r{{x0, y0, z},
+                   {x1 - x0, 0, 0},
+                   {0, y1 - y0, 0},
+                   static_cast<int>(s.scene.textures.size()) - 1,
+                   texel};
     s.scene.rects.push_back(r);
     s.surface_depth.push_back(z);
     return static_cast<int>(s.scene.rects.size()) - 1;
   };
-  addPlane(4.0, -4.0, 4.0, -3.0, 3.0, 11);    // back wall: beyond depth_max_m (3 m)
-  addPlane(2.5, -1.6, -0.1, -1.2, 1.2, 12);   // left panel
-  addPlane(1.6, 0.15, 0.9, -0.2, 0.7, 13);    // near panel, lower right
-  s.patch = addPlane(2.0, -0.05 + patch_offset.x(), 0.65 + patch_offset.x(), -0.9 + patch_offset.y(),
-                     -0.3 + patch_offset.y(), 14);  // the independently moving object, upper middle
+  addPlane(4.0, -4.0, 4.0, -3.0, 3.0, 11);   // back wall: beyond depth_max_m (3 m)
+  addPlane(2.5, -1.6, -0.1, -1.2, 1.2, 12);  // left panel
+  addPlane(1.6, 0.15, 0.9, -0.2, 0.7, 13);   // near panel, lower right
+  s.patch =
+      addPlane(2.0, -0.05 + patch_offset.x(), 0.65 + patch_offset.x(), -0.9 + patch_offset.y(),
+               -0.3 + patch_offset.y(), 14);  // the independently moving object, upper middle
   return s;
 }
 
-RgbdFrame renderFrame(const LayeredScene& s, const PinholeCamera& cam, const Eigen::Isometry3d& T_world_cam,
-                      double t, std::uint64_t index, RenderOutput* truth) {
+RgbdFrame renderFrame(const LayeredScene& s, const PinholeCamera& cam,
+                      const Eigen::Isometry3d& T_world_cam, double t, std::uint64_t index,
+                      RenderOutput* truth) {
   *truth = render(s.scene, cam, T_world_cam);
   RgbdFrame f = colourFrame(toGrey8(truth->grey), t, index, cam);
   f.depth_aligned_to_color = true;
@@ -502,7 +520,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   };
 
   // Without the occlusion-boundary check, so that corners near edges stay and the small depth
-  // window's edge test below has work (NoFeatureKeepsAWindowOnAnOcclusionBoundary covers the check).
+  // window's edge test below has work (NoFeatureKeepsAWindowOnAnOcclusionBoundary covers the
+  // check).
   FrontendOptions options;
   options.occlusion_window_px = 0;
   FeatureFrame a0;
@@ -512,7 +531,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   const int half_window = options.klt_window_px / 2;
   std::set<std::uint64_t> patch_ids, static_ids;
   for (const FeatureObservation& o : a0.features) {
-    const int u = static_cast<int>(std::lround(o.uv.x())), v = static_cast<int>(std::lround(o.uv.y()));
+    const int u = static_cast<int>(std::lround(o.uv.x())),
+              v = static_cast<int>(std::lround(o.uv.y()));
     if (!uniformSurface(truth0.surface, u, v, half_window)) continue;
     (truth0.surface.at<int>(v, u) == s0.patch ? patch_ids : static_ids).insert(o.id);
   }
@@ -524,7 +544,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   std::map<std::uint64_t, FeatureObservation> in0;
   for (const FeatureObservation& o : a0.features) in0[o.id] = o;
 
-  for (std::uint64_t id : patch_ids) EXPECT_FALSE(in1.count(id)) << "patch feature " << id << " survived";
+  for (std::uint64_t id : patch_ids)
+    EXPECT_FALSE(in1.count(id)) << "patch feature " << id << " survived";
   EXPECT_GE(a1.n_ransac_rejected, static_cast<int>(patch_ids.size()) / 2);
   int static_survivors = 0;
   double worst = 0.0;
@@ -539,8 +560,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
     worst = std::max(worst, (in1.at(id).uv - uv1).norm());
   }
   std::cout << "patch features " << patch_ids.size() << ", RANSAC rejected " << a1.n_ransac_rejected
-            << ", static survivors " << static_survivors << "/" << static_ids.size() << ", worst static error "
-            << worst << " px\n";
+            << ", static survivors " << static_survivors << "/" << static_ids.size()
+            << ", worst static error " << worst << " px\n";
   EXPECT_GE(static_survivors, static_cast<int>(static_ids.size()) * 9 / 10);
   EXPECT_LT(worst, 0.3);
 
@@ -550,7 +571,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   FeatureFrame b0;
   const FeatureFrame b1 = runPair(loose, &b0);
   int patch_kept_without_ransac = 0;
-  for (const FeatureObservation& o : b1.features) patch_kept_without_ransac += patch_ids.count(o.id) ? 1 : 0;
+  for (const FeatureObservation& o : b1.features)
+    patch_kept_without_ransac += patch_ids.count(o.id) ? 1 : 0;
   EXPECT_GE(patch_kept_without_ransac, static_cast<int>(patch_ids.size()) * 3 / 4);
   // Every static feature KLT kept (it is in the loose run) is consistent with the epipolar
   // geometry: RANSAC (with its least-squares refit) must keep all of them, including the near
@@ -559,8 +581,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   for (const FeatureObservation& o : b1.features) {
     if (!static_ids.count(o.id)) continue;
     ++static_tracked;
-    EXPECT_TRUE(in1.count(o.id)) << "static feature " << o.id << " at " << in0.at(o.id).uv.transpose()
-                                 << " wrongly rejected";
+    EXPECT_TRUE(in1.count(o.id)) << "static feature " << o.id << " at "
+                                 << in0.at(o.id).uv.transpose() << " wrongly rejected";
   }
   EXPECT_GE(static_tracked, static_cast<int>(static_ids.size()) * 9 / 10);
 
@@ -568,7 +590,8 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
   // 0 when the 5x5 window crosses an edge (all surfaces here differ by far more than 3 %).
   int exact = 0, edge_rejected = 0;
   for (const FeatureObservation& o : a0.features) {
-    const int u = static_cast<int>(std::lround(o.uv.x())), v = static_cast<int>(std::lround(o.uv.y()));
+    const int u = static_cast<int>(std::lround(o.uv.x())),
+              v = static_cast<int>(std::lround(o.uv.y()));
     if (!uniformSurface(truth0.surface, u, v, options.depth_neighbourhood_px)) {
       EXPECT_EQ(o.depth_m, 0.0) << "feature on a depth edge at " << o.uv.transpose();
       ++edge_rejected;
@@ -590,14 +613,17 @@ TEST(FeatureTracker, RansacRejectsAnIndependentlyMovingPatchAndDepthIsRobust) {
 namespace {
 
 /// Features whose KLT window shows surfaces at different depths (truth from the renderer).
-std::set<std::uint64_t> straddlingFeatures(const FeatureFrame& f, const LayeredScene& s, const RenderOutput& truth,
-                                           int half_window) {
+std::set<std::uint64_t> straddlingFeatures(const FeatureFrame& f, const LayeredScene& s,
+                                           const RenderOutput& truth, int half_window) {
   std::set<std::uint64_t> ids;
   for (const FeatureObservation& o : f.features) {
-    const int uc = static_cast<int>(std::lround(o.uv.x())), vc = static_cast<int>(std::lround(o.uv.y()));
+    const int uc = static_cast<int>(std::lround(o.uv.x())),
+              vc = static_cast<int>(std::lround(o.uv.y()));
     double lo = 1e9, hi = 0.0;
-    for (int v = std::max(0, vc - half_window); v <= std::min(truth.surface.rows - 1, vc + half_window); ++v)
-      for (int u = std::max(0, uc - half_window); u <= std::min(truth.surface.cols - 1, uc + half_window); ++u) {
+    for (int v = std::max(0, vc - half_window);
+         v <= std::min(truth.surface.rows - 1, vc + half_window); ++v)
+      for (int u = std::max(0, uc - half_window);
+           u <= std::min(truth.surface.cols - 1, uc + half_window); ++u) {
         const int k = truth.surface.at<int>(v, u);
         const double z = k < 0 ? 0.0 : s.surface_depth[static_cast<size_t>(k)];
         lo = std::min(lo, z);
@@ -631,7 +657,8 @@ TEST(FeatureTracker, NoFeatureKeepsAWindowOnAnOcclusionBoundary) {
   const int half = with_check.occlusion_window_px;
 
   const auto b0_straddling = straddlingFeatures(b0, s, truth0, half);
-  ASSERT_GE(b0_straddling.size(), 10u) << "the scene must put corners on its edges for this test to mean anything";
+  ASSERT_GE(b0_straddling.size(), 10u)
+      << "the scene must put corners on its edges for this test to mean anything";
   EXPECT_EQ(b0.n_occluded_skipped, 0);
   EXPECT_TRUE(straddlingFeatures(a0, s, truth0, half).empty());
   EXPECT_TRUE(straddlingFeatures(a1, s, truth1, half).empty());

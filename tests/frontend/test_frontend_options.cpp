@@ -64,7 +64,8 @@ TEST(FrontendOptions, EveryFrontendKeyOfTheShippedConfigIsRead) {
 }
 
 TEST(FrontendOptions, ValuesAreReadAndOutOfRangeNamesTheKey) {
-  IniReader ok = IniReader::fromText("[frontend]\nmax_features = 200\nklt_pyramid_levels = 4\n", "f.ini");
+  IniReader ok =
+      IniReader::fromText("[frontend]\nmax_features = 200\nklt_pyramid_levels = 4\n", "f.ini");
   const FrontendOptions o = FrontendOptions::load(ok);
   EXPECT_EQ(o.max_features, 200);
   EXPECT_EQ(o.klt_pyramid_levels, 4);
@@ -99,7 +100,8 @@ TEST(FrontendOptions, TheOcclusionTestNeedsADepthNoiseScale) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("occlusion_window_px"), std::string::npos) << e.what();
   }
-  IniReader off = IniReader::fromText("[frontend]\ndepth_noise_coeff = 0\nocclusion_window_px = 0\n", "o.ini");
+  IniReader off =
+      IniReader::fromText("[frontend]\ndepth_noise_coeff = 0\nocclusion_window_px = 0\n", "o.ini");
   EXPECT_NO_THROW(FrontendOptions::load(off));
   FrontendOptions o;
   o.depth_noise_coeff = 0.0;

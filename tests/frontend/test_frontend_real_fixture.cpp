@@ -1,15 +1,14 @@
 // The front end on real data: the OpenNI2 RGB-D observation of shared/data/real (depth and colour
 // cameras do not coincide), read with MRPT directly.
 #include <gtest/gtest.h>
-
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/poses/CPose3D.h>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "rgbdi/frontend/depth_registration.h"
@@ -56,7 +55,8 @@ Fixture loadFixture(const std::string& path) {
   Fixture fx;
   for (size_t i = 0; i < log.size() && !fx.obs; ++i)
     if (log.getType(i) == mrpt::obs::CRawlog::etObservation)
-      fx.obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(log.getAsObservation(i));
+      fx.obs =
+          std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(log.getAsObservation(i));
   if (!fx.obs) throw std::runtime_error(path + ": no CObservation3DRangeScan");
   auto& o = *fx.obs;
   o.load();
@@ -66,14 +66,16 @@ Fixture loadFixture(const std::string& path) {
   f.source_label = path + " record 0";
   const cv::Mat bgr = o.intensityImage.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
   cv::cvtColor(bgr, f.rgb, cv::COLOR_BGR2RGB);
-  f.depth = cv::Mat(static_cast<int>(o.rangeImage.rows()), static_cast<int>(o.rangeImage.cols()), CV_16UC1);
+  f.depth = cv::Mat(static_cast<int>(o.rangeImage.rows()), static_cast<int>(o.rangeImage.cols()),
+                    CV_16UC1);
   for (int r = 0; r < f.depth.rows; ++r)
     for (int c = 0; c < f.depth.cols; ++c) f.depth.at<std::uint16_t>(r, c) = o.rangeImage(r, c);
   f.depth_unit_m = o.rangeUnits;
   f.cam_color = fromMrpt(o.cameraParamsIntensity);
   f.cam_depth = fromMrpt(o.cameraParams);
   const mrpt::poses::CPose3D optical_in_mrpt(0, 0, 0, -M_PI / 2, 0, -M_PI / 2);
-  f.T_color_depth = toIsometry(o.relativePoseIntensityWRTDepth).inverse() * toIsometry(optical_in_mrpt);
+  f.T_color_depth =
+      toIsometry(o.relativePoseIntensityWRTDepth).inverse() * toIsometry(optical_in_mrpt);
   f.depth_aligned_to_color = o.doDepthAndIntensityCamerasCoincide();
   return fx;
 }
@@ -100,7 +102,8 @@ TEST(FrontendRealFixture, RegisteredDepthIsInTheSensorsRangeAndCoversTheScene) {
       lo = std::min<double>(lo, z);
       hi = std::max<double>(hi, z);
     }
-  std::cout << "registered: " << valid << " pixels with depth, range " << lo << " .. " << hi << " m\n";
+  std::cout << "registered: " << valid << " pixels with depth, range " << lo << " .. " << hi
+            << " m\n";
   // Raw depth spans 1.624-2.560 m; the colour camera sits 1.5 mm behind the depth camera.
   EXPECT_GE(lo, 1.62);
   EXPECT_LE(hi, 2.565);
@@ -124,11 +127,14 @@ TEST(FrontendRealFixture, RegistrationAgreesWithMrptsOwnPointConvention) {
       const double x = d * o.rangeUnits;
       const mrpt::math::TPoint3D p_depth(x, (o.cameraParams.cx() - c) / o.cameraParams.fx() * x,
                                          (o.cameraParams.cy() - r) / o.cameraParams.fy() * x);
-      const mrpt::math::TPoint3D p_color = o.relativePoseIntensityWRTDepth.inverseComposePoint(p_depth);
+      const mrpt::math::TPoint3D p_color =
+          o.relativePoseIntensityWRTDepth.inverseComposePoint(p_depth);
       Eigen::Vector2d uv;
-      if (!fx.frame.cam_color.project({p_color.x, p_color.y, p_color.z}, uv) || !fx.frame.cam_color.inImage(uv))
+      if (!fx.frame.cam_color.project({p_color.x, p_color.y, p_color.z}, uv) ||
+          !fx.frame.cam_color.inImage(uv))
         continue;
-      const float z = reg.at<float>(static_cast<int>(std::lround(uv.y())), static_cast<int>(std::lround(uv.x())));
+      const float z = reg.at<float>(static_cast<int>(std::lround(uv.y())),
+                                    static_cast<int>(std::lround(uv.x())));
       if (z > 0) diffs.push_back(std::abs(z - p_color.z));
     }
   ASSERT_GT(diffs.size(), 4000u);
@@ -163,7 +169,8 @@ TEST(FrontendRealFixture, SceneStructureIsWhereTheColourImageShowsIt) {
   const double wall = medianDepth({380, 60, 120, 60});
   const double books = medianDepth({340, 240, 200, 60});
   const double upright = medianDepth({316, 240, 12, 120});
-  std::cout << "wall " << wall << " m, books " << books << " m, shelf upright " << upright << " m\n";
+  std::cout << "wall " << wall << " m, books " << books << " m, shelf upright " << upright
+            << " m\n";
   for (double z : {wall, books, upright}) {
     EXPECT_GE(z, 1.62);
     EXPECT_LE(z, 2.565);

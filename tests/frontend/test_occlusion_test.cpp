@@ -4,9 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
-#include <opencv2/core.hpp>
-
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <random>
 
 #include "rgbdi/frontend/occlusion_test.h"
@@ -108,7 +107,8 @@ TEST(OcclusionTest, SensorNoiseAloneIsNoBoundary) {
         d.at<float>(v, u) = static_cast<float>(std::round((z + noise(rng)) * 1000.0) / 1000.0);
     int flagged = 0;
     for (int v = 12; v < 48; v += 3)
-      for (int u = 12; u < 68; u += 3) flagged += straddlesOcclusion(d, {double(u), double(v)}, o) ? 1 : 0;
+      for (int u = 12; u < 68; u += 3)
+        flagged += straddlesOcclusion(d, {double(u), double(v)}, o) ? 1 : 0;
     EXPECT_EQ(flagged, 0) << "at " << z << " m";
   }
 }

@@ -5,7 +5,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <fstream>
 #include <sstream>
@@ -48,8 +47,8 @@ void forEachCsvRow(const std::string& path, std::size_t expected_values, Fn fn) 
       for (std::size_t k = 1; k < fields.size(); ++k) values.push_back(std::stod(fields[k]));
       fn(static_cast<std::int64_t>(std::stoll(fields[0])), values);
     } catch (const std::logic_error&) {
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": not a number in '" +
-                               line + "'");
+      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": not a number in '" + line +
+                               "'");
     }
   }
 }

@@ -6,7 +6,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <vector>
 
@@ -39,9 +38,7 @@ class SyntheticMotion {
  public:
   explicit SyntheticMotion(const Eigen::Vector3d& g_w) : g_w_(g_w) {}
 
-  TrueState state(double t) const {
-    return {position(t), expQuat(rotationVector(t)), velocity(t)};
-  }
+  TrueState state(double t) const { return {position(t), expQuat(rotationVector(t)), velocity(t)}; }
 
   /// Noise-free IMU sample at t with the given biases added to the readings.
   ImuSample sample(double t, const Eigen::Vector3d& ba = Eigen::Vector3d::Zero(),
@@ -79,10 +76,12 @@ class SyntheticMotion {
     return {-0.845 * std::sin(1.3 * t), -0.648 * std::cos(0.9 * t), -0.441 * std::sin(2.1 * t)};
   }
   static Eigen::Vector3d rotationVector(double t) {
-    return {0.2 * std::sin(1.7 * t), 0.15 * std::sin(1.1 * t + 0.3), 0.4 * t + 0.3 * std::sin(0.7 * t)};
+    return {0.2 * std::sin(1.7 * t), 0.15 * std::sin(1.1 * t + 0.3),
+            0.4 * t + 0.3 * std::sin(0.7 * t)};
   }
   static Eigen::Vector3d rotationRate(double t) {
-    return {0.34 * std::cos(1.7 * t), 0.165 * std::cos(1.1 * t + 0.3), 0.4 + 0.21 * std::cos(0.7 * t)};
+    return {0.34 * std::cos(1.7 * t), 0.165 * std::cos(1.1 * t + 0.3),
+            0.4 + 0.21 * std::cos(0.7 * t)};
   }
 
   Eigen::Vector3d g_w_;

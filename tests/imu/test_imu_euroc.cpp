@@ -31,8 +31,7 @@ ImuBuffer bufferOf(const std::vector<ImuSample>& samples) {
 }
 
 std::unique_ptr<Preintegration> preintegrate(const ImuBuffer& buffer, double t0, double t1,
-                                             const Eigen::Vector3d& ba,
-                                             const Eigen::Vector3d& bg) {
+                                             const Eigen::Vector3d& ba, const Eigen::Vector3d& bg) {
   auto pre = std::make_unique<Preintegration>(ba, bg, ImuNoise::fromOptions(ImuOptions{}));
   for (const auto& s : buffer.between(t0, t1)) pre->push(s);
   return pre;
@@ -136,9 +135,10 @@ TEST_F(EurocV102, GyroBiasIsRecoveredFromGroundTruthRotations) {
   ASSERT_GT(pairs.size(), 90u);
   bg_mean /= static_cast<double>(pairs.size());
   const Eigen::Vector3d bg = solveGyroBias(pairs);  // correction from zero = the bias itself
-  std::printf("gyro bias: estimated (%.5f %.5f %.5f), ground truth (%.5f %.5f %.5f) rad/s, "
-              "error %.2e rad/s\n",
-              bg.x(), bg.y(), bg.z(), bg_mean.x(), bg_mean.y(), bg_mean.z(), (bg - bg_mean).norm());
+  std::printf(
+      "gyro bias: estimated (%.5f %.5f %.5f), ground truth (%.5f %.5f %.5f) rad/s, "
+      "error %.2e rad/s\n",
+      bg.x(), bg.y(), bg.z(), bg_mean.x(), bg_mean.y(), bg_mean.z(), (bg - bg_mean).norm());
   // Measured error 6e-4 rad/s against a bias of 0.078 rad/s.
   EXPECT_LT((bg - bg_mean).norm(), 1.5e-3);
 }

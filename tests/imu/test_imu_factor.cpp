@@ -1,8 +1,7 @@
 // ImuFactor: analytic Jacobians vs numeric differentiation through the right perturbation,
 // whitening, and a small Ceres solve with a pose manifold whose PlusJacobian is [I6; 0].
-#include <gtest/gtest.h>
-
 #include <ceres/ceres.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
@@ -173,7 +172,8 @@ TEST(ImuFactor, AnalyticJacobiansMatchNumericDifferentiation) {
       const double err = (ana - num).cwiseAbs().maxCoeff() / scale;
       worst = std::max(worst, err);
       EXPECT_LT(err, 1e-6) << name << " trial " << trial << "\nanalytic\n"
-                           << ana << "\nnumeric\n" << num;
+                           << ana << "\nnumeric\n"
+                           << num;
     };
     check(J0.leftCols<6>(), N0, "pose_i");
     check(J1, N1, "speed_bias_i");
@@ -192,10 +192,10 @@ TEST(ImuFactor, ResidualIsWhitenedPreintegrationResidual) {
   const Residual r = evaluate(factor, sc.pose_i, sc.sb_i, sc.pose_j, sc.sb_j);
   auto v3 = [](const double* d) { return Eigen::Vector3d(d[0], d[1], d[2]); };
   auto q = [](const Pose& p) { return Eigen::Quaterniond(p[6], p[3], p[4], p[5]); };
-  const Residual raw = sc.pre->residual(
-      v3(sc.pose_i.data()), q(sc.pose_i), v3(sc.sb_i.data()), v3(sc.sb_i.data() + 3),
-      v3(sc.sb_i.data() + 6), v3(sc.pose_j.data()), q(sc.pose_j), v3(sc.sb_j.data()),
-      v3(sc.sb_j.data() + 3), v3(sc.sb_j.data() + 6), kGravity);
+  const Residual raw = sc.pre->residual(v3(sc.pose_i.data()), q(sc.pose_i), v3(sc.sb_i.data()),
+                                        v3(sc.sb_i.data() + 3), v3(sc.sb_i.data() + 6),
+                                        v3(sc.pose_j.data()), q(sc.pose_j), v3(sc.sb_j.data()),
+                                        v3(sc.sb_j.data() + 3), v3(sc.sb_j.data() + 6), kGravity);
   EXPECT_LT((r - sc.pre->sqrtInformation() * raw).norm(), 1e-9 * r.norm());
   // The squared norm is the Mahalanobis distance under the pre-integration covariance.
   EXPECT_NEAR(r.squaredNorm(), raw.dot(sc.pre->covariance().ldlt().solve(raw)),

@@ -35,11 +35,10 @@ TEST(GravityAlignedAttitude, RecoversRollAndPitchWithZeroYaw) {
   std::uniform_real_distribution<double> u(-1.2, 1.2);
   for (int k = 0; k < 50; ++k) {
     const double roll = u(rng), pitch = u(rng), yaw = 2.5 * u(rng);
-    const Eigen::Matrix3d R_true =
-        (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-            .toRotationMatrix();
+    const Eigen::Matrix3d R_true = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                    Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                                    Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                                       .toRotationMatrix();
     // Reading at rest: R^T (a_w - g_w) with a_w = 0.
     const Eigen::Vector3d acc = R_true.transpose() * (-kGravity);
     const Eigen::Quaterniond q = gravityAlignedAttitude(acc);

@@ -157,7 +157,7 @@ TEST(Preintegration, FirstOrderBiasCorrectionApproximatesReintegration) {
   const Eigen::Vector3d bg(0.003, 0.004, -0.002);
   const auto samples = motion.samples(2.0, 2.5, 200.0, ba, bg);
   const auto pre = integrate(samples, ba, bg);
-  const Eigen::Vector3d dba(0.03, -0.04, 0.0);  // |dba| = 0.05 m/s^2
+  const Eigen::Vector3d dba(0.03, -0.04, 0.0);    // |dba| = 0.05 m/s^2
   const Eigen::Vector3d dbg(0.006, 0.0, -0.008);  // |dbg| = 0.01 rad/s
   const auto truth = integrate(samples, ba + dba, bg + dbg);
 
@@ -167,8 +167,8 @@ TEST(Preintegration, FirstOrderBiasCorrectionApproximatesReintegration) {
   const double p_corr = (truth.deltaP() - pre.deltaP()).norm();
   const double v_corr = (truth.deltaV() - pre.deltaV()).norm();
   const double q_corr = rotationAngle(truth.deltaQ(), pre.deltaQ());
-  std::printf("correction p %.3e m v %.3e m/s q %.3e rad; remainder p %.3e v %.3e q %.3e\n",
-              p_corr, v_corr, q_corr, p_err.norm(), v_err.norm(), q_err);
+  std::printf("correction p %.3e m v %.3e m/s q %.3e rad; remainder p %.3e v %.3e q %.3e\n", p_corr,
+              v_corr, q_corr, p_err.norm(), v_err.norm(), q_err);
   EXPECT_LT(p_err.norm(), 0.01 * p_corr);
   EXPECT_LT(v_err.norm(), 0.01 * v_corr);
   EXPECT_LT(q_err, 0.01 * q_corr);
@@ -206,8 +206,8 @@ TEST(Preintegration, NeedsRepropagationComparesEachBiasWithItsThreshold) {
 
 TEST(Preintegration, CovarianceIsSymmetricPositiveDefiniteAndWhitenedByUpperFactor) {
   const test::SyntheticMotion motion(kGravity);
-  const auto pre = integrate(motion.samples(0.0, 0.2, 200.0), Eigen::Vector3d::Zero(),
-                             Eigen::Vector3d::Zero());
+  const auto pre =
+      integrate(motion.samples(0.0, 0.2, 200.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
   const Matrix15d& P = pre.covariance();
   EXPECT_TRUE(P.isApprox(P.transpose(), 0.0));
   const Matrix15d U = pre.sqrtInformation();

@@ -39,14 +39,18 @@ void chunk(Bytes& png, const char* type, const Bytes& body) {
 
 int predictor(int filter, int a, int b, int c) {
   switch (filter) {
-    case 1: return a;
-    case 2: return b;
-    case 3: return (a + b) / 2;
+    case 1:
+      return a;
+    case 2:
+      return b;
+    case 3:
+      return (a + b) / 2;
     case 4: {
       const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
       return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
     }
-    default: return 0;
+    default:
+      return 0;
   }
 }
 
@@ -79,9 +83,9 @@ Bytes encodePng(const cv::Mat& img, int colour_type, const std::vector<int>& fil
   Bytes ihdr;
   put32(ihdr, static_cast<std::uint32_t>(img.cols));
   put32(ihdr, static_cast<std::uint32_t>(img.rows));
-  ihdr.insert(ihdr.end(), {static_cast<std::uint8_t>(bit_depth),
-                           static_cast<std::uint8_t>(colour_type), 0, 0,
-                           static_cast<std::uint8_t>(interlace)});
+  ihdr.insert(ihdr.end(),
+              {static_cast<std::uint8_t>(bit_depth), static_cast<std::uint8_t>(colour_type), 0, 0,
+               static_cast<std::uint8_t>(interlace)});
   chunk(png, "IHDR", ihdr);
   for (const auto& [type, body] : extra) chunk(png, type.c_str(), body);
   const std::size_t half = z.size() / 2;
@@ -138,11 +142,13 @@ TEST(DecodePng, EveryFilterAndColourTypeEqualsOpenCvsDecoding) {
       const Bytes png = encodePng(img, colour_type, filter_sets[s]);
       const auto ours = decodePngToRgb(png.data(), png.size());
       ASSERT_TRUE(ours.has_value()) << "colour type " << colour_type << ", filters " << s;
-      EXPECT_TRUE(identical(*ours, openCvRgb(png))) << "colour type " << colour_type << ", set " << s;
+      EXPECT_TRUE(identical(*ours, openCvRgb(png)))
+          << "colour type " << colour_type << ", set " << s;
       // And the pixels themselves: R,G,B of the source (grey replicated, alpha dropped).
       const cv::Vec3b px = ours->at<cv::Vec3b>(20, 30);
       const std::uint8_t* src = img.ptr<std::uint8_t>(20) + 30 * channels;
-      EXPECT_EQ(px, channels == 1 ? cv::Vec3b(src[0], src[0], src[0]) : cv::Vec3b(src[0], src[1], src[2]));
+      EXPECT_EQ(px, channels == 1 ? cv::Vec3b(src[0], src[0], src[0])
+                                  : cv::Vec3b(src[0], src[1], src[2]));
     }
   }
 }
@@ -205,7 +211,8 @@ TEST(DecodePng, DamagedFilesAreErrorsThatSayWhatIsWrong) {
   Bytes taller = good;
   taller[8 + 8 + 7] = static_cast<std::uint8_t>(taller[8 + 8 + 7] + 2);  // height, low byte
   const std::uint32_t crc = libdeflate_crc32(0, &taller[8 + 4], 17);
-  for (int k = 0; k < 4; ++k) taller[8 + 8 + 13 + k] = static_cast<std::uint8_t>(crc >> (24 - 8 * k));
+  for (int k = 0; k < 4; ++k)
+    taller[8 + 8 + 13 + k] = static_cast<std::uint8_t>(crc >> (24 - 8 * k));
   EXPECT_EQ(error(taller), "PNG image data are damaged (they do not inflate to 53x39 pixels)");
 }
 
@@ -215,7 +222,8 @@ TEST(ReadMrptRangeFile, EqualsMrptsOwnReader) {
   obs.hasRangeImage = true;
   obs.rangeImage_setSize(7, 11);
   for (int r = 0; r < 7; ++r)
-    for (int c = 0; c < 11; ++c) obs.rangeImage(r, c) = static_cast<std::uint16_t>(r * 1000 + c * 7 + 1);
+    for (int c = 0; c < 11; ++c)
+      obs.rangeImage(r, c) = static_cast<std::uint16_t>(r * 1000 + c * 7 + 1);
   obs.rangeImage(3, 4) = 65535;
   obs.rangeImage_convertToExternalStorage("r.bin", dir + "/");
   const std::string file = dir + "/r.bin";

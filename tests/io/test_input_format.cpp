@@ -41,9 +41,7 @@ class InputFormatTest : public ::testing::Test {
 TEST_F(InputFormatTest, DetectsFormats) {
   EXPECT_EQ(detectInputFormat(writeImuRawlog("a.rawlog", false, 2)), InputFormat::Rawlog);
   EXPECT_EQ(detectInputFormat(writeImuRawlog("b.rawlog.gz", true, 2)), InputFormat::Rawlog);
-  {
-    std::ofstream(dir_ + "/x.txt") << "hello";
-  }
+  { std::ofstream(dir_ + "/x.txt") << "hello"; }
   EXPECT_EQ(detectInputFormat(dir_ + "/x.txt"), InputFormat::Unknown);
   fs::create_directory(dir_ + "/tum");
   EXPECT_EQ(detectInputFormat(dir_ + "/tum"), InputFormat::Unknown);
@@ -60,7 +58,8 @@ TEST_F(InputFormatTest, DetectsFormats) {
 }
 
 TEST_F(InputFormatTest, RealBagIsRecognisedByItsHeader) {
-  const std::string bag = rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
+  const std::string bag =
+      rgbdi::test::fixturePath("real/realsense_d435_single_depth_color_640x480.bag");
   RGBDI_REQUIRE_FIXTURE(bag);
   EXPECT_EQ(detectInputFormat(bag), InputFormat::Ros1Bag);
 }
@@ -71,7 +70,8 @@ TEST_F(InputFormatTest, InspectRawlogReportsCorruptionInsteadOfThrowing) {
   const StreamDiagnostics d = inspectRawlog(p, StreamConfig());
   EXPECT_FALSE(d.ok());
   EXPECT_EQ(d.imu.delivered, 29u);
-  EXPECT_EQ(d.error.rfind(p + " record 29: truncated: the file ends inside this record (", 0), 0u) << d.error;
+  EXPECT_EQ(d.error.rfind(p + " record 29: truncated: the file ends inside this record (", 0), 0u)
+      << d.error;
   EXPECT_NE(d.report().find("ERROR: " + d.error), std::string::npos);
   EXPECT_NE(d.toJson().find("\"ok\": false"), std::string::npos);
   EXPECT_THROW(inspectRawlog(dir_ + "/missing.rawlog", StreamConfig()), RawlogError);

@@ -1,16 +1,14 @@
 // MRPT <-> rgbdi conversions: frame conventions (checked against MRPT's own pose algebra and its
 // documented unprojection formula), round trips, colour order, units, and the real OpenNI2 fixture.
 #include <gtest/gtest.h>
-
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/poses/CPoint3D.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "rgbdi/io/mrpt_conversions.h"
@@ -32,7 +30,8 @@ Eigen::Isometry3d makePose(double x, double y, double z, double rx, double ry, d
 }
 
 void expectIsoNear(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double tol) {
-  EXPECT_LT((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), tol) << "\n" << a.matrix() << "\nvs\n"
+  EXPECT_LT((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), tol) << "\n"
+                                                                  << a.matrix() << "\nvs\n"
                                                                   << b.matrix();
 }
 
@@ -55,11 +54,13 @@ RgbdFrame makeFrame(bool aligned) {
   f.t = 1700000000.123456;
   f.rgb = cv::Mat(6, 8, CV_8UC3);
   f.rgb.forEach<cv::Vec3b>([&](cv::Vec3b& p, const int*) {
-    p = cv::Vec3b(static_cast<uchar>(px(rng)), static_cast<uchar>(px(rng)), static_cast<uchar>(px(rng)));
+    p = cv::Vec3b(static_cast<uchar>(px(rng)), static_cast<uchar>(px(rng)),
+                  static_cast<uchar>(px(rng)));
   });
   f.depth = cv::Mat(aligned ? 6 : 4, aligned ? 8 : 5, CV_16UC1);
   for (int r = 0; r < f.depth.rows; ++r)
-    for (int c = 0; c < f.depth.cols; ++c) f.depth.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(dd(rng));
+    for (int c = 0; c < f.depth.cols; ++c)
+      f.depth.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(dd(rng));
   f.depth_unit_m = 1e-3;
   f.cam_color = makeCam(8, 6, 7.5, 7.25, 3.9, 2.8, 0.05);
   f.cam_depth = aligned ? f.cam_color : makeCam(5, 4, 4.5, 4.25, 2.1, 1.6, -0.02);
@@ -121,7 +122,8 @@ TEST(MrptConversions, DepthPixelLandsOnSameBodyPointBothConventions) {
     const mrpt::poses::CPoint3D p_mrpt(d, (cam.cx - c) * d / cam.fx, (cam.cy - r) * d / cam.fy);
     const mrpt::poses::CPoint3D p_body_mrpt = obs.sensorPose + p_mrpt;
 
-    const Eigen::Vector3d p_depth_opt = f.cam_depth.backProject(Eigen::Vector2d(c, r), f.depthAt(1, 3));
+    const Eigen::Vector3d p_depth_opt =
+        f.cam_depth.backProject(Eigen::Vector2d(c, r), f.depthAt(1, 3));
     const Eigen::Vector3d p_body = f.source_T_body_cam * (f.T_color_depth * p_depth_opt);
     EXPECT_NEAR(p_body.x(), p_body_mrpt.x(), 1e-12);
     EXPECT_NEAR(p_body.y(), p_body_mrpt.y(), 1e-12);
@@ -139,7 +141,8 @@ TEST(MrptConversions, DepthPixelLandsOnSameBodyPointBothConventions) {
 TEST(MrptConversions, RgbdRoundTripAlignedAndNotAligned) {
   for (const bool aligned : {true, false}) {
     const RgbdFrame f = makeFrame(aligned);
-    const Eigen::Isometry3d T_body_cam = makePose(0.01, 0.015, -0.02, -90 * kDeg, 0.5 * kDeg, -90 * kDeg);
+    const Eigen::Isometry3d T_body_cam =
+        makePose(0.01, 0.015, -0.02, -90 * kDeg, 0.5 * kDeg, -90 * kDeg);
     const auto obs = toMrpt(f, T_body_cam, "RGBD");
     EXPECT_EQ(obs->sensorLabel, "RGBD");
     EXPECT_EQ(obs->doDepthAndIntensityCamerasCoincide(), aligned);
@@ -154,7 +157,8 @@ TEST(MrptConversions, RgbdRoundTripAlignedAndNotAligned) {
     EXPECT_EQ(cv::norm(g.rgb, f.rgb, cv::NORM_INF), 0.0);
     ASSERT_EQ(g.depth.size(), f.depth.size());
     EXPECT_EQ(cv::norm(g.depth, f.depth, cv::NORM_INF), 0.0);
-    for (const auto& [a, b] : {std::pair{g.cam_color, f.cam_color}, std::pair{g.cam_depth, f.cam_depth}}) {
+    for (const auto& [a, b] :
+         {std::pair{g.cam_color, f.cam_color}, std::pair{g.cam_depth, f.cam_depth}}) {
       EXPECT_EQ(a.width, b.width);
       EXPECT_EQ(a.height, b.height);
       EXPECT_EQ(a.fx, b.fx);
@@ -177,7 +181,9 @@ TEST(MrptConversions, AlignedFlagWithNonIdentityExtrinsicIsRejected) {
     toMrpt(f, Eigen::Isometry3d::Identity(), "RGBD");
     FAIL() << "expected ConversionError";
   } catch (const ConversionError& e) {
-    EXPECT_STREQ(e.what(), "bad frame: depth is declared aligned to colour but T_color_depth is not the identity");
+    EXPECT_STREQ(
+        e.what(),
+        "bad frame: depth is declared aligned to colour but T_color_depth is not the identity");
   }
 }
 
@@ -212,8 +218,10 @@ TEST(MrptConversions, EuclideanRangesAreConvertedToDepth) {
   obs.rangeImage(0, 0) = 3000;  // xn = yn = -0.5: depth = range / sqrt(1.5)
   const RgbdFrame f = fromMrpt(obs, "ranges");
   EXPECT_EQ(f.depth.at<std::uint16_t>(1, 1), 3000);
-  EXPECT_EQ(f.depth.at<std::uint16_t>(1, 3), static_cast<std::uint16_t>(std::lround(3000 / std::sqrt(2.0))));
-  EXPECT_EQ(f.depth.at<std::uint16_t>(0, 0), static_cast<std::uint16_t>(std::lround(3000 / std::sqrt(1.5))));
+  EXPECT_EQ(f.depth.at<std::uint16_t>(1, 3),
+            static_cast<std::uint16_t>(std::lround(3000 / std::sqrt(2.0))));
+  EXPECT_EQ(f.depth.at<std::uint16_t>(0, 0),
+            static_cast<std::uint16_t>(std::lround(3000 / std::sqrt(1.5))));
   EXPECT_EQ(f.depth.at<std::uint16_t>(2, 2), 0);
 }
 
@@ -224,7 +232,9 @@ TEST(MrptConversions, EmptyObservationAndExoticDistortionAreErrors) {
         try {
           fromMrpt(obs, "f.rawlog record 3");
         } catch (const ConversionError& e) {
-          EXPECT_STREQ(e.what(), "f.rawlog record 3: 3-D range scan has neither an intensity nor a range image");
+          EXPECT_STREQ(
+              e.what(),
+              "f.rawlog record 3: 3-D range scan has neither an intensity nor a range image");
           throw;
         }
       },
@@ -259,7 +269,9 @@ TEST(MrptConversions, ImuRoundTripAndMissingFields) {
     fromMrpt(only_acc);
     FAIL() << "expected ConversionError";
   } catch (const ConversionError& e) {
-    EXPECT_STREQ(e.what(), "IMU observation 'XSENS' at t = 12.500000 s lacks accelerometer/gyroscope data: IMU_WX IMU_WY");
+    EXPECT_STREQ(e.what(),
+                 "IMU observation 'XSENS' at t = 12.500000 s lacks accelerometer/gyroscope data: "
+                 "IMU_WX IMU_WY");
   }
 }
 
@@ -279,11 +291,11 @@ TEST(MrptConversions, RealOpenNi2Observation) {
   ASSERT_TRUE(obs);
   const RgbdFrame f = fromMrpt(*obs, "openni2 record 0");
 
-  std::printf("openni2 t=%.6f depth %dx%d colour %dx%d aligned=%d\n", f.t, f.depth.cols, f.depth.rows,
-              f.rgb.cols, f.rgb.rows, f.depth_aligned_to_color);
+  std::printf("openni2 t=%.6f depth %dx%d colour %dx%d aligned=%d\n", f.t, f.depth.cols,
+              f.depth.rows, f.rgb.cols, f.rgb.rows, f.depth_aligned_to_color);
   for (const auto* c : {&f.cam_depth, &f.cam_color})
-    std::printf("  %dx%d fx=%.17g fy=%.17g cx=%.17g cy=%.17g k1=%.17g k2=%.17g\n", c->width, c->height,
-                c->fx, c->fy, c->cx, c->cy, c->dist[0], c->dist[1]);
+    std::printf("  %dx%d fx=%.17g fy=%.17g cx=%.17g cy=%.17g k1=%.17g k2=%.17g\n", c->width,
+                c->height, c->fx, c->fy, c->cx, c->cy, c->dist[0], c->dist[1]);
 
   EXPECT_NEAR(f.t, 1462879443.617188, 1e-6);
   ASSERT_EQ(f.depth.cols, 640);

@@ -33,10 +33,10 @@ TEST(TimeOrderingBuffer, ReordersWithinWindowAndDropsOlder) {
   TimeOrderingBuffer b(0.05, 0.1);
   EXPECT_EQ(b.push(imu(1.00), 0), V::Accepted);
   EXPECT_EQ(b.push(imu(1.02), 1), V::Accepted);
-  EXPECT_EQ(b.push(imu(1.01), 2), V::Reordered);   // 0.01 s late: within 0.05
-  EXPECT_EQ(b.push(imu(0.96), 3), V::TooLate);     // 0.06 s older than the newest IMU
+  EXPECT_EQ(b.push(imu(1.01), 2), V::Reordered);  // 0.01 s late: within 0.05
+  EXPECT_EQ(b.push(imu(0.96), 3), V::TooLate);    // 0.06 s older than the newest IMU
   EXPECT_EQ(b.push(imu(1.02), 4), V::Duplicate);
-  EXPECT_TRUE(drain(b).empty());                   // nothing is 0.1 s old yet
+  EXPECT_TRUE(drain(b).empty());  // nothing is 0.1 s old yet
   EXPECT_EQ(b.size(), 3u);
   b.finish();
   const auto out = drain(b);
@@ -60,10 +60,10 @@ TEST(TimeOrderingBuffer, ReleasesOnlyDataOlderThanTheLargestWindow) {
 TEST(TimeOrderingBuffer, LateFrameIsMergedInTimeOrderAcrossKinds) {
   TimeOrderingBuffer b(0.05, 0.1);
   const auto t = [](int i) { return 2.0 + 0.01 * i; };
-  for (int i = 0; i < 10; ++i) b.push(imu(t(i)), 0);       // 2.00 .. 2.09
-  EXPECT_EQ(b.push(frame(t(3)), 1), V::Accepted);          // 0.06 s behind the IMU: fine
-  for (int i = 10; i < 30; ++i) b.push(imu(t(i)), 2);      // .. 2.29
-  auto out = drain(b);                                     // releases t <= 2.19
+  for (int i = 0; i < 10; ++i) b.push(imu(t(i)), 0);   // 2.00 .. 2.09
+  EXPECT_EQ(b.push(frame(t(3)), 1), V::Accepted);      // 0.06 s behind the IMU: fine
+  for (int i = 10; i < 30; ++i) b.push(imu(t(i)), 2);  // .. 2.29
+  auto out = drain(b);                                 // releases t <= 2.19
   ASSERT_EQ(out.size(), 21u);
   // A frame 0.21 s older than the newest data: behind what was already released.
   EXPECT_EQ(b.push(frame(t(8)), 3), V::BehindOutput);

@@ -436,10 +436,10 @@ TEST_F(LiveSourceTest, BagReplayTakesRawlogConvertsConfigFile) {
   RGBDI_REQUIRE_FIXTURE(bag);
   // rawlog-convert --config cal.ini: a 0.15 s pairing tolerance (the colour image pairs with the
   // first depth image) and the extrinsic for a recording without IMU extrinsics.
-  const std::string cal = test::writeFile(
-      dir + "/cal.ini",
-      "[convert]\npair_tolerance_s = 0.15 ; [s]\n[extrinsic]\n"
-      "R_body_cam = 0 0 1  -1 0 0  0 -1 0\nt_body_cam_m = 0.01 0.02 0.03\n");
+  const std::string cal =
+      test::writeFile(dir + "/cal.ini",
+                      "[convert]\npair_tolerance_s = 0.15 ; [s]\n[extrinsic]\n"
+                      "R_body_cam = 0 0 1  -1 0 0  0 -1 0\nt_body_cam_m = 0.01 0.02 0.03\n");
   const convert::ConversionSettings settings = convert::loadConversionSettings(cal, "");
   bag::BagConverter conv(bag, settings.options, bag::BagInputOptions(), settings.calibration);
   test::RecordingSink ref;
@@ -459,8 +459,7 @@ TEST_F(LiveSourceTest, BagReplayTakesRawlogConvertsConfigFile) {
     EXPECT_NEAR(f.t, ref.frames[i].t, 1e-6) << i;
     EXPECT_EQ(f.hasColor(), ref.frames[i].hasColor()) << i;
     ASSERT_TRUE(f.has_source_T_body_cam);
-    EXPECT_LT((f.source_T_body_cam.translation() - Eigen::Vector3d(0.01, 0.02, 0.03)).norm(),
-              1e-9);
+    EXPECT_LT((f.source_T_body_cam.translation() - Eigen::Vector3d(0.01, 0.02, 0.03)).norm(), 1e-9);
     EXPECT_LT((f.T_color_depth.matrix() - ref.frames[i].T_color_depth.matrix()).norm(), 1e-9);
   }
   EXPECT_EQ(cv::norm(sink.frames[0].rgb, ref.frames[0].rgb, cv::NORM_INF), 0.0);
@@ -489,8 +488,9 @@ TEST_F(LiveSourceTest, BagReplayOnOtherTopicsTakesTheTopicsAndAVinsYaml) {
                   "extrinsicTranslation: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n"
                   "   data: [ 0.04, 0.05, 0.06 ]\nacc_n: 0.1\ngyr_n: 0.01\nacc_w: 0.0002\n"
                   "gyr_w: 2.0e-5\ng_norm: 9.81\n");
-  const std::string keys = "color_topic = /cam/rgb\ndepth_topic = /cam/depth\n"
-                           "imu_topic = /cam/imu\ncamera_yaml = cam.yaml\n";
+  const std::string keys =
+      "color_topic = /cam/rgb\ndepth_topic = /cam/depth\n"
+      "imu_topic = /cam/imu\ncamera_yaml = cam.yaml\n";
   LiveSource src(SensorConfig::fromFile(
       ini("[BAG]\ndriver = RgbdiRawlogReplay\nprocess_rate = 200\nstamps = source\n"
           "speed = 2\nfile = other.bag\n" +
@@ -504,19 +504,17 @@ TEST_F(LiveSourceTest, BagReplayOnOtherTopicsTakesTheTopicsAndAVinsYaml) {
     EXPECT_DOUBLE_EQ(f.cam_color.cy, 11.5);
     EXPECT_TRUE(f.depth_aligned_to_color);
     ASSERT_TRUE(f.has_source_T_body_cam);
-    EXPECT_LT((f.source_T_body_cam.translation() - Eigen::Vector3d(0.04, 0.05, 0.06)).norm(),
-              1e-9);
+    EXPECT_LT((f.source_T_body_cam.translation() - Eigen::Vector3d(0.04, 0.05, 0.06)).norm(), 1e-9);
   }
 
   // Without the topic keys the bag has no known layout: the error lists its topics.
   try {
-    LiveSource none(SensorConfig::fromFile(ini(
-        "[BAG]\ndriver = RgbdiRawlogReplay\nprocess_rate = 200\nfile = other.bag\n")));
+    LiveSource none(SensorConfig::fromFile(
+        ini("[BAG]\ndriver = RgbdiRawlogReplay\nprocess_rate = 200\nfile = other.bag\n")));
     FAIL() << "no error";
   } catch (const LiveError& e) {
     EXPECT_EQ(e.kind(), LiveError::Kind::OpenFailed);
-    EXPECT_NE(std::string(e.what()).find("no colour or depth image topic found"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("no colour or depth image topic found"), std::string::npos)
         << e.what();
     EXPECT_NE(std::string(e.what()).find("/cam/rgb"), std::string::npos) << e.what();
   }

@@ -367,9 +367,9 @@ TEST(PlaceRecognizer, CandidatesOfAnUnrelatedPartSkipTheConsistencyCheck) {
     }
     // Keyframe 0 of the part has no predecessor of its own: without the predicate it is not
     // queried (no reference score); with it, it proposes the unrelated part's best matches.
-    const std::vector<bool> expected =
-        with_predicate ? std::vector<bool>{true, true, true, true}
-                       : std::vector<bool>{false, false, false, true};
+    const std::vector<bool> expected = with_predicate
+                                           ? std::vector<bool>{true, true, true, true}
+                                           : std::vector<bool>{false, false, false, true};
     EXPECT_EQ(has, expected) << "predicate " << with_predicate;
   }
 }

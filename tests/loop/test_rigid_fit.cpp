@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -64,9 +63,11 @@ void makePoints(std::uint64_t seed, bool noisy, std::vector<RgbdPoint>& src,
 
 TEST(RgbdPointCovariance, IsTheRayVarianceAlongTheRayAndTheLateralOneAcrossIt) {
   const Eigen::Matrix3d along_z = rgbdPointCovariance({Eigen::Vector3d(0, 0, 2), 0.01, 0.05});
-  EXPECT_TRUE(along_z.isApprox(Eigen::Vector3d(1e-4, 1e-4, 25e-4).asDiagonal().toDenseMatrix(), 1e-12));
+  EXPECT_TRUE(
+      along_z.isApprox(Eigen::Vector3d(1e-4, 1e-4, 25e-4).asDiagonal().toDenseMatrix(), 1e-12));
   const Eigen::Matrix3d along_x = rgbdPointCovariance({Eigen::Vector3d(3, 0, 0), 0.02, 0.1});
-  EXPECT_TRUE(along_x.isApprox(Eigen::Vector3d(1e-2, 4e-4, 4e-4).asDiagonal().toDenseMatrix(), 1e-12));
+  EXPECT_TRUE(
+      along_x.isApprox(Eigen::Vector3d(1e-2, 4e-4, 4e-4).asDiagonal().toDenseMatrix(), 1e-12));
   // Oblique ray (1, 1, 0)/sqrt(2): ray variance 0.09, lateral 0.01.
   const Eigen::Matrix3d c = rgbdPointCovariance({Eigen::Vector3d(1, 1, 0), 0.1, 0.3});
   EXPECT_NEAR(c(0, 0), 0.05, 1e-12);

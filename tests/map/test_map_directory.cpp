@@ -413,7 +413,7 @@ TEST(MapDirectory, RefusesAnotherFormatVersionNamingTheManifest) {
   const std::string e = loadError(dir);
   EXPECT_TRUE(contains(e, "manifest.json")) << e;
   EXPECT_TRUE(contains(e, "map format version " + std::to_string(kMapFormatVersion + 1) +
-                             ", this build reads version " + std::to_string(kMapFormatVersion)))
+                              ", this build reads version " + std::to_string(kMapFormatVersion)))
       << e;
 }
 

@@ -1,9 +1,8 @@
 // Synthetic RGB-D frames with exactly known geometry for the mapping tests.
 #pragma once
 
-#include <opencv2/core.hpp>
-
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 
 #include "rgbdi/common/types.h"

@@ -190,12 +190,14 @@ TEST(MapExport, SceneOpensWithMrptAndHoldsPointsTrajectoryAndKeyframes) {
   ASSERT_EQ(frames->size(), 3u);
   const char* axis_name[3] = {"keyframes_x", "keyframes_y", "keyframes_z"};
   for (int a = 0; a < 3; ++a) {
-    auto axis = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(frames->getByName(axis_name[a]));
+    auto axis =
+        std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(frames->getByName(axis_name[a]));
     ASSERT_TRUE(axis) << axis_name[a];
     ASSERT_EQ(axis->getLineCount(), run.store.size());
     for (std::size_t k = 0; k < run.store.size(); ++k) {
       const Eigen::Isometry3d& T = run.store.at(k).T_world_cam;
-      const Eigen::Vector3d tip = T.translation() + SceneOptions().keyframe_axis_m * T.linear().col(a);
+      const Eigen::Vector3d tip =
+          T.translation() + SceneOptions().keyframe_axis_m * T.linear().col(a);
       axis->getLineByIndex(k, x0, y0, z0, x1, y1, z1);
       EXPECT_TRUE(Eigen::Vector3d(x0, y0, z0).isApprox(T.translation(), 1e-5)) << k;
       EXPECT_TRUE(Eigen::Vector3d(x1, y1, z1).isApprox(tip, 1e-5)) << k;

@@ -104,9 +104,9 @@ TEST(MappingOptions, InconsistentValuesAreRejected) {
   EXPECT_NE(loadError("[mapping]\ndepth_min_m = 7\n").find("depth_min_m"), std::string::npos);
   EXPECT_NE(loadError("[mapping]\nu_min_px = 600\n").find("u_min_px"), std::string::npos);
   EXPECT_NE(loadError("[mapping]\nv_max_px = 5\n").find("v_min_px"), std::string::npos);
-  EXPECT_NE(loadError("[mapping]\nmin_points_per_leaf_rebuild = 6\n").find(
-                "min_points_per_leaf_rebuild"),
-            std::string::npos);
+  EXPECT_NE(
+      loadError("[mapping]\nmin_points_per_leaf_rebuild = 6\n").find("min_points_per_leaf_rebuild"),
+      std::string::npos);
   EXPECT_EQ(loadError("[mapping]\nmin_points_per_leaf_rebuild = 5\n"), "");
 }
 

@@ -1,6 +1,5 @@
 // Morton code of OctoMap keys: the order in which the occupancy map updates its cells.
 #include <gtest/gtest.h>
-
 #include <octomap/OcTreeKey.h>
 
 #include <cstdint>

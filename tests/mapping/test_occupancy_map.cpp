@@ -1,7 +1,6 @@
 // Occupancy OctoMap: ray casting from the camera (free in front of a surface, occupied at it,
 // unknown behind), ray count per frame, and map.bt read back with OctoMap.
 #include <gtest/gtest.h>
-
 #include <octomap/OcTree.h>
 
 #include <sstream>
@@ -177,7 +176,6 @@ TEST(OccupancyMap, KeptPointsCastEveryStrideSquaredRayAndAllMarkTheirCellsOccupi
   EXPECT_EQ(cellAt(decimated.tree(), second), Cell::Occupied);
 }
 
-
 TEST(OccupancyMap, UpdatesInOctreeOrderGiveOctomapsOwnInsertionResult) {
   // castRays updates the cells sorted by Morton code instead of in the hash set's order; every
   // cell is updated once per scan, so the tree must be exactly OctoMap's insertPointCloud result.
@@ -202,10 +200,13 @@ TEST(OccupancyMap, UpdatesInOctreeOrderGiveOctomapsOwnInsertionResult) {
   octomap::Pointcloud cloud;
   for (const MapPoint& p : kept) {
     const Eigen::Vector3d w = T * p.p_cam.cast<double>();
-    cloud.push_back(static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(w.z()));
+    cloud.push_back(static_cast<float>(w.x()), static_cast<float>(w.y()),
+                    static_cast<float>(w.z()));
   }
   const Eigen::Vector3d o = T.translation();
-  reference.insertPointCloud(cloud, octomap::point3d(static_cast<float>(o.x()), static_cast<float>(o.y()), static_cast<float>(o.z())),
+  reference.insertPointCloud(cloud,
+                             octomap::point3d(static_cast<float>(o.x()), static_cast<float>(o.y()),
+                                              static_cast<float>(o.z())),
                              every_ray.depth_max_m, /*lazy_eval=*/true, /*discretize=*/true);
   reference.updateInnerOccupancy();
 

@@ -1,7 +1,6 @@
 // The point mapper on a real OpenNI2 RGB-D observation (depth not registered to colour): its
 // grid points must agree with MRPT's own documented unprojection of the same depth pixels.
 #include <gtest/gtest.h>
-
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CRawlog.h>
 
@@ -23,7 +22,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr loadObservation(const std::string& path)
   if (!log.loadFromRawLogFile(path)) throw std::runtime_error("cannot read " + path);
   for (std::size_t i = 0; i < log.size(); ++i)
     if (log.getType(i) == mrpt::obs::CRawlog::etObservation)
-      if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(log.getAsObservation(i))) {
+      if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(
+              log.getAsObservation(i))) {
         o->load();
         return o;
       }
@@ -71,8 +71,10 @@ TEST(PointMapRealFixture, OpenNi2GridPointsAgreeWithMrptsUnprojection) {
       const std::uint16_t d = obs->rangeImage(v, u);
       const double x = d * obs->rangeUnits;
       if (d == 0 || !(x > o.depth_min_m && x < o.depth_max_m)) continue;
-      const mrpt::math::TPoint3D p_depth(x, (cam.cx() - u) / cam.fx() * x, (cam.cy() - v) / cam.fy() * x);
-      const mrpt::math::TPoint3D p = obs->relativePoseIntensityWRTDepth.inverseComposePoint(p_depth);
+      const mrpt::math::TPoint3D p_depth(x, (cam.cx() - u) / cam.fx() * x,
+                                         (cam.cy() - v) / cam.fy() * x);
+      const mrpt::math::TPoint3D p =
+          obs->relativePoseIntensityWRTDepth.inverseComposePoint(p_depth);
       expected_raw.emplace_back(p.x, p.y, p.z);
       const Eigen::Vector2d xn = undistortRadial(
           {(u - cam.cx()) / cam.fx(), (v - cam.cy()) / cam.fy()}, cam.dist[0], cam.dist[1]);
@@ -91,9 +93,9 @@ TEST(PointMapRealFixture, OpenNi2GridPointsAgreeWithMrptsUnprojection) {
     max_diff_raw = std::max(max_diff_raw, (kept[i].p_cam.cast<double>() - expected_raw[i]).norm());
     coloured += kept[i].rgb != kUncolouredRgb;
   }
-  std::cout << kept.size() << " points, max difference to MRPT's unprojection " << max_diff_raw * 1e3
-            << " mm (distortion ignored), " << max_diff * 1e3 << " mm (undistorted), " << coloured
-            << " coloured\n";
+  std::cout << kept.size() << " points, max difference to MRPT's unprojection "
+            << max_diff_raw * 1e3 << " mm (distortion ignored), " << max_diff * 1e3
+            << " mm (undistorted), " << coloured << " coloured\n";
   EXPECT_LT(max_diff_raw, 0.005);
   EXPECT_LT(max_diff, 1e-5);
   EXPECT_GT(coloured, kept.size() * 9 / 10);

@@ -2,7 +2,6 @@
 // (numeric Jacobian, quadratic-form invariance), round trip through MRPT's loader and ours,
 // validation and malformed-file errors.
 #include <gtest/gtest.h>
-
 #include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -35,7 +34,8 @@ TEST(PoseGraphInformation, JacobianMatchesMrptEulerNumerically) {
     const Eigen::Vector3d minus(yaw - d(0), pitch - d(1), roll - d(2));
     const Eigen::Vector3d numeric =
         (logSO3(R0.transpose() * mrptRotation(plus(0), plus(1), plus(2))) -
-         logSO3(R0.transpose() * mrptRotation(minus(0), minus(1), minus(2)))) / (2 * h);
+         logSO3(R0.transpose() * mrptRotation(minus(0), minus(1), minus(2)))) /
+        (2 * h);
     EXPECT_LT((numeric - E.col(k)).norm(), 1e-8) << "column " << k;
   }
   EXPECT_LT((mrptYawPitchRoll(R0) - Eigen::Vector3d(yaw, pitch, roll)).norm(), 1e-12);
@@ -49,7 +49,8 @@ TEST(PoseGraphInformation, PureYawIsTheYawPitchRollPermutation) {
   // rgbdi (x y z rx ry rz) -> MRPT (x y z yaw pitch roll) = (x y z rz ry rx) at zero pitch/roll.
   const int perm[6] = {0, 1, 2, 5, 4, 3};
   for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) EXPECT_NEAR(m(r, c), info(perm[r], perm[c]), 1e-12) << r << "," << c;
+    for (int c = 0; c < 6; ++c)
+      EXPECT_NEAR(m(r, c), info(perm[r], perm[c]), 1e-12) << r << "," << c;
 }
 
 TEST(PoseGraphInformation, QuadraticFormIsPreservedForSmallPerturbations) {
@@ -61,7 +62,8 @@ TEST(PoseGraphInformation, QuadraticFormIsPreservedForSmallPerturbations) {
   const Eigen::Matrix3d R = expSO3(Eigen::Vector3d(0.4, -0.9, 2.2));
   const Eigen::Vector3d t(1, 2, 3);
   const Matrix6d info_mrpt = informationToMrpt(info, R);
-  const mrpt::poses::CPose3D base{mrpt::math::CMatrixDouble33(R), mrpt::math::CVectorFixedDouble<3>(t)};
+  const mrpt::poses::CPose3D base{mrpt::math::CMatrixDouble33(R),
+                                  mrpt::math::CVectorFixedDouble<3>(t)};
   for (int trial = 0; trial < 5; ++trial) {
     Eigen::Matrix<double, 6, 1> delta;
     for (int k = 0; k < 6; ++k) delta(k) = 1e-5 * n01(rng);
@@ -93,8 +95,10 @@ Sample sampleGraph() {
     PoseGraphNode n;
     n.id = id;
     n.t = 1403715529.262140036 + 0.1 * id;
-    n.T_world_body.linear() = expSO3(Eigen::Vector3d(0.1 * n01(rng), 0.1 * n01(rng), 3.0 * n01(rng)));
-    n.T_world_body.translation() = Eigen::Vector3d(123.456789 + n01(rng), n01(rng), 1e-3 * n01(rng));
+    n.T_world_body.linear() =
+        expSO3(Eigen::Vector3d(0.1 * n01(rng), 0.1 * n01(rng), 3.0 * n01(rng)));
+    n.T_world_body.translation() =
+        Eigen::Vector3d(123.456789 + n01(rng), n01(rng), 1e-3 * n01(rng));
     s.nodes.push_back(n);
   }
   const auto edge = [&](std::uint64_t from, std::uint64_t to, const std::string& kind) {
@@ -115,7 +119,8 @@ Sample sampleGraph() {
 }
 
 void expectClose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double tol) {
-  EXPECT_LT((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), tol) << a.matrix() << "\nvs\n" << b.matrix();
+  EXPECT_LT((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), tol) << a.matrix() << "\nvs\n"
+                                                                  << b.matrix();
 }
 
 TEST(PoseGraph, RoundTripThroughMrptAndReadPoseGraph) {
@@ -247,7 +252,8 @@ TEST(PoseGraph, MalformedOrMissingFilesAreIoErrors) {
   const std::string bad_note = test::makeTempDir("out_graph") + "/note.graph";
   std::ofstream(bad_note) << "# rgbdi-node seven\nVERTEX3 0 0 0 0 0 0 0\n";
   EXPECT_THROW(readPoseGraph(bad_note), IoError);
-  std::ofstream(bad_note) << "VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 0 0 0 0 0 0\n# rgbdi-edge 0 1 loop 1 2 3\n";
+  std::ofstream(bad_note)
+      << "VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 0 0 0 0 0 0\n# rgbdi-edge 0 1 loop 1 2 3\n";
   EXPECT_THROW(readPoseGraph(bad_note), IoError);  // information truncated
 }
 

@@ -280,8 +280,10 @@ TEST(Profiles, AnalyticDerivativesMatchFiniteDifferences) {
     const double h = 2e-4;
     for (double t : {1.0, 3.1, 7.77, 15.2, 33.3}) {
       const KinematicState s = traj.state(t);
-      Eigen::Vector3d pm2 = traj.pose(t - 2 * h).translation(), pm1 = traj.pose(t - h).translation();
-      Eigen::Vector3d pp1 = traj.pose(t + h).translation(), pp2 = traj.pose(t + 2 * h).translation();
+      Eigen::Vector3d pm2 = traj.pose(t - 2 * h).translation(),
+                      pm1 = traj.pose(t - h).translation();
+      Eigen::Vector3d pp1 = traj.pose(t + h).translation(),
+                      pp2 = traj.pose(t + 2 * h).translation();
       const Eigen::Vector3d p0 = traj.pose(t).translation();
       const Eigen::Vector3d v_num = (pm2 - 8 * pm1 + 8 * pp1 - pp2) / (12 * h);
       const Eigen::Vector3d a_num = (-pm2 + 16 * pm1 - 30 * p0 + 16 * pp1 - pp2) / (12 * h * h);
@@ -290,7 +292,8 @@ TEST(Profiles, AnalyticDerivativesMatchFiniteDifferences) {
       // Body rate: log(R(t)^T R(t +- h)) / h, 4th-order combination.
       const Eigen::Matrix3d R0 = s.T_world_body.linear();
       auto rel = [&](double dt) { return logSO3(R0.transpose() * traj.pose(t + dt).linear()); };
-      const Eigen::Vector3d w_num = (rel(-2 * h) - 8 * rel(-h) + 8 * rel(h) - rel(2 * h)) / (12 * h);
+      const Eigen::Vector3d w_num =
+          (rel(-2 * h) - 8 * rel(-h) + 8 * rel(h) - rel(2 * h)) / (12 * h);
       EXPECT_LT((w_num - s.omega_body).norm(), 1e-6) << name << " t " << t;
       // omega_dot against differences of omega.
       const Eigen::Vector3d wd_num =

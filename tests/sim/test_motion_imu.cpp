@@ -67,10 +67,10 @@ TEST(ImuSynth, IntegratingTheNoiseFreeImuReproducesTheGroundTruth) {
       const std::size_t mid = static_cast<std::size_t>((prof.cruise_start_s + 2.0) * rate);
       for (std::size_t k0 : {std::size_t{0}, mid}) {
         const IntegrationError e = integrate(imu, k0, k0 + n10);
-        std::printf("%-15s %4.0f Hz, 10 s from t=%5.2f s: position %.2e m, velocity %.2e m/s, "
-                    "rotation %.2e deg\n",
-                    name.c_str(), rate, imu.sampleTime(k0), e.position_m, e.velocity_m_s,
-                    e.rotation_deg);
+        std::printf(
+            "%-15s %4.0f Hz, 10 s from t=%5.2f s: position %.2e m, velocity %.2e m/s, "
+            "rotation %.2e deg\n",
+            name.c_str(), rate, imu.sampleTime(k0), e.position_m, e.velocity_m_s, e.rotation_deg);
         if (kind == ProfileKind::TrackedSlopes && rate < 1000.0) {
           EXPECT_LT(e.position_m, 0.01) << name;
           continue;
@@ -136,8 +136,8 @@ TEST(ImuSynth, NoiseAndBiasStatisticsFollowTheDensities) {
 
 TEST(ImuSynth, SameSeedSameSamplesDifferentSeedDifferentNoise) {
   const MotionProfile prof = profile(ProfileKind::TrackedSlopes);
-  const ImuSynthesizer a(prof.trajectory, ImuSynthOptions(), 42), b(prof.trajectory, ImuSynthOptions(), 42),
-      c(prof.trajectory, ImuSynthOptions(), 43);
+  const ImuSynthesizer a(prof.trajectory, ImuSynthOptions(), 42),
+      b(prof.trajectory, ImuSynthOptions(), 42), c(prof.trajectory, ImuSynthOptions(), 43);
   int differing = 0;
   for (std::size_t k = 0; k < a.sampleCount(); k += 97) {
     const ImuSample sa = a.measured(k), sb = b.measured(k), sc = c.measured(k);

@@ -82,27 +82,27 @@ TEST(ProfileVariants, EveryVariantDrivesAlongTheCorridorOfTheWorldsPath) {
     // The default duration (a lap or more) and a run shorter than a lap (a second session's
     // 10 s): a short variant must still run on the world's path, not beside it.
     for (const double duration_s : {0.0, 10.0})
-    for (int variant = duration_s > 0.0 ? 1 : 0; variant < kProfileVariants; ++variant) {
-      SCOPED_TRACE(name + " variant " + std::to_string(variant) + ", duration " +
-                   std::to_string(duration_s) + " s");
-      const MotionProfile prof = profileOf(kind, variant, duration_s);
-      // The world (room, ramps, furniture corridor) is the same for every variant.
-      EXPECT_EQ(prof.layout.path_xy, world.layout.path_xy);
-      EXPECT_EQ(prof.layout.room_min, world.layout.room_min);
-      EXPECT_EQ(prof.layout.room_max, world.layout.room_max);
-      EXPECT_EQ(prof.layout.ramps.size(), world.layout.ramps.size());
-      EXPECT_DOUBLE_EQ(prof.lap_length_m, world.lap_length_m);
-      // Same speed profile: same distance in the same time.
-      if (duration_s == 0.0) EXPECT_NEAR(prof.path_length_m, world.path_length_m, 1e-9);
-      double worst = 0.0;
-      for (const Sample& s : sampleRun(prof, 0.1)) {
-        // The walker sways by up to ~0.15 m; the robots stay on the path's line.
-        worst = std::max(worst, distanceToPolyline(s.p.head<2>(), world.layout.path_xy));
-        ASSERT_GT(s.p.x(), world.layout.room_min.x() + world.layout.path_clearance_m);
-        ASSERT_LT(s.p.x(), world.layout.room_max.x() - world.layout.path_clearance_m);
+      for (int variant = duration_s > 0.0 ? 1 : 0; variant < kProfileVariants; ++variant) {
+        SCOPED_TRACE(name + " variant " + std::to_string(variant) + ", duration " +
+                     std::to_string(duration_s) + " s");
+        const MotionProfile prof = profileOf(kind, variant, duration_s);
+        // The world (room, ramps, furniture corridor) is the same for every variant.
+        EXPECT_EQ(prof.layout.path_xy, world.layout.path_xy);
+        EXPECT_EQ(prof.layout.room_min, world.layout.room_min);
+        EXPECT_EQ(prof.layout.room_max, world.layout.room_max);
+        EXPECT_EQ(prof.layout.ramps.size(), world.layout.ramps.size());
+        EXPECT_DOUBLE_EQ(prof.lap_length_m, world.lap_length_m);
+        // Same speed profile: same distance in the same time.
+        if (duration_s == 0.0) EXPECT_NEAR(prof.path_length_m, world.path_length_m, 1e-9);
+        double worst = 0.0;
+        for (const Sample& s : sampleRun(prof, 0.1)) {
+          // The walker sways by up to ~0.15 m; the robots stay on the path's line.
+          worst = std::max(worst, distanceToPolyline(s.p.head<2>(), world.layout.path_xy));
+          ASSERT_GT(s.p.x(), world.layout.room_min.x() + world.layout.path_clearance_m);
+          ASSERT_LT(s.p.x(), world.layout.room_max.x() - world.layout.path_clearance_m);
+        }
+        EXPECT_LT(worst, handheld ? 0.2 : 0.01);
       }
-      EXPECT_LT(worst, handheld ? 0.2 : 0.01);
-    }
   }
 }
 

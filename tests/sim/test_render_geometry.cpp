@@ -134,9 +134,9 @@ TEST(RenderGeometry, RampSurfaceHeight) {
   scene.build();
   EXPECT_NEAR(surfaceHeight(scene, 1.0, 0.3), 0.25, 1e-12);
   EXPECT_NEAR(surfaceHeight(scene, 3.9, -0.9), 0.975, 1e-12);
-  EXPECT_TRUE(std::isnan(surfaceHeight(scene, 1.0, 1.1)));   // beside (width 2)
-  EXPECT_TRUE(std::isnan(surfaceHeight(scene, 4.05, 0.0)));  // past the top edge
-  EXPECT_TRUE(std::isnan(surfaceHeight(scene, -0.05, 0.0))); // before the foot
+  EXPECT_TRUE(std::isnan(surfaceHeight(scene, 1.0, 1.1)));    // beside (width 2)
+  EXPECT_TRUE(std::isnan(surfaceHeight(scene, 4.05, 0.0)));   // past the top edge
+  EXPECT_TRUE(std::isnan(surfaceHeight(scene, -0.05, 0.0)));  // before the foot
   EXPECT_NEAR(surfaceHeight(scene, 10.2, 2.5), 0.5 + 0.3, 1e-12);
   EXPECT_NEAR(surfaceHeight(scene, 1.0, 10.0), 0.5, 1e-12);
   EXPECT_NEAR(surfaceHeight(scene, 2.0, 10.5), 1.0, 1e-12);
@@ -215,7 +215,8 @@ Scene randomScene(std::uint64_t seed, int objects) {
   Scene scene(seed);
   scene.addRoom({-6, -5, 0}, {6, 5, 3});
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> ux(-5.5, 5.5), uy(-4.5, 4.5), us(0.1, 0.8), ua(-M_PI, M_PI);
+  std::uniform_real_distribution<double> ux(-5.5, 5.5), uy(-4.5, 4.5), us(0.1, 0.8),
+      ua(-M_PI, M_PI);
   for (int i = 0; i < objects; ++i) {
     switch (i % 4) {
       case 0: {
@@ -227,7 +228,10 @@ Scene randomScene(std::uint64_t seed, int objects) {
         scene.addBox(T, {us(rng), us(rng), us(rng)}, TextureStyle::Posters);
         break;
       }
-      case 1: scene.addCylinder({ux(rng), uy(rng)}, 0.5 * us(rng), 0.0, 3 * us(rng), TextureStyle::Speckle); break;
+      case 1:
+        scene.addCylinder({ux(rng), uy(rng)}, 0.5 * us(rng), 0.0, 3 * us(rng),
+                          TextureStyle::Speckle);
+        break;
       case 2: {
         const Eigen::Vector2d a(ux(rng), uy(rng));
         const Eigen::Vector2d b = a + Eigen::Vector2d(us(rng) * 2, us(rng) - 0.45);
@@ -237,7 +241,9 @@ Scene randomScene(std::uint64_t seed, int objects) {
           scene.addSymmetricRamp(a, b, 0.0, us(rng) * 2, us(rng), TextureStyle::Planks);
         break;
       }
-      default: scene.addStep({ux(rng), uy(rng)}, {us(rng), us(rng)}, ua(rng), 0.0, us(rng), TextureStyle::Bricks);
+      default:
+        scene.addStep({ux(rng), uy(rng)}, {us(rng), us(rng)}, ua(rng), 0.0, us(rng),
+                      TextureStyle::Bricks);
     }
   }
   scene.build();
@@ -275,8 +281,7 @@ TEST(RenderGeometry, BvhRaycastEqualsBruteForce) {
 
 TEST(RenderGeometry, BvhOfIdenticalBoundsStaysShallow) {
   Scene scene(2);
-  for (int i = 0; i < 300; ++i)
-    scene.addStep({0, 0}, {1, 1}, 0.0, 0.0, 1.0, TextureStyle::Tiles);
+  for (int i = 0; i < 300; ++i) scene.addStep({0, 0}, {1, 1}, 0.0, 0.0, 1.0, TextureStyle::Tiles);
   scene.build();
   EXPECT_LE(scene.bvh().depth(), 12);
   Hit a, b;

@@ -2,9 +2,8 @@
 // per-pixel ray casting, textures are deterministic, corner-rich and alias-free at a distance.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "rgbdi/common/sensor_options.h"
@@ -57,7 +56,8 @@ TEST(RenderImage, FrontoParallelWallDepthEqualsCameraZOfItsPoints) {
       const Eigen::Vector3d p_cam = T.inverse() * Eigen::Vector3d(5, y, z);
       Eigen::Vector2d uv;
       ASSERT_TRUE(d435().project(p_cam, uv));
-      const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+      const int u = static_cast<int>(std::lround(uv.x())),
+                v = static_cast<int>(std::lround(uv.y()));
       if (u < 0 || v < 0 || u >= 640 || v >= 480) continue;
       EXPECT_NEAR(depth.at<float>(v, u), p_cam.z(), 1e-6) << "point y=" << y << " z=" << z;
       ++checked;
@@ -93,7 +93,8 @@ TEST(RenderImage, ScenePointsProjectOntoThePixelWithTheirDepthWithDistortion) {
     for (int u = 5; u < cam.width; u += 31) {
       const Eigen::Vector2d xn = cam.pixelToNormalized({double(u), double(v)});
       const Eigen::Vector3d d = (T.linear() * Eigen::Vector3d(xn.x(), xn.y(), 1.0)).normalized();
-      const Eigen::Vector3d p_world = T.translation() + exitDistance(T.translation(), d, lo, hi) * d;
+      const Eigen::Vector3d p_world =
+          T.translation() + exitDistance(T.translation(), d, lo, hi) * d;
       const Eigen::Vector3d p_cam = T.inverse() * p_world;
       Eigen::Vector2d uv;
       ASSERT_TRUE(cam.project(p_cam, uv));
@@ -110,7 +111,8 @@ TEST(RenderImage, TileCulledRendererEqualsPerPixelRaycast) {
   for (const PinholeCamera& cam : {d435(), distorted()}) {
     const Renderer renderer(scene, cam);
     for (int k = 0; k < 3; ++k) {
-      const Eigen::Isometry3d T = lookFrom({0.5 * k - 0.5, 0.3 * k, 0.35 + 0.3 * k}, 2.1 * k, 0.15 * (k - 1));
+      const Eigen::Isometry3d T =
+          lookFrom({0.5 * k - 0.5, 0.3 * k, 0.35 + 0.3 * k}, 2.1 * k, 0.15 * (k - 1));
       cv::Mat rgb, depth;
       renderer.render(T, rgb, depth);
       int mismatches = 0, hits = 0;
@@ -119,7 +121,8 @@ TEST(RenderImage, TileCulledRendererEqualsPerPixelRaycast) {
           const Eigen::Vector2d xn = cam.pixelToNormalized({double(u), double(v)});
           const Eigen::Vector3d rc = Eigen::Vector3d(xn.x(), xn.y(), 1.0).normalized();
           Hit hit;
-          const bool h = scene.raycast(T.translation(), T.linear() * rc, renderer.options().max_range_m, hit);
+          const bool h =
+              scene.raycast(T.translation(), T.linear() * rc, renderer.options().max_range_m, hit);
           const float expected = h ? static_cast<float>(hit.t * rc.z()) : 0.0f;
           if (depth.at<float>(v, u) != expected) ++mismatches;
           hits += h;
@@ -195,8 +198,10 @@ TEST(RenderImage, MipTextureSamplingIsTrilinearOverBoxFilteredLevels) {
   for (int r = 0; r < 32; ++r)
     for (int c = 0; c < 32; ++c)
       for (int k = 0; k < 3; ++k) {
-        const int sum = level0.at<cv::Vec3b>(2 * r, 2 * c)[k] + level0.at<cv::Vec3b>(2 * r, 2 * c + 1)[k] +
-                        level0.at<cv::Vec3b>(2 * r + 1, 2 * c)[k] + level0.at<cv::Vec3b>(2 * r + 1, 2 * c + 1)[k];
+        const int sum = level0.at<cv::Vec3b>(2 * r, 2 * c)[k] +
+                        level0.at<cv::Vec3b>(2 * r, 2 * c + 1)[k] +
+                        level0.at<cv::Vec3b>(2 * r + 1, 2 * c)[k] +
+                        level0.at<cv::Vec3b>(2 * r + 1, 2 * c + 1)[k];
         level1.at<cv::Vec3b>(r, c)[k] = static_cast<std::uint8_t>((sum + 2) / 4);
       }
   const MipTexture tex(level0);
@@ -215,7 +220,10 @@ TEST(RenderImage, MipTextureSamplingIsTrilinearOverBoxFilteredLevels) {
   }
   // The coarsest level is the mean colour (up to one rounding of at most 0.5 per level).
   const cv::Scalar mean = cv::mean(level0);
-  EXPECT_LT((tex.sample(3.3, 7.1, 50.0f) - Eigen::Vector3f(mean[0], mean[1], mean[2])).cwiseAbs().maxCoeff(), 3.0);
+  EXPECT_LT((tex.sample(3.3, 7.1, 50.0f) - Eigen::Vector3f(mean[0], mean[1], mean[2]))
+                .cwiseAbs()
+                .maxCoeff(),
+            3.0);
   EXPECT_THROW(MipTexture(cv::Mat(48, 48, CV_8UC3)), std::invalid_argument);
 }
 

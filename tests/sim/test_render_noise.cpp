@@ -1,9 +1,8 @@
 // Sensor noise: depth statistics, quantisation, range gate, hole blobs; colour noise; options.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <set>
 
 #include "rgbdi/sim/sensor_noise.h"
@@ -132,7 +131,8 @@ TEST(RenderNoise, ColourNoiseSigmaAndSaturation) {
   EXPECT_NEAR(mean[0], 128.0, 0.05);
   // Rounding to integers adds 1/12 grey level^2 of variance.
   EXPECT_NEAR(sd[0], std::sqrt(4.0 + 1.0 / 12.0), 0.05);
-  cv::Mat black(100, 100, CV_8UC3, cv::Scalar::all(0)), white(100, 100, CV_8UC3, cv::Scalar::all(255));
+  cv::Mat black(100, 100, CV_8UC3, cv::Scalar::all(0)),
+      white(100, 100, CV_8UC3, cv::Scalar::all(255));
   applyColorNoise(black, o, rng);
   applyColorNoise(white, o, rng);
   double lo, hi;
@@ -164,8 +164,9 @@ TEST(RenderNoise, OptionsDefaultsMatchConfigAndRangesAreChecked) {
   EXPECT_EQ(c.hole_fraction, 0.01);
   EXPECT_EQ(ColorNoiseOptions::load(custom).sigma, 3.5);
 
-  for (const char* bad : {"[sim]\ndepth_sigma_coeff = -1\n", "[sim]\ndepth_hole_fraction = 0.9\n",
-                          "[sim]\ndepth_min_m = 3\ndepth_max_m = 2\n", "[sim]\ndepth_max_m = abc\n"}) {
+  for (const char* bad :
+       {"[sim]\ndepth_sigma_coeff = -1\n", "[sim]\ndepth_hole_fraction = 0.9\n",
+        "[sim]\ndepth_min_m = 3\ndepth_max_m = 2\n", "[sim]\ndepth_max_m = abc\n"}) {
     IniReader r = IniReader::fromText(bad, "bad.ini");
     try {
       DepthNoiseOptions::load(r);
@@ -180,11 +181,13 @@ TEST(RenderNoise, OptionsDefaultsMatchConfigAndRangesAreChecked) {
 
 TEST(RenderNoise, BadInputsAreRejected) {
   std::mt19937_64 rng(1);
-  EXPECT_THROW(applyDepthNoise(cv::Mat(4, 4, CV_16UC1), DepthNoiseOptions{}, rng), std::invalid_argument);
+  EXPECT_THROW(applyDepthNoise(cv::Mat(4, 4, CV_16UC1), DepthNoiseOptions{}, rng),
+               std::invalid_argument);
   EXPECT_THROW(applyDepthNoise(cv::Mat(), DepthNoiseOptions{}, rng), std::invalid_argument);
   DepthNoiseOptions o;
   o.max_m = 0.1;
-  EXPECT_THROW(applyDepthNoise(cv::Mat(4, 4, CV_32FC1, cv::Scalar(1.0f)), o, rng), std::invalid_argument);
+  EXPECT_THROW(applyDepthNoise(cv::Mat(4, 4, CV_32FC1, cv::Scalar(1.0f)), o, rng),
+               std::invalid_argument);
   cv::Mat grey(4, 4, CV_8UC1);
   EXPECT_THROW(applyColorNoise(grey, ColorNoiseOptions{}, rng), std::invalid_argument);
 }

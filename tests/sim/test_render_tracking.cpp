@@ -2,12 +2,11 @@
 // tracked by pyramidal KLT between two consecutive frames land where the scene geometry says.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/sim/renderer.h"
@@ -36,8 +35,8 @@ struct TrackStats {
 
 // Renders two noisy frames, tracks corners from the first to the second and compares with the
 // motion predicted from the ideal depth of the first frame.
-TrackStats trackBetween(const Scene& scene, const Eigen::Isometry3d& Ta, const Eigen::Isometry3d& Tb,
-                        std::uint64_t seed) {
+TrackStats trackBetween(const Scene& scene, const Eigen::Isometry3d& Ta,
+                        const Eigen::Isometry3d& Tb, std::uint64_t seed) {
   const PinholeCamera cam = CameraOptions().camera;
   const Renderer renderer(scene, cam);
   cv::Mat rgb_a, depth_a, rgb_b, depth_b, grey_a, grey_b;
@@ -61,7 +60,8 @@ TrackStats trackBetween(const Scene& scene, const Eigen::Isometry3d& Ta, const E
   std::vector<double> errors;
   const Eigen::Isometry3d T_b_a = Tb.inverse() * Ta;
   for (std::size_t i = 0; i < pa.size(); ++i) {
-    const int u = static_cast<int>(std::lround(pa[i].x)), v = static_cast<int>(std::lround(pa[i].y));
+    const int u = static_cast<int>(std::lround(pa[i].x)),
+              v = static_cast<int>(std::lround(pa[i].y));
     if (u < 2 || v < 2 || u >= cam.width - 2 || v >= cam.height - 2) continue;
     // Corners on depth edges have no single true motion: keep locally planar ones.
     double lo = 1e9, hi = 0;
@@ -99,7 +99,8 @@ TEST(RenderTracking, KltFollowsTheTrueMotionBetweenFrames) {
     Eigen::Isometry3d a, b;
   };
   const Motion motions[] = {
-      {lookFrom({0.0, 0.0, 0.4}, 0.3, 0.0), lookFrom({0.03 * std::cos(0.3), 0.03 * std::sin(0.3), 0.4}, 0.31, 0.0)},
+      {lookFrom({0.0, 0.0, 0.4}, 0.3, 0.0),
+       lookFrom({0.03 * std::cos(0.3), 0.03 * std::sin(0.3), 0.4}, 0.31, 0.0)},
       {lookFrom({0.5, -0.3, 0.4}, 2.0, 0.05), lookFrom({0.5, -0.28, 0.4}, 2.05, 0.05)},
       {lookFrom({-0.4, 0.6, 0.35}, -1.7, -0.05), lookFrom({-0.41, 0.58, 0.36}, -1.7, -0.035)}};
   for (std::size_t m = 0; m < 3; ++m) {

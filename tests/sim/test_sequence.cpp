@@ -303,7 +303,6 @@ TEST(ProfileScenes, TexturedStructureIsNearTheCameraAlongEveryVariantPath) {
       expectTexturedStructureNearTheCamera(name, variant);
 }
 
-
 TEST(SimulatedSequence, BlackoutFramesAreBlackWithoutDepthAndOnlyThose) {
   SimOptions o = shortOptions();
   o.blackout_start_s = 2.0;

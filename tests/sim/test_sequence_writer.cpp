@@ -79,7 +79,9 @@ TEST(SequenceWriter, WritesReadableRawlogGroundTruthConfigAndBag) {
                         "simulation.ini", "sequence.bag"})
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
   // 37 colour PNGs and 37 depth files.
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir + "/sequence_Images"), fs::directory_iterator{}), 74);
+  EXPECT_EQ(
+      std::distance(fs::directory_iterator(dir + "/sequence_Images"), fs::directory_iterator{}),
+      74);
 
   // --- the rawlog, read back with the project's reader, equals the in-process stream.
   io::RawlogSource src(s.rawlog_path);
@@ -181,7 +183,8 @@ TEST(SequenceWriter, SameSeedGivesByteIdenticalOutputDifferentSeedDoesNot) {
   ASSERT_EQ(ta.size(), tb.size());
   for (const auto& [name, bytes] : ta) EXPECT_TRUE(bytes == tb.at(name)) << name << " differs";
   EXPECT_TRUE(ta.at("sequence.rawlog") != tc.at("sequence.rawlog"));
-  EXPECT_TRUE(ta.at("sequence_Images/RGBD_3_depth.bin") != tc.at("sequence_Images/RGBD_3_depth.bin"));
+  EXPECT_TRUE(ta.at("sequence_Images/RGBD_3_depth.bin") !=
+              tc.at("sequence_Images/RGBD_3_depth.bin"));
   EXPECT_TRUE(ta.at("groundtruth.tum") == tc.at("groundtruth.tum"));  // same motion
 }
 

@@ -8,9 +8,9 @@
 
 extern "C" __attribute__((visibility("default"))) int rgbdi_slam_live_main(
     const rgbdi::system::LiveRunOptions& opt, std::ostream& log) {
-  return rgbdi::system::runReportingErrors("rgbdi-slam", [&] {
-    return rgbdi::system::liveExitStatus(rgbdi::system::runLive(opt, log));
-  }, log);
+  return rgbdi::system::runReportingErrors(
+      "rgbdi-slam", [&] { return rgbdi::system::liveExitStatus(rgbdi::system::runLive(opt, log)); },
+      log);
 }
 
 // The entry's type is the one rgbdi-slam calls it through.

@@ -187,17 +187,16 @@ struct BagConverter::Impl {
       const Eigen::Isometry3d T_imu_ref = isometryFromTransform(tf, path + " " + layout.imu_tf);
       T_body_cam = T_imu_ref * T_color_ref.inverse();  // T_imu_color: rgbdi's body is the IMU
       calibration_lines.push_back(
-          "colour camera in the IMU (body) frame (T_body_cam): " + describePose(T_body_cam) +
-          " (" + layout.imu_tf + ", " + layout.color_tf + ")");
+          "colour camera in the IMU (body) frame (T_body_cam): " + describePose(T_body_cam) + " (" +
+          layout.imu_tf + ", " + layout.color_tf + ")");
     } else {
       T_body_cam = fallback.T_body_cam;
-      calibration_lines.push_back(
-          "colour camera in the body frame (sensorPose): " + describePose(T_body_cam) + " (" +
-          fallback.extrinsic_source +
-          (have_imu_tf ? "; " + layout.imu_tf + " and " + layout.color_tf +
-                             " have different references"
-                       : std::string()) +
-          ")");
+      calibration_lines.push_back("colour camera in the body frame (sensorPose): " +
+                                  describePose(T_body_cam) + " (" + fallback.extrinsic_source +
+                                  (have_imu_tf ? "; " + layout.imu_tf + " and " + layout.color_tf +
+                                                     " have different references"
+                                               : std::string()) +
+                                  ")");
     }
   }
 

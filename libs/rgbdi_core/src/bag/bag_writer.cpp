@@ -26,9 +26,12 @@ struct BagWriter::Impl {
 
 std::string toString(Compression c) {
   switch (c) {
-    case Compression::None: return "none";
-    case Compression::Bz2: return "bz2";
-    case Compression::Lz4: return "lz4";
+    case Compression::None:
+      return "none";
+    case Compression::Bz2:
+      return "bz2";
+    case Compression::Lz4:
+      return "lz4";
   }
   return "none";
 }
@@ -58,9 +61,10 @@ BagWriter::BagWriter(const std::string& path, Compression compression, const Bag
       topics_(topics) {
   try {
     impl_->bag.open(tmp_path_, rosbag::bagmode::Write);
-    impl_->bag.setCompression(compression == Compression::Bz2   ? rosbag::compression::BZ2
-                              : compression == Compression::Lz4 ? rosbag::compression::LZ4
-                                                                : rosbag::compression::Uncompressed);
+    impl_->bag.setCompression(compression == Compression::Bz2 ? rosbag::compression::BZ2
+                              : compression == Compression::Lz4
+                                  ? rosbag::compression::LZ4
+                                  : rosbag::compression::Uncompressed);
   } catch (const rosbag::BagException& e) {
     throw BagError(path + ": cannot create bag (temporary " + tmp_path_ + "): " + e.what());
   }

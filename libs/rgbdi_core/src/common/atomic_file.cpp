@@ -24,8 +24,7 @@ void commit(const std::string& tmp, const std::string& path) {
 
 }  // namespace
 
-void writeFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& write) {
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const std::string tmp = tmpNameFor(path);
   {
     std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
@@ -56,8 +55,7 @@ void writeFileAtomicallyVia(const std::string& path,
     std::remove(tmp.c_str());
     throw;
   }
-  if (::access(tmp.c_str(), F_OK) != 0)
-    throw IoError(path + ": the writer did not produce a file");
+  if (::access(tmp.c_str(), F_OK) != 0) throw IoError(path + ": the writer did not produce a file");
   commit(tmp, path);
 }
 

@@ -48,7 +48,8 @@ CameraOptions CameraOptions::load(IniReader& ini) {
       ini.fail(s, "distortion", "coefficient " + std::to_string(i) + " outside [-10, 10]");
     c.dist[static_cast<size_t>(i)] = d[i];
   }
-  o.intrinsics_source = ini.getEnum(s, "intrinsics_source", o.intrinsics_source, {"stream", "config"});
+  o.intrinsics_source =
+      ini.getEnum(s, "intrinsics_source", o.intrinsics_source, {"stream", "config"});
   return o;
 }
 

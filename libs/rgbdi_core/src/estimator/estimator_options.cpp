@@ -13,11 +13,10 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   o.max_solver_time_s = ini.getDouble(s, "max_solver_time_s", o.max_solver_time_s, 0.0, 10.0);
   o.bound_line_search_iterations =
       ini.getInt(s, "bound_line_search_iterations", o.bound_line_search_iterations, 0, 100);
-  o.solver_function_tolerance = ini.getDouble(s, "solver_function_tolerance",
-                                              o.solver_function_tolerance, 1e-12, 0.1);
-  o.solver_function_tolerance_no_depth =
-      ini.getDouble(s, "solver_function_tolerance_no_depth", o.solver_function_tolerance_no_depth,
-                    1e-12, 0.1);
+  o.solver_function_tolerance =
+      ini.getDouble(s, "solver_function_tolerance", o.solver_function_tolerance, 1e-12, 0.1);
+  o.solver_function_tolerance_no_depth = ini.getDouble(
+      s, "solver_function_tolerance_no_depth", o.solver_function_tolerance_no_depth, 1e-12, 0.1);
   o.non_keyframe_update =
       ini.getEnum(s, "non_keyframe_update", o.non_keyframe_update, {"full", "single_step"});
   o.reprojection_sigma_px =

@@ -725,8 +725,8 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   so.max_num_iterations = single_step ? 1 : opt_.max_iterations;
   if (single_step) ++stats_.single_step_updates;
   so.max_num_line_search_step_size_iterations = opt_.bound_line_search_iterations;
-  so.function_tolerance = verified > 0 ? opt_.solver_function_tolerance
-                                        : opt_.solver_function_tolerance_no_depth;
+  so.function_tolerance =
+      verified > 0 ? opt_.solver_function_tolerance : opt_.solver_function_tolerance_no_depth;
   so.num_threads = 1;
   so.logging_type = ceres::SILENT;
   if (opt_.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = opt_.max_solver_time_s;

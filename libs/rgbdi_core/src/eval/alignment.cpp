@@ -1,7 +1,6 @@
 #include "rgbdi/eval/alignment.h"
 
 #include <Eigen/SVD>
-
 #include <cmath>
 #include <stdexcept>
 
@@ -11,10 +10,14 @@ namespace rgbdi::eval {
 
 std::string alignModeName(AlignMode mode) {
   switch (mode) {
-    case AlignMode::None: return "none";
-    case AlignMode::Se3: return "se3";
-    case AlignMode::Sim3: return "sim3";
-    case AlignMode::PosYaw: return "posyaw";
+    case AlignMode::None:
+      return "none";
+    case AlignMode::Se3:
+      return "se3";
+    case AlignMode::Sim3:
+      return "sim3";
+    case AlignMode::PosYaw:
+      return "posyaw";
   }
   return "unknown";
 }
@@ -23,15 +26,19 @@ AlignMode parseAlignMode(const std::string& name) {
   for (const AlignMode m : {AlignMode::None, AlignMode::Se3, AlignMode::Sim3, AlignMode::PosYaw}) {
     if (name == alignModeName(m)) return m;
   }
-  throw std::invalid_argument("unknown alignment '" + name + "' (expected se3, sim3, posyaw or none)");
+  throw std::invalid_argument("unknown alignment '" + name +
+                              "' (expected se3, sim3, posyaw or none)");
 }
 
 std::size_t minimumPairs(AlignMode mode) {
   switch (mode) {
-    case AlignMode::None: return 1;
-    case AlignMode::PosYaw: return 2;
+    case AlignMode::None:
+      return 1;
+    case AlignMode::PosYaw:
+      return 2;
     case AlignMode::Se3:
-    case AlignMode::Sim3: return 3;
+    case AlignMode::Sim3:
+      return 3;
   }
   return 3;
 }
@@ -103,15 +110,21 @@ Alignment alignPositions(const std::vector<Eigen::Vector3d>& est,
 
   const Centered c = centre(est, gt);
   switch (mode) {
-    case AlignMode::Se3: umeyama(c, false, a); break;
+    case AlignMode::Se3:
+      umeyama(c, false, a);
+      break;
     case AlignMode::Sim3:
       if (!(c.var_est > 0.0)) {
-        throw EvalError("sim3 alignment: all associated estimate positions coincide, scale undefined");
+        throw EvalError(
+            "sim3 alignment: all associated estimate positions coincide, scale undefined");
       }
       umeyama(c, true, a);
       break;
-    case AlignMode::PosYaw: yawOnly(c, a); break;
-    case AlignMode::None: break;
+    case AlignMode::PosYaw:
+      yawOnly(c, a);
+      break;
+    case AlignMode::None:
+      break;
   }
   a.t = c.mean_gt - a.scale * (a.R * c.mean_est);
   return a;

@@ -36,8 +36,8 @@ EvalResult evaluate(const Trajectory& gt, const Trajectory& est, const EvalOptio
   if (pairs.empty()) {
     std::ostringstream msg;
     msg << "no estimate stamp is within max_dt " << options.max_dt_s
-        << " s of a ground-truth stamp (ground truth spans " << spanText(gt)
-        << ", estimate spans " << spanText(est) << ")";
+        << " s of a ground-truth stamp (ground truth spans " << spanText(gt) << ", estimate spans "
+        << spanText(est) << ")";
     throw EvalError(msg.str());
   }
 
@@ -95,8 +95,8 @@ nlohmann::json toJson(const EvalResult& r) {
 std::string formatReport(const EvalResult& r) {
   std::ostringstream os;
   os << std::setprecision(6);
-  os << "pairs      " << r.pairs << " associated within " << r.options.max_dt_s << " s (ground truth "
-     << r.gt_poses << " poses, estimate " << r.est_poses << " poses)\n";
+  os << "pairs      " << r.pairs << " associated within " << r.options.max_dt_s
+     << " s (ground truth " << r.gt_poses << " poses, estimate " << r.est_poses << " poses)\n";
   os << "alignment  " << alignModeName(r.options.align) << ", scale " << r.alignment.scale << "\n";
   os << "ATE [m]    rmse " << r.ate.rmse << "  mean " << r.ate.mean << "  median " << r.ate.median
      << "  max " << r.ate.max << "\n";

@@ -94,8 +94,8 @@ Trajectory readTum(const std::string& path, const TumReadOptions& options) {
     double v[kFieldsPerLine];
     for (std::size_t k = 0; k < kFieldsPerLine; ++k) {
       if (!parseNumber(fields[k], v[k])) {
-        fail(path, line_no, "value " + std::to_string(k + 1) + " '" + fields[k] + "' is not a number",
-             line);
+        fail(path, line_no,
+             "value " + std::to_string(k + 1) + " '" + fields[k] + "' is not a number", line);
       }
       if (!std::isfinite(v[k])) {
         fail(path, line_no, "value " + std::to_string(k + 1) + " is not finite (NaN or inf)", line);

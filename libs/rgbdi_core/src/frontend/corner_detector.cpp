@@ -1,8 +1,7 @@
 #include "frontend/corner_detector.h"
 
-#include <opencv2/core/hal/hal.hpp>
-
 #include <algorithm>
+#include <opencv2/core/hal/hal.hpp>
 #include <stdexcept>
 
 #include "frontend/feature_spacing.h"
@@ -68,10 +67,12 @@ void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size)
   }
 }
 
-std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, const cv::Mat& mask, int max_corners,
-                                                double quality, int block_size, FeatureSpacing& spacing) {
+std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, const cv::Mat& mask,
+                                                int max_corners, double quality, int block_size,
+                                                FeatureSpacing& spacing) {
   if (derivatives.type() != CV_16SC2 || mask.type() != CV_8UC1 || mask.size() != derivatives.size())
-    throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives and a CV_8UC1 mask of the same size");
+    throw std::invalid_argument(
+        "CornerDetector: need CV_16SC2 derivatives and a CV_8UC1 mask of the same size");
   if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
   std::vector<cv::Point2f> corners;
   candidates_.clear();  // detectMore() never continues the candidates of an earlier image
@@ -94,8 +95,8 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, cons
     for (int u = 1; u + 1 < w; ++u) {
       const float x = r[u];
       if (x < threshold || !allowed[u]) continue;
-      if (x < r[u - 1] || x < r[u + 1] || x < up[u - 1] || x < up[u] || x < up[u + 1] || x < down[u - 1] ||
-          x < down[u] || x < down[u + 1])
+      if (x < r[u - 1] || x < r[u + 1] || x < up[u - 1] || x < up[u] || x < up[u + 1] ||
+          x < down[u - 1] || x < down[u] || x < down[u + 1])
         continue;
       candidates_.push_back({x, u, v});
     }

@@ -1,10 +1,9 @@
 #include "rgbdi/frontend/depth_registration.h"
 
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 
@@ -33,7 +32,8 @@ std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_st
 float maxNormalisedRadius2(const PinholeCamera& cam) {
   double r2 = 0.0;
   const double w = cam.width - 1, h = cam.height - 1;
-  const double border[8][2] = {{0, 0}, {w, 0}, {0, h}, {w, h}, {w / 2, 0}, {w / 2, h}, {0, h / 2}, {w, h / 2}};
+  const double border[8][2] = {{0, 0},     {w, 0},     {0, h},     {w, h},
+                               {w / 2, 0}, {w / 2, h}, {0, h / 2}, {w, h / 2}};
   for (const auto& p : border) r2 = std::max(r2, cam.pixelToNormalized({p[0], p[1]}).squaredNorm());
   return static_cast<float>(1.5 * r2);
 }
@@ -51,11 +51,14 @@ std::uint16_t smallestDepthValue(const cv::Mat& depth) {
 }
 
 cv::Rect aroundPixel(const Eigen::Vector2d& centre, int radius) {
-  const int u = static_cast<int>(std::lround(centre.x())), v = static_cast<int>(std::lround(centre.y()));
+  const int u = static_cast<int>(std::lround(centre.x())),
+            v = static_cast<int>(std::lround(centre.y()));
   return {u - radius, v - radius, 2 * radius + 1, 2 * radius + 1};
 }
 
-cv::Rect grown(const cv::Rect& r, int by) { return {r.x - by, r.y - by, r.width + 2 * by, r.height + 2 * by}; }
+cv::Rect grown(const cv::Rect& r, int by) {
+  return {r.x - by, r.y - by, r.width + 2 * by, r.height + 2 * by};
+}
 
 }  // namespace
 
@@ -79,7 +82,8 @@ void DepthRegistrar::updateRays(const PinholeCamera& cam_depth) {
 void DepthRegistrar::prepare(const RgbdFrame& frame, const PinholeCamera& cam_color) {
   if (!frame.hasDepth()) fail(frame, "no depth image");
   if (frame.depth.type() != CV_16UC1)
-    fail(frame, "depth image must be CV_16UC1 (raw units), got OpenCV type " + std::to_string(frame.depth.type()));
+    fail(frame, "depth image must be CV_16UC1 (raw units), got OpenCV type " +
+                    std::to_string(frame.depth.type()));
   if (!(frame.depth_unit_m > 0.0) || !std::isfinite(frame.depth_unit_m))
     fail(frame, "depth unit " + std::to_string(frame.depth_unit_m) + " m is not positive");
   if (!cam_color.valid()) fail(frame, "colour camera intrinsics are not valid");
@@ -90,10 +94,11 @@ void DepthRegistrar::prepare(const RgbdFrame& frame, const PinholeCamera& cam_co
     return;
   }
   const PinholeCamera& cam_depth = frame.cam_depth;
-  if (!cam_depth.valid()) fail(frame, "depth is not aligned to colour but has no valid depth intrinsics");
+  if (!cam_depth.valid())
+    fail(frame, "depth is not aligned to colour but has no valid depth intrinsics");
   if (frame.depth.cols != cam_depth.width || frame.depth.rows != cam_depth.height)
-    fail(frame, "depth image is " + sizeText(frame.depth.cols, frame.depth.rows) + " but the depth camera is " +
-                    sizeText(cam_depth.width, cam_depth.height));
+    fail(frame, "depth image is " + sizeText(frame.depth.cols, frame.depth.rows) +
+                    " but the depth camera is " + sizeText(cam_depth.width, cam_depth.height));
   if (!frame.T_color_depth.matrix().allFinite()) fail(frame, "T_color_depth is not finite");
   updateRays(cam_depth);
   if (!sameCamera(cam_color, cam_color_) || max_radius2_ == 0.0f) {
@@ -110,8 +115,8 @@ void DepthRegistrar::prepare(const RgbdFrame& frame, const PinholeCamera& cam_co
 
 void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
   const PinholeCamera& c = cam_color_;
-  const float k1 = float(c.dist[0]), k2 = float(c.dist[1]), p1 = float(c.dist[2]), p2 = float(c.dist[3]),
-              k3 = float(c.dist[4]);
+  const float k1 = float(c.dist[0]), k2 = float(c.dist[1]), p1 = float(c.dist[2]),
+              p2 = float(c.dist[3]), k3 = float(c.dist[4]);
   const bool distorted = c.hasDistortion();
   const float fx = float(c.fx), fy = float(c.fy), cx = float(c.cx), cy = float(c.cy);
   const float unit = float(frame.depth_unit_m);
@@ -174,7 +179,8 @@ void DepthRegistrar::resolve(const cv::Rect& rect, cv::Mat& out) const {
   };
   // Opposite neighbour pairs: horizontal, vertical and both diagonals (where a row crack crosses
   // a column crack only the diagonals have support).
-  static constexpr int kPairs[4][4] = {{-1, 0, 1, 0}, {0, -1, 0, 1}, {-1, -1, 1, 1}, {1, -1, -1, 1}};
+  static constexpr int kPairs[4][4] = {
+      {-1, 0, 1, 0}, {0, -1, 0, 1}, {-1, -1, 1, 1}, {1, -1, -1, 1}};
   for (int v = rect.y; v < rect.y + rect.height; ++v) {
     float* dst = out.ptr<float>(v);
     for (int u = rect.x; u < rect.x + rect.width; ++u) {
@@ -206,15 +212,16 @@ void DepthRegistrar::resolve(const cv::Rect& rect, cv::Mat& out) const {
   }
 }
 
-cv::Rect DepthRegistrar::depthRoiFor(const cv::Rect& colour_rect, double nearest_range_m, const RgbdFrame& frame,
-                                     const PinholeCamera& cam_color) const {
+cv::Rect DepthRegistrar::depthRoiFor(const cv::Rect& colour_rect, double nearest_range_m,
+                                     const RgbdFrame& frame, const PinholeCamera& cam_color) const {
   const cv::Rect whole(0, 0, frame.depth.cols, frame.depth.rows);
   // Rays through the rectangle's corners from the nearest possible range out to infinity
   // project into the depth image as segments along the epipolar lines; their bounding box holds
   // every depth pixel that can land inside (the rectangles are a few pixels wide, so distortion
   // does not bend their edges measurably; the margin below absorbs what it does).
   const double x0 = colour_rect.x - 0.5, y0 = colour_rect.y - 0.5;
-  const double x1 = colour_rect.x + colour_rect.width - 0.5, y1 = colour_rect.y + colour_rect.height - 0.5;
+  const double x1 = colour_rect.x + colour_rect.width - 0.5,
+               y1 = colour_rect.y + colour_rect.height - 0.5;
   const double outline[4][2] = {{x0, y0}, {x1, y0}, {x0, y1}, {x1, y1}};
   const Eigen::Isometry3d T_depth_color = frame.T_color_depth.inverse(Eigen::Isometry);
   double umin = 1e30, vmin = 1e30, umax = -1e30, vmax = -1e30;
@@ -236,8 +243,9 @@ cv::Rect DepthRegistrar::depthRoiFor(const cv::Rect& colour_rect, double nearest
   // Two depth pixels of margin for the curvature of distorted epipolar curves.
   constexpr double kMarginPx = 2.0;
   if (!(umax - umin < 4.0 * whole.width && vmax - vmin < 4.0 * whole.height)) return whole;
-  const cv::Rect roi(cv::Point(int(std::floor(umin - kMarginPx)), int(std::floor(vmin - kMarginPx))),
-                     cv::Point(int(std::ceil(umax + kMarginPx)) + 1, int(std::ceil(vmax + kMarginPx)) + 1));
+  const cv::Rect roi(
+      cv::Point(int(std::floor(umin - kMarginPx)), int(std::floor(vmin - kMarginPx))),
+      cv::Point(int(std::ceil(umax + kMarginPx)) + 1, int(std::ceil(vmax + kMarginPx)) + 1));
   return roi & whole;
 }
 
@@ -256,7 +264,8 @@ cv::Mat DepthRegistrar::registerDepth(const RgbdFrame& frame, const PinholeCamer
 }
 
 void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
-                                         const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
+                                         const std::vector<Eigen::Vector2d>& centres, int radius_px,
+                                         cv::Mat& out) {
   prepare(frame, cam_color);
   out.create(cam_color.height, cam_color.width, CV_32F);
   out.setTo(0.0f);
@@ -265,23 +274,30 @@ void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCa
     any_depth_ = lowest != 0;
     // No depth point is nearer to the colour camera than this (triangle inequality).
     nearest_range_m_ =
-        any_depth_ ? std::max(0.0, lowest * frame.depth_unit_m - frame.T_color_depth.translation().norm()) : 0.0;
-    if (any_depth_ && !(nearest_range_m_ > 0.0)) splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
+        any_depth_
+            ? std::max(0.0, lowest * frame.depth_unit_m - frame.T_color_depth.translation().norm())
+            : 0.0;
+    if (any_depth_ && !(nearest_range_m_ > 0.0))
+      splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
   }
   registerWindows(frame, cam_color, centres, radius_px, out);
 }
 
 void DepthRegistrar::registerMoreDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
-                                             const std::vector<Eigen::Vector2d>& centres, int radius_px,
-                                             cv::Mat& out) {
+                                             const std::vector<Eigen::Vector2d>& centres,
+                                             int radius_px, cv::Mat& out) {
   if (out.type() != CV_32FC1 || out.cols != cam_color.width || out.rows != cam_color.height)
-    throw std::invalid_argument("registerMoreDepthAround: `out` is not the result of registerDepthAround");
+    throw std::invalid_argument(
+        "registerMoreDepthAround: `out` is not the result of registerDepthAround");
   registerWindows(frame, cam_color, centres, radius_px, out);
 }
 
 void DepthRegistrar::registerWindows(const RgbdFrame& frame, const PinholeCamera& cam_color,
-                                     const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out) {
-  if (radius_px < 0) throw std::invalid_argument("registerDepthAround: negative radius " + std::to_string(radius_px));
+                                     const std::vector<Eigen::Vector2d>& centres, int radius_px,
+                                     cv::Mat& out) {
+  if (radius_px < 0)
+    throw std::invalid_argument("registerDepthAround: negative radius " +
+                                std::to_string(radius_px));
   const cv::Rect all(0, 0, cam_color.width, cam_color.height);
   if (frame.depth_aligned_to_color) {
     for (const Eigen::Vector2d& c : centres) {

@@ -1,9 +1,8 @@
 #include "frontend/epipolar_ransac.h"
 
-#include <opencv2/calib3d.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
 namespace rgbdi::frontend {
@@ -33,8 +32,10 @@ std::vector<std::uint8_t> epipolarInliers(const std::vector<Eigen::Vector2d>& pr
 
   std::vector<cv::Point2f> a(n), b(n);
   for (size_t i = 0; i < n; ++i) {
-    a[i] = cv::Point2f(float(cam.fx * previous_xn[i].x() + cam.cx), float(cam.fy * previous_xn[i].y() + cam.cy));
-    b[i] = cv::Point2f(float(cam.fx * current_xn[i].x() + cam.cx), float(cam.fy * current_xn[i].y() + cam.cy));
+    a[i] = cv::Point2f(float(cam.fx * previous_xn[i].x() + cam.cx),
+                       float(cam.fy * previous_xn[i].y() + cam.cy));
+    b[i] = cv::Point2f(float(cam.fx * current_xn[i].x() + cam.cx),
+                       float(cam.fy * current_xn[i].y() + cam.cy));
   }
   cv::Mat mask;
   const cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, threshold_px, confidence, mask);

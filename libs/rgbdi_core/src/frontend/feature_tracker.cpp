@@ -1,11 +1,10 @@
 #include "rgbdi/frontend/feature_tracker.h"
 
-#include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -31,13 +30,18 @@ const cv::Size kClaheTiles(8, 8);
 }  // namespace
 
 FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCamera& cam_color)
-    : options_(options), cam_(cam_color), registrar_(options), detector_(std::make_unique<CornerDetector>()) {
+    : options_(options),
+      cam_(cam_color),
+      registrar_(options),
+      detector_(std::make_unique<CornerDetector>()) {
   options_.validate();
   if (!cam_.valid())
     throw std::invalid_argument("FeatureTracker: colour camera intrinsics are not valid (size " +
                                 std::to_string(cam_.width) + "x" + std::to_string(cam_.height) +
-                                ", fx " + std::to_string(cam_.fx) + ", fy " + std::to_string(cam_.fy) + ")");
-  if (options_.clahe_clip_limit > 0.0) clahe_ = cv::createCLAHE(options_.clahe_clip_limit, kClaheTiles);
+                                ", fx " + std::to_string(cam_.fx) + ", fy " +
+                                std::to_string(cam_.fy) + ")");
+  if (options_.clahe_clip_limit > 0.0)
+    clahe_ = cv::createCLAHE(options_.clahe_clip_limit, kClaheTiles);
   // Results do not depend on it (the parallel loops split work over independent pixels/points).
   if (options_.opencv_threads > 0) cv::setNumThreads(options_.opencv_threads);
 }
@@ -66,8 +70,8 @@ cv::Mat FeatureTracker::toGrey(const RgbdFrame& frame) {
   return grey;
 }
 
-std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vector<cv::Mat>& pyramid,
-                                                                 FeatureFrame& out) {
+std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
+    const std::vector<cv::Mat>& pyramid, FeatureFrame& out) {
   Stopwatch watch;
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
@@ -79,8 +83,8 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   // No error output (cv::noArray()): OpenCV would interpolate every window once more to fill it,
   // and nothing here reads it.
   if (n > 0)
-    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_uv, current_uv, status, cv::noArray(), window,
-                             options_.klt_pyramid_levels, criteria);
+    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_uv, current_uv, status,
+                             cv::noArray(), window, options_.klt_pyramid_levels, criteria);
 
   // Forward success and border check first, so the backward pass only runs on candidates.
   std::vector<size_t> candidates;
@@ -103,9 +107,10 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   for (size_t k = 0; k < candidates.size(); ++k) forward[k] = current_uv[candidates[k]];
   std::vector<std::uint8_t> back_status;
   if (!forward.empty())
-    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status, cv::noArray(), window,
-                             options_.klt_pyramid_levels, criteria);
-  const double max_fb2 = options_.klt_max_forward_backward_px * options_.klt_max_forward_backward_px;
+    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status,
+                             cv::noArray(), window, options_.klt_pyramid_levels, criteria);
+  const double max_fb2 =
+      options_.klt_max_forward_backward_px * options_.klt_max_forward_backward_px;
   std::vector<Track> survivors;
   std::vector<Eigen::Vector2d> previous_xn, current_xn;
   for (size_t k = 0; k < candidates.size(); ++k) {
@@ -138,7 +143,8 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(const std::vect
   return kept;
 }
 
-FeatureSpacing FeatureTracker::distribute(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out) {
+FeatureSpacing FeatureTracker::distribute(const cv::Mat& grey, std::vector<Track>& tracks,
+                                          FeatureFrame& out) {
   // Longest-tracked features claim their neighbourhood first: they carry the most constraints
   // for the estimator. Ties go to the older (smaller) id, which keeps the result deterministic.
   std::vector<size_t> order(tracks.size());
@@ -170,7 +176,8 @@ int FeatureTracker::depthWindowRadius() const {
   return std::max(options_.depth_neighbourhood_px + 1, options_.occlusion_window_px);
 }
 
-void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, int& dropped) const {
+void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
+                                  int& dropped) const {
   std::vector<Track> kept;
   kept.reserve(tracks.size());
   for (const Track& t : tracks) {
@@ -184,8 +191,9 @@ void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Po
   tracks.swap(kept);
 }
 
-void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey, const cv::Mat& derivatives,
-                               std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing,
+void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
+                               const cv::Mat& derivatives, std::vector<Track>& tracks,
+                               std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing,
                                FeatureFrame& out) {
   int missing = options_.max_features - static_cast<int>(tracks.size());
   if (missing <= 0) return;
@@ -201,11 +209,13 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey, cons
     mask(cv::Rect(b, b, grey.cols - 2 * b, grey.rows - 2 * b)).setTo(255);
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px)) + 1;
   for (const Track& t : tracks)
-    cv::circle(mask, cv::Point(cvRound(t.uv.x), cvRound(t.uv.y)), radius, cv::Scalar(0), cv::FILLED);
+    cv::circle(mask, cv::Point(cvRound(t.uv.x), cvRound(t.uv.y)), radius, cv::Scalar(0),
+               cv::FILLED);
   for (const cv::Point2f& p : occupied)
     cv::circle(mask, cv::Point(cvRound(p.x), cvRound(p.y)), radius, cv::Scalar(0), cv::FILLED);
   std::vector<cv::Point2f> corners =
-      detector_->detect(derivatives, mask, missing, options_.shi_tomasi_quality, options_.shi_tomasi_block_size, spacing);
+      detector_->detect(derivatives, mask, missing, options_.shi_tomasi_quality,
+                        options_.shi_tomasi_block_size, spacing);
   const bool with_depth = frame.hasDepth();
   const bool check = with_depth && options_.occlusion_window_px > 0;
   // Refused corners are replaced by the next candidates; a few rounds at most bound the cost
@@ -214,14 +224,16 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey, cons
   for (int round = 0; !corners.empty(); ++round) {
     std::vector<Eigen::Vector2d> centres;
     for (const cv::Point2f& c : corners) centres.emplace_back(c.x, c.y);
-    if (with_depth) registrar_.registerMoreDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
+    if (with_depth)
+      registrar_.registerMoreDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
     for (size_t k = 0; k < corners.size(); ++k) {
       if (check && straddlesOcclusion(depth_m_, centres[k], options_)) {
         ++out.n_occluded_skipped;
         continue;
       }
       const cv::Point2f& c = corners[k];
-      tracks.push_back(Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
+      tracks.push_back(
+          Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
       ++out.n_new;
       --missing;
     }

@@ -58,7 +58,8 @@ template <typename Fail>
 void checkConsistency(const FrontendOptions& o, Fail&& fail) {
   if (o.depth_min_m >= o.depth_max_m) fail("depth_min_m", "must be smaller than depth_max_m");
   if (o.occlusion_window_px > 0 && !(o.depth_noise_coeff > 0.0))
-    fail("depth_noise_coeff", "must be positive while occlusion_window_px is on (it scales the occlusion test)");
+    fail("depth_noise_coeff",
+         "must be positive while occlusion_window_px is on (it scales the occlusion test)");
 }
 
 [[noreturn]] void failKey(const std::string& key, const std::string& what) {
@@ -93,7 +94,9 @@ FrontendOptions FrontendOptions::load(IniReader& ini) {
     o.*k.field = ini.getInt(kSection, k.key, o.*k.field, k.min, k.max);
   for (const DoubleKey& k : kDoubleKeys)
     o.*k.field = ini.getDouble(kSection, k.key, o.*k.field, k.min, k.max);
-  checkConsistency(o, [&ini](const std::string& key, const std::string& what) { ini.fail(kSection, key, what); });
+  checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
+    ini.fail(kSection, key, what);
+  });
   return o;
 }
 

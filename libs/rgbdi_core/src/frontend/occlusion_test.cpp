@@ -1,7 +1,6 @@
 #include "rgbdi/frontend/occlusion_test.h"
 
 #include <Eigen/Cholesky>
-
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -51,12 +50,13 @@ WindowPlaneFit fitWindowPlane(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
   return fit;
 }
 
-bool straddlesOcclusion(const cv::Mat& depth_m, const Eigen::Vector2d& uv, const FrontendOptions& options) {
+bool straddlesOcclusion(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
+                        const FrontendOptions& options) {
   if (options.occlusion_window_px <= 0) return false;
   const WindowPlaneFit fit =
       fitWindowPlane(depth_m, uv, options.occlusion_window_px, options.occlusion_sample_step_px);
-  if (fit.grid_samples == 0 || fit.samples < options.occlusion_min_valid_fraction * fit.grid_samples ||
-      fit.samples < 4)
+  if (fit.grid_samples == 0 ||
+      fit.samples < options.occlusion_min_valid_fraction * fit.grid_samples || fit.samples < 4)
     return false;
   return fit.rms_residual_inv_m > options.occlusion_max_residual_sigmas * options.depth_noise_coeff;
 }

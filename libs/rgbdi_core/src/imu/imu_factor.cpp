@@ -1,7 +1,6 @@
 #include "rgbdi/imu/imu_factor.h"
 
 #include <Eigen/Geometry>
-
 #include <stdexcept>
 
 #include "rgbdi/common/so3.h"
@@ -31,12 +30,14 @@ ImuFactor::ImuFactor(const Preintegration* preintegration, const Eigen::Vector3d
 bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
                          double** jacobians) const {
   const Eigen::Map<const Eigen::Vector3d> Pi(parameters[0]);
-  const Eigen::Quaterniond Qi = Eigen::Map<const Eigen::Quaterniond>(parameters[0] + 3).normalized();
+  const Eigen::Quaterniond Qi =
+      Eigen::Map<const Eigen::Quaterniond>(parameters[0] + 3).normalized();
   const Eigen::Map<const Eigen::Vector3d> Vi(parameters[1] + kSbV);
   const Eigen::Map<const Eigen::Vector3d> Bai(parameters[1] + kSbBa);
   const Eigen::Map<const Eigen::Vector3d> Bgi(parameters[1] + kSbBg);
   const Eigen::Map<const Eigen::Vector3d> Pj(parameters[2]);
-  const Eigen::Quaterniond Qj = Eigen::Map<const Eigen::Quaterniond>(parameters[2] + 3).normalized();
+  const Eigen::Quaterniond Qj =
+      Eigen::Map<const Eigen::Quaterniond>(parameters[2] + 3).normalized();
   const Eigen::Map<const Eigen::Vector3d> Vj(parameters[3] + kSbV);
   const Eigen::Map<const Eigen::Vector3d> Baj(parameters[3] + kSbBa);
   const Eigen::Map<const Eigen::Vector3d> Bgj(parameters[3] + kSbBg);

@@ -1,7 +1,6 @@
 #include "rgbdi/imu/imu_init.h"
 
 #include <Eigen/Cholesky>
-
 #include <cmath>
 #include <stdexcept>
 #include <string>

@@ -1,7 +1,6 @@
 #include "rgbdi/imu/preintegration.h"
 
 #include <Eigen/Cholesky>
-
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -61,9 +60,9 @@ void Preintegration::push(double t, const Eigen::Vector3d& acc, const Eigen::Vec
     throw std::invalid_argument("Preintegration::push: IMU sample at t=" + formatTime(t) +
                                 " s has a non-finite value");
   if (!samples_.empty() && !(t > samples_.back().t))
-    throw std::invalid_argument("Preintegration::push: IMU sample at t=" + formatTime(t) +
-                                " s is not after the previous sample at t=" +
-                                formatTime(samples_.back().t) + " s");
+    throw std::invalid_argument(
+        "Preintegration::push: IMU sample at t=" + formatTime(t) +
+        " s is not after the previous sample at t=" + formatTime(samples_.back().t) + " s");
   ImuSample s;
   s.t = t;
   s.acc = acc;

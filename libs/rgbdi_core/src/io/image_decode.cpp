@@ -139,8 +139,9 @@ std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size
   thread_local std::vector<std::uint8_t> raw, zeros;
   raw.resize(raw_size);
   std::size_t in_used = 0, out_size = 0;
-  if (libdeflate_zlib_decompress_ex(decompressor(), compressed.data(), compressed.size(), raw.data(),
-                                    raw_size, &in_used, &out_size) != LIBDEFLATE_SUCCESS ||
+  if (libdeflate_zlib_decompress_ex(decompressor(), compressed.data(), compressed.size(),
+                                    raw.data(), raw_size, &in_used,
+                                    &out_size) != LIBDEFLATE_SUCCESS ||
       out_size != raw_size)
     throw ImageDecodeError("PNG image data are damaged (they do not inflate to " +
                            std::to_string(width) + "x" + std::to_string(height) + " pixels)");

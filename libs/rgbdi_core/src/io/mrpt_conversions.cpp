@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -201,7 +201,8 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
     std::optional<cv::Mat> range;
     if (obs.hasRangeImage && obs.rangeImage_isExternallyStored() && obs.rangeImage.rows() == 0) {
       const std::string file = obs.rangeImage_getExternalStorageFileAbsolutePath("");
-      if (!mrpt::system::strCmpI(mrpt::system::extractFileExtension(file), "txt")) range = readMrptRangeFile(file);
+      if (!mrpt::system::strCmpI(mrpt::system::extractFileExtension(file), "txt"))
+        range = readMrptRangeFile(file);
     }
     if (!range) obs.load();
     f.cam_depth = fromMrpt(obs.cameraParams, label + " cameraParams");

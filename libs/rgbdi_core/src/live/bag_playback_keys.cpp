@@ -27,11 +27,13 @@ BagPlaybackKeys BagPlaybackKeys::load(const SensorKeys& k, bool with_topics) {
   if (aligned != "auto") b.input.depth_aligned = aligned == "yes";
   if (aligned != "auto") b.given.push_back("depth_aligned");
   bag::TopicOverrides& t = b.input.topics;
-  const std::pair<const char*, std::string*> topics[] = {
-      {"color_topic", &t.color},           {"depth_topic", &t.depth},
-      {"imu_topic", &t.imu},               {"accel_topic", &t.accel},
-      {"gyro_topic", &t.gyro},             {"color_info_topic", &t.color_info},
-      {"depth_info_topic", &t.depth_info}};
+  const std::pair<const char*, std::string*> topics[] = {{"color_topic", &t.color},
+                                                         {"depth_topic", &t.depth},
+                                                         {"imu_topic", &t.imu},
+                                                         {"accel_topic", &t.accel},
+                                                         {"gyro_topic", &t.gyro},
+                                                         {"color_info_topic", &t.color_info},
+                                                         {"depth_info_topic", &t.depth_info}};
   for (const auto& [key, value] : topics) {
     *value = k.getString(key, "");
     if (!value->empty()) b.given.push_back(key);

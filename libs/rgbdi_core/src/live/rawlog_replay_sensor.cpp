@@ -145,8 +145,7 @@ void RgbdiRawlogReplay::initialize() {
     d.rawlog->logging_enable_console_output = false;
   } else if (fmt == io::InputFormat::Ros1Bag) {
     d.bag = std::make_unique<bag::BagConverter>(d.file, d.bag_keys.settings.options,
-                                                d.bag_keys.input,
-                                                d.bag_keys.settings.calibration);
+                                                d.bag_keys.input, d.bag_keys.settings.calibration);
   } else {
     throw std::runtime_error(d.file + ": " + io::formatName(fmt) +
                              " input cannot be replayed directly; convert it with rawlog-convert "

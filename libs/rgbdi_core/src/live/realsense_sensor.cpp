@@ -124,9 +124,9 @@ void RgbdiRealSense::initialize() {
   Impl& d = *impl_;
   if (!d.device) {
     if (d.adapter == "recorded") {
-      d.device = makeRecordedRealSenseDevice(d.playback_file, d.speed, d.restamp,
-                                             d.bag_keys.settings.options,
-                                             d.bag_keys.settings.calibration);
+      d.device =
+          makeRecordedRealSenseDevice(d.playback_file, d.speed, d.restamp,
+                                      d.bag_keys.settings.options, d.bag_keys.settings.calibration);
     } else {
       d.device = makeSdkRealSenseDevice(d.playback_file, d.speed, d.restamp);
     }

@@ -45,7 +45,8 @@ const std::vector<DoubleKey>& doubleKeys() {
       {"verify_pnp_confidence", [](O& o) -> double& { return o.pnp_confidence; }, 0.5, 0.999999},
       {"verify_depth_tolerance_m", [](O& o) -> double& { return o.depth_tolerance_m; }, 0.0, 10.0},
       {"verify_depth_noise_coeff", [](O& o) -> double& { return o.depth_noise_coeff; }, 0.0, 1.0},
-      {"verify_keypoint_sigma_px", [](O& o) -> double& { return o.keypoint_sigma_px; }, 0.01, 100.0},
+      {"verify_keypoint_sigma_px", [](O& o) -> double& { return o.keypoint_sigma_px; }, 0.01,
+       100.0},
       {"verify_depth_tolerance_sigmas", [](O& o) -> double& { return o.depth_tolerance_sigmas; },
        0.0, 100.0},
       {"verify_min_depth_inlier_fraction",
@@ -112,7 +113,8 @@ LoopVerificationOptions LoopVerificationOptions::load(IniReader& ini) {
   for (const DoubleKey& k : doubleKeys())
     k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
   o.cross_check = ini.getBool(kSection, "verify_cross_check", o.cross_check);
-  o.freespace_for_loops = ini.getBool(kSection, "verify_freespace_for_loops", o.freespace_for_loops);
+  o.freespace_for_loops =
+      ini.getBool(kSection, "verify_freespace_for_loops", o.freespace_for_loops);
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });

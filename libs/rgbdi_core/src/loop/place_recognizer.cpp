@@ -95,8 +95,7 @@ std::vector<PlaceCandidate> PlaceRecognizer::process(const LoopKeyframe& kf,
       for (const PlaceMatch& m : matches) {
         const bool joining = unrelated && unrelated(records_[slotOf(m.id)].segment);
         const double normalised = reference > 0.0 ? m.score / reference : 0.0;
-        if (!joining && !(reference > 0.0 && normalised >= options_.min_normalised_score))
-          continue;
+        if (!joining && !(reference > 0.0 && normalised >= options_.min_normalised_score)) continue;
         ++stats_.above_threshold;
         const double t = records_[slotOf(m.id)].t;
         int length = 1;

@@ -37,7 +37,6 @@ bool fitRigidWeighted(const std::vector<Eigen::Vector3d>& src,
   return true;
 }
 
-
 Eigen::Matrix3d rgbdPointCovariance(const RgbdPoint& point) {
   const double n = point.p.norm();
   const Eigen::Vector3d ray = n > 0.0 ? Eigen::Vector3d(point.p / n) : Eigen::Vector3d::UnitZ();
@@ -78,7 +77,8 @@ bool refineRigidAnisotropic(const std::vector<RgbdPoint>& src, const std::vector
     if (!delta.allFinite()) return false;
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
     const double angle = delta.head<3>().norm();
-    if (angle > 0.0) step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
+    if (angle > 0.0)
+      step.linear() = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix();
     step.translation() = delta.tail<3>();
     T = step * T;
     if (delta.norm() < 1e-12) break;

@@ -72,15 +72,15 @@ const DepthGridSampler::RayCache& DepthGridSampler::raysFor(const PinholeCamera&
   for (int v = grid_.v_min_px; v <= grid_.v_max_px && v < camera.height; v += grid_.step_px)
     c.vs.push_back(v);
   if (c.us.empty() || c.vs.empty())
-    throw std::invalid_argument("mapping: " + label + ": the sampling grid (u " +
-                                std::to_string(grid_.u_min_px) + ".." +
-                                std::to_string(grid_.u_max_px) + ", v " +
-                                std::to_string(grid_.v_min_px) + ".." +
-                                std::to_string(grid_.v_max_px) + ") lies outside the " +
-                                sizeText(camera.width, camera.height) + " depth image");
+    throw std::invalid_argument(
+        "mapping: " + label + ": the sampling grid (u " + std::to_string(grid_.u_min_px) + ".." +
+        std::to_string(grid_.u_max_px) + ", v " + std::to_string(grid_.v_min_px) + ".." +
+        std::to_string(grid_.v_max_px) + ") lies outside the " +
+        sizeText(camera.width, camera.height) + " depth image");
   c.xn.reserve(c.us.size() * c.vs.size());
   for (int v : c.vs)
-    for (int u : c.us) c.xn.push_back(camera.pixelToNormalized(Eigen::Vector2d(u, v)).cast<float>());
+    for (int u : c.us)
+      c.xn.push_back(camera.pixelToNormalized(Eigen::Vector2d(u, v)).cast<float>());
   cache_ = std::move(c);
   cache_valid_ = true;
   return cache_;

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,8 +41,8 @@ class DepthGridSampler {
  private:
   struct RayCache {
     PinholeCamera camera;
-    std::vector<int> us, vs;           // grid columns / rows inside the image
-    std::vector<Eigen::Vector2f> xn;   // undistorted normalised ray per (row, column)
+    std::vector<int> us, vs;          // grid columns / rows inside the image
+    std::vector<Eigen::Vector2f> xn;  // undistorted normalised ray per (row, column)
   };
   const RayCache& raysFor(const PinholeCamera& camera, const std::string& label);
 

@@ -19,8 +19,7 @@ void writeDescriptors(ByteWriter& w, const DescriptorSet& d) {
     for (int i = 0; i < 3; ++i) w.f32(p[i]);
 }
 
-DescriptorSet readDescriptors(ByteReader& r,
-                                       const std::function<void(const std::string&)>& fail) {
+DescriptorSet readDescriptors(ByteReader& r, const std::function<void(const std::string&)>& fail) {
   DescriptorSet d;
   const std::uint32_t type_length = r.u32("the descriptor type length");
   if (type_length > kMaxDescriptorTypeLength)

@@ -18,7 +18,6 @@ inline constexpr std::uint32_t kMaxDescriptorTypeLength = 256;
 void writeDescriptors(ByteWriter& w, const DescriptorSet& d);
 
 /// Reads one block; `fail` must throw (it receives what is wrong).
-DescriptorSet readDescriptors(ByteReader& r,
-                                       const std::function<void(const std::string&)>& fail);
+DescriptorSet readDescriptors(ByteReader& r, const std::function<void(const std::string&)>& fail);
 
 }  // namespace rgbdi::mapping::detail

@@ -38,11 +38,10 @@ void KeyframeStore::add(Keyframe keyframe) {
     throw std::invalid_argument(who + ": T_world_cam is not a finite rigid transform");
   if (!std::isfinite(keyframe.t)) throw std::invalid_argument(who + ": stamp is not finite");
   if (!keyframe.descriptors.consistent())
-    throw std::invalid_argument(who + ": descriptor data holds " +
-                                std::to_string(keyframe.descriptors.data.size()) +
-                                " bytes, expected " +
-                                std::to_string(keyframe.descriptors.keypoints_uv.size()) + " x " +
-                                std::to_string(keyframe.descriptors.bytes_per_descriptor));
+    throw std::invalid_argument(
+        who + ": descriptor data holds " + std::to_string(keyframe.descriptors.data.size()) +
+        " bytes, expected " + std::to_string(keyframe.descriptors.keypoints_uv.size()) + " x " +
+        std::to_string(keyframe.descriptors.bytes_per_descriptor));
   // Stored keyframes never grow again: drop the slack of vectors filled by push_back (up to
   // half of the store on long runs; the store holds every keyframe of the session).
   keyframe.features.shrink_to_fit();

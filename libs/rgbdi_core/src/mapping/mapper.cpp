@@ -1,11 +1,11 @@
 #include "rgbdi/mapping/mapper.h"
 
-#include "rgbdi/common/cpu_clock.h"
-
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "rgbdi/common/cpu_clock.h"
 
 namespace rgbdi::mapping {
 namespace {

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
-#include <utility>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "mapping/depth_grid_sampler.h"
-#include "rgbdi/mapping/morton_code.h"
 #include "mapping/pose_check.h"
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/mapping/morton_code.h"
 
 namespace rgbdi::mapping {
 
@@ -85,11 +85,13 @@ struct OccupancyMap::Impl {
     // the updates does not change the tree; in octree (Morton) order consecutive updates share
     // the path from the root, instead of a cache miss per level in the hash set's order.
     for (const octomap::OcTreeKey& k : inOctreeOrder(free_cells)) tree.updateNode(k, false, true);
-    for (const octomap::OcTreeKey& k : inOctreeOrder(occupied_cells)) tree.updateNode(k, true, true);
+    for (const octomap::OcTreeKey& k : inOctreeOrder(occupied_cells))
+      tree.updateNode(k, true, true);
     inner_nodes_stale = true;
     ++stats.scans;
     stats.rays += rays.size();
-    stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   /// The keys sorted by their Morton code (the octree's depth-first order).
@@ -136,7 +138,8 @@ void OccupancyMap::insert(const RgbdFrame& frame, const Eigen::Isometry3d& T_wor
 void OccupancyMap::insertPoints(const std::vector<MapPoint>& points_cam,
                                 const Eigen::Isometry3d& T_world_cam) {
   if (!detail::isRigid(T_world_cam))
-    throw std::invalid_argument("OccupancyMap::insertPoints: T_world_cam is not a finite rigid transform");
+    throw std::invalid_argument(
+        "OccupancyMap::insertPoints: T_world_cam is not a finite rigid transform");
   impl_->castRays(points_cam, T_world_cam, impl_->keptPointRayStep());
 }
 
@@ -154,7 +157,8 @@ void OccupancyMap::clear() {
 
 void OccupancyMap::write(const std::string& path) const {
   writeFileAtomically(path, [&](std::ostream& os) {
-    if (!impl_->finish().writeBinaryConst(os)) throw IoError(path + ": OctoMap could not write the tree");
+    if (!impl_->finish().writeBinaryConst(os))
+      throw IoError(path + ": OctoMap could not write the tree");
   });
 }
 

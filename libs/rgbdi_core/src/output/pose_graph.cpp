@@ -52,7 +52,8 @@ Eigen::Isometry3d fromMrpt(const mrpt::poses::CPose3D& p) {
 
 bool isRigid(const Eigen::Isometry3d& T) {
   return T.matrix().allFinite() &&
-         (T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm() < kRotationTolerance &&
+         (T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm() <
+             kRotationTolerance &&
          T.linear().determinant() > 0.0;
 }
 
@@ -74,9 +75,11 @@ void validate(const std::string& path, const std::vector<PoseGraphNode>& nodes,
   }
   for (const auto& e : edges) {
     if (!ids.count(e.from) || !ids.count(e.to)) {
-      throw std::invalid_argument(where + edgeName(e) + " refers to a node that is not in the graph");
+      throw std::invalid_argument(where + edgeName(e) +
+                                  " refers to a node that is not in the graph");
     }
-    if (e.from == e.to) throw std::invalid_argument(where + edgeName(e) + " connects a node to itself");
+    if (e.from == e.to)
+      throw std::invalid_argument(where + edgeName(e) + " connects a node to itself");
     if (e.kind != "odometry" && e.kind != "loop") {
       throw std::invalid_argument(where + edgeName(e) + " has kind '" + e.kind +
                                   "' (expected odometry or loop)");
@@ -86,14 +89,16 @@ void validate(const std::string& path, const std::vector<PoseGraphNode>& nodes,
     }
     const double scale = e.information.cwiseAbs().maxCoeff();
     if (!e.information.allFinite() ||
-        (e.information - e.information.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) {
+        (e.information - e.information.transpose()).cwiseAbs().maxCoeff() >
+            kSymmetryTolerance * scale) {
       throw std::invalid_argument(where + edgeName(e) + " information is not finite and symmetric");
     }
     const double cos_pitch = std::cos(mrptYawPitchRoll(e.T_from_to.linear())(1));
     if (std::abs(cos_pitch) < kMinCosPitch) {
-      throw std::invalid_argument(where + edgeName(e) +
-                                  " is pitched at +-90 deg, where MRPT's yaw/pitch/roll information "
-                                  "is singular");
+      throw std::invalid_argument(
+          where + edgeName(e) +
+          " is pitched at +-90 deg, where MRPT's yaw/pitch/roll information "
+          "is singular");
     }
   }
 }
@@ -131,11 +136,15 @@ void writePoseGraph(const std::string& path, const std::vector<PoseGraphNode>& n
 
   writeFileAtomically(path, [&](std::ostream& os) {
     os << "# rgbdi pose graph: mrpt::graphs::CNetworkOfPoses3DInf text format (VERTEX3/EDGE3:\n"
-       << "# x y z roll pitch yaw; information upper triangle in that order). Node = T_world_body.\n"
-       << "# Annotations: rgbdi-node id t; rgbdi-edge from to kind + information upper triangle in\n"
-       << "# (x y z rotation-vector) order, rotation perturbation right-multiplied (doc/evaluation.md).\n";
+       << "# x y z roll pitch yaw; information upper triangle in that order). Node = "
+          "T_world_body.\n"
+       << "# Annotations: rgbdi-node id t; rgbdi-edge from to kind + information upper triangle "
+          "in\n"
+       << "# (x y z rotation-vector) order, rotation perturbation right-multiplied "
+          "(doc/evaluation.md).\n";
     os.precision(kDigits);
-    for (const auto& n : nodes) os << kNodeTag << ' ' << n.id << ' ' << fixedDecimals(n.t, kStampDecimals) << '\n';
+    for (const auto& n : nodes)
+      os << kNodeTag << ' ' << n.id << ' ' << fixedDecimals(n.t, kStampDecimals) << '\n';
     for (const auto& [ids, e] : annotations) {
       os << kEdgeTag << ' ' << ids.first << ' ' << ids.second << ' ' << e->kind;
       for (int r = 0; r < 6; ++r) {
@@ -172,7 +181,8 @@ PoseGraph readPoseGraph(const std::string& path) {
       std::uint64_t a = 0, b = 0;
       double t = 0.0;
       EdgeAnnotation note;
-      bool ok = is_node ? static_cast<bool>(is >> a >> t) : static_cast<bool>(is >> a >> b >> note.kind);
+      bool ok =
+          is_node ? static_cast<bool>(is >> a >> t) : static_cast<bool>(is >> a >> b >> note.kind);
       for (int r = 0; ok && !is_node && r < 6; ++r) {
         for (int c = r; ok && c < 6; ++c) {
           ok = static_cast<bool>(is >> note.information(r, c));
@@ -181,10 +191,13 @@ PoseGraph readPoseGraph(const std::string& path) {
       }
       std::string rest;
       if (!ok || (is >> rest)) {
-        throw IoError(path + ":" + std::to_string(line_no) + ": malformed rgbdi annotation: '" + line + "'");
+        throw IoError(path + ":" + std::to_string(line_no) + ": malformed rgbdi annotation: '" +
+                      line + "'");
       }
-      if (is_node) stamps[a] = t;
-      else annotations.emplace(std::make_pair(a, b), note);
+      if (is_node)
+        stamps[a] = t;
+      else
+        annotations.emplace(std::make_pair(a, b), note);
     }
   }
 

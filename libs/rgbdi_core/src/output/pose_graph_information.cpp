@@ -1,8 +1,8 @@
 #include "rgbdi/output/pose_graph_information.h"
 
-#include <Eigen/LU>
 #include <mrpt/poses/CPose3D.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -15,7 +15,7 @@ Eigen::Matrix3d yawPitchRollToRotationVectorJacobian(double pitch, double roll) 
   const double sp = std::sin(pitch), cp = std::cos(pitch);
   const double sr = std::sin(roll), cr = std::cos(roll);
   Eigen::Matrix3d E;
-  E << -sp, 0.0, 1.0,  //
+  E << -sp, 0.0, 1.0,    //
       cp * sr, cr, 0.0,  //
       cp * cr, -sr, 0.0;
   return E;
@@ -47,8 +47,9 @@ Matrix6d informationToMrpt(const Matrix6d& info, const Eigen::Matrix3d& R) {
 Matrix6d informationFromMrpt(const Matrix6d& info_mrpt, const Eigen::Matrix3d& R) {
   const Eigen::Vector3d ypr = mrptYawPitchRoll(R);
   if (std::abs(std::cos(ypr(1))) < kMinCosPitch) {
-    throw std::domain_error("pitch " + std::to_string(ypr(1) * 180.0 / 3.14159265358979323846) +
-                            " deg is at gimbal lock: yaw/pitch/roll information cannot be converted");
+    throw std::domain_error(
+        "pitch " + std::to_string(ypr(1) * 180.0 / 3.14159265358979323846) +
+        " deg is at gimbal lock: yaw/pitch/roll information cannot be converted");
   }
   Matrix6d B_inv = Matrix6d::Identity();
   B_inv.bottomRightCorner<3, 3>() = yawPitchRollToRotationVectorJacobian(ypr(1), ypr(2)).inverse();

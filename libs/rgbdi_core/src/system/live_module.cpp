@@ -29,9 +29,9 @@ LiveMain loadLiveModule() {
   void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char* why = ::dlerror();
-    throw UserError("--live needs the live module " + path + ", which cannot be loaded: " +
-                    (why ? why : "unknown reason") + " (set " + kLiveModuleEnv +
-                    " to its path if it was moved)");
+    throw UserError("--live needs the live module " + path +
+                    ", which cannot be loaded: " + (why ? why : "unknown reason") + " (set " +
+                    kLiveModuleEnv + " to its path if it was moved)");
   }
   void* symbol = ::dlsym(handle, kLiveModuleEntry);
   if (!symbol)

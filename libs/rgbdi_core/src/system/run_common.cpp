@@ -1,13 +1,12 @@
 #include "rgbdi/system/run_common.h"
 
-#include "rgbdi/loop/loop_features.h"
-#include "rgbdi/map/map_directory.h"
-
 #include <filesystem>
 #include <fstream>
 
 #include "rgbdi/common/cpu_clock.h"
 #include "rgbdi/eval/tum_reader.h"
+#include "rgbdi/loop/loop_features.h"
+#include "rgbdi/map/map_directory.h"
 #include "rgbdi/output/summary_json.h"
 #include "rgbdi/system/slam_outputs.h"
 
@@ -63,8 +62,9 @@ std::shared_ptr<const map::MapData> loadRunMap(const MapRunOptions& options,
     return nullptr;
   }
   if (!cfg.loop.enable)
-    throw UserError("--load-map needs loop closure (relocalisation is a loop to the map): "
-                    "drop --no-loop / set [loop] enable = true");
+    throw UserError(
+        "--load-map needs loop closure (relocalisation is a loop to the map): "
+        "drop --no-loop / set [loop] enable = true");
   try {
     auto m = std::make_shared<const map::MapData>(map::loadMap(options.load_dir));
     // The colour camera of the configuration; a stream that brings its own intrinsics is

@@ -1,9 +1,8 @@
 #include "rgbdi/system/slam_summary.h"
 
-#include <set>
-
 #include <cmath>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 namespace rgbdi::system {
@@ -99,8 +98,10 @@ nlohmann::json loopSummary(const SlamSystem& sys) {
 nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
   nlohmann::json j;
   const bool have_t = !std::isnan(run.stream_t0);
-  j["loaded_from"] = run.map_loaded_from.empty() ? nlohmann::json() : nlohmann::json(run.map_loaded_from);
-  j["mode"] = !sys.hasMap() ? "new map" : (sys.options().localize_only ? "localize-only" : "mapping");
+  j["loaded_from"] =
+      run.map_loaded_from.empty() ? nlohmann::json() : nlohmann::json(run.map_loaded_from);
+  j["mode"] =
+      !sys.hasMap() ? "new map" : (sys.options().localize_only ? "localize-only" : "mapping");
   j["state"] = toString(sys.mapState());
   const loop::LoopCloser* lc = sys.loopCloser();
   j["map_keyframes_loaded"] = lc ? lc->mapKeyframes() : 0;

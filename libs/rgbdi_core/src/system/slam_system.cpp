@@ -341,9 +341,7 @@ const char* toString(MapState s) {
   return "?";
 }
 
-MapState SlamSystem::mapState() const {
-  return static_cast<MapState>(progress_map_state_.load());
-}
+MapState SlamSystem::mapState() const { return static_cast<MapState>(progress_map_state_.load()); }
 
 bool SlamSystem::segmentInOrigin(int segment) const {
   if (!closer_) return !hasMap() && segment == 0;
@@ -372,8 +370,9 @@ void SlamSystem::loadMap(const PinholeCamera& camera) {
 
 map::MapView SlamSystem::mapView(std::size_t* dropped_keyframes) const {
   if (!closer_)
-    throw std::logic_error("no map to save: loop closure did not run (a map needs its place "
-                           "keyframes)");
+    throw std::logic_error(
+        "no map to save: loop closure did not run (a map needs its place "
+        "keyframes)");
   map::MapView out;
   map::MapManifest& m = out.manifest;
   m.camera = loop_camera_;
@@ -485,14 +484,16 @@ Trajectory SlamSystem::finalTrajectory() const {
 }
 
 Trajectory SlamSystem::toCameraFrame(const Trajectory& body) const {
-  // Camera poses carry the image stamps (camera clock). `body` may leave frames out (blind frames before a reset, segments never placed in a map):
-  // each pose finds its frame by its IMU-clock stamp, walking both in order.
+  // Camera poses carry the image stamps (camera clock). `body` may leave frames out (blind frames
+  // before a reset, segments never placed in a map): each pose finds its frame by its IMU-clock
+  // stamp, walking both in order.
   Trajectory t;
   t.reserve(body.size());
   std::size_t j = 0;
   for (std::size_t i = 0; i < body.size(); ++i) {
     while (j < frames_.size() && frames_[j].t_imu < body[i].t) ++j;
-    const double stamp = j < frames_.size() && frames_[j].t_imu == body[i].t ? frames_[j].t_image : body[i].t;
+    const double stamp =
+        j < frames_.size() && frames_[j].t_imu == body[i].t ? frames_[j].t_image : body[i].t;
     t.push_back(StampedPose::fromIsometry(stamp, body[i].isometry() * cfg_.extrinsic.T_body_cam));
   }
   return t;

@@ -1,9 +1,9 @@
 #include "rgbdi/system/vio_system.h"
 
-#include "rgbdi/common/cpu_clock.h"
-
 #include <algorithm>
 #include <unordered_set>
+
+#include "rgbdi/common/cpu_clock.h"
 
 namespace rgbdi::system {
 

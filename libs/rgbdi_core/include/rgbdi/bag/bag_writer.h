@@ -10,7 +10,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <memory>
 #include <stdexcept>
 #include <string>

@@ -22,12 +22,12 @@ struct CameraOptions {
 
 /// [imu]: noise model (continuous-time densities, Kalibr convention) and gravity.
 struct ImuOptions {
-  double rate_hz = 200.0;                  ///< nominal sample rate [Hz]
-  double acc_noise_density = 0.005;        ///< [m/s^2/sqrt(Hz)]
-  double gyr_noise_density = 0.0005;       ///< [rad/s/sqrt(Hz)]
-  double acc_random_walk = 1.4142e-5;      ///< [m/s^3/sqrt(Hz)]
-  double gyr_random_walk = 1.4142e-6;      ///< [rad/s^2/sqrt(Hz)]
-  double gravity_m_s2 = 9.805;             ///< magnitude of gravity [m/s^2]
+  double rate_hz = 200.0;              ///< nominal sample rate [Hz]
+  double acc_noise_density = 0.005;    ///< [m/s^2/sqrt(Hz)]
+  double gyr_noise_density = 0.0005;   ///< [rad/s/sqrt(Hz)]
+  double acc_random_walk = 1.4142e-5;  ///< [m/s^3/sqrt(Hz)]
+  double gyr_random_walk = 1.4142e-6;  ///< [rad/s^2/sqrt(Hz)]
+  double gravity_m_s2 = 9.805;         ///< magnitude of gravity [m/s^2]
 
   static ImuOptions load(IniReader& ini);
 };

@@ -5,9 +5,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <opencv2/core.hpp>
-
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -17,14 +16,15 @@ namespace rgbdi {
 
 /// One IMU sample in the IMU (body) frame.
 struct ImuSample {
-  double t = 0.0;                                 ///< [s]
-  Eigen::Vector3d acc = Eigen::Vector3d::Zero();  ///< specific force [m/s^2] (gravity reaction included)
+  double t = 0.0;  ///< [s]
+  Eigen::Vector3d acc =
+      Eigen::Vector3d::Zero();  ///< specific force [m/s^2] (gravity reaction included)
   Eigen::Vector3d gyr = Eigen::Vector3d::Zero();  ///< angular rate [rad/s]
 };
 
 /// One RGB-D frame: colour image and depth image with the calibration needed to use them.
 struct RgbdFrame {
-  double t = 0.0;              ///< [s] stamp of the colour image (depth has the same stamp or is paired)
+  double t = 0.0;  ///< [s] stamp of the colour image (depth has the same stamp or is paired)
   std::uint64_t index = 0;     ///< running index of the frame in its stream
   cv::Mat rgb;                 ///< CV_8UC3 in R,G,B order; may be empty for depth-only frames
   cv::Mat depth;               ///< CV_16UC1 raw depth units; 0 = invalid; may be empty

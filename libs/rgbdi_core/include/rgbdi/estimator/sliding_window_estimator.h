@@ -79,7 +79,7 @@ struct EstimatorStats {
   int optimisations = 0;             ///< solver runs (window updates)
   int solver_iterations = 0;         ///< Ceres iterations summed over those runs
   int solver_iterations_capped = 0;  ///< runs that stopped at max_iterations
-  int single_step_updates = 0;  ///< of the runs: limited to one step (non_keyframe_update)
+  int single_step_updates = 0;       ///< of the runs: limited to one step (non_keyframe_update)
 };
 
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {
@@ -164,7 +164,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
-  double last_sighted_t_ = 0.0;  ///< [s] newest frame with fail_min_features features
+  double last_sighted_t_ = 0.0;          ///< [s] newest frame with fail_min_features features
   double last_preintegration_ms_ = 0.0;  ///< [ms] CPU time of the newest slot's pre-integration
   std::vector<KeyframeState> finished_keyframes_;
   /// States of the window's keyframes after the last successful update: handed out at a reset,

@@ -2,9 +2,8 @@
 // coverage, plus its JSON and human-readable forms.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "rgbdi/common/types.h"
@@ -26,9 +25,9 @@ struct EvalResult {
   EvalOptions options;
   std::size_t gt_poses = 0;
   std::size_t est_poses = 0;
-  std::size_t pairs = 0;    ///< associated (gt, est) pairs used for ATE
-  Alignment alignment;      ///< p_gt ~= scale * R * p_est + t
-  ErrorStatistics ate;      ///< [m] position error after alignment
+  std::size_t pairs = 0;  ///< associated (gt, est) pairs used for ATE
+  Alignment alignment;    ///< p_gt ~= scale * R * p_est + t
+  ErrorStatistics ate;    ///< [m] position error after alignment
   RpeResult rpe;
   CoverageResult coverage;
 };

@@ -25,8 +25,8 @@ struct RpeOptions {
 
 struct RpeResult {
   std::size_t pairs = 0;
-  double trans_rmse_m = 0.0;     ///< NaN when pairs == 0
-  double rot_rmse_deg = 0.0;     ///< NaN when pairs == 0
+  double trans_rmse_m = 0.0;  ///< NaN when pairs == 0
+  double rot_rmse_deg = 0.0;  ///< NaN when pairs == 0
 };
 
 /// Throws EvalError when either trajectory has fewer than 2 poses or delta_s is not positive.

@@ -3,7 +3,6 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
-
 #include <vector>
 
 #include "rgbdi/common/camera.h"
@@ -20,13 +19,14 @@ namespace rgbdi::frontend {
 /// the depth intrinsics (incl. distortion), moved by T_color_depth, projected with the colour
 /// intrinsics (incl. distortion) and written to its nearest colour pixel, keeping the smallest z
 /// (z-buffer). A second z-buffer, the "cover", receives each point on the 2x2 pixels around its
-/// sub-pixel position: it closes 1-pixel cracks and tells which surface is in front. A pixel keeps its own value when that is not behind its cover
-/// by more than registration_fill_max_relative_diff. Otherwise (a crack left by a magnified depth
-/// image, or background seen through such a crack in a nearer surface) it takes the mean of two
-/// opposite trusted neighbours (horizontal, vertical or diagonal) that agree within that fraction
-/// and are not behind the cover, else the cover itself. So cracks are interpolated, occluded
-/// background never shows through, foreground grows by less than one pixel at depth edges, and a
-/// pixel with no depth point within one pixel stays empty (disoccluded areas stay empty).
+/// sub-pixel position: it closes 1-pixel cracks and tells which surface is in front. A pixel keeps
+/// its own value when that is not behind its cover by more than
+/// registration_fill_max_relative_diff. Otherwise (a crack left by a magnified depth image, or
+/// background seen through such a crack in a nearer surface) it takes the mean of two opposite
+/// trusted neighbours (horizontal, vertical or diagonal) that agree within that fraction and are
+/// not behind the cover, else the cover itself. So cracks are interpolated, occluded background
+/// never shows through, foreground grows by less than one pixel at depth edges, and a pixel with no
+/// depth point within one pixel stays empty (disoccluded areas stay empty).
 class DepthRegistrar {
  public:
   explicit DepthRegistrar(const FrontendOptions& options = FrontendOptions());
@@ -43,12 +43,14 @@ class DepthRegistrar {
   /// the frame and the camera geometry), which makes per-feature depth cheap. `out` is
   /// (re)allocated as CV_32FC1 of the colour image size.
   void registerDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
-                           const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out);
+                           const std::vector<Eigen::Vector2d>& centres, int radius_px,
+                           cv::Mat& out);
   /// Adds the windows around further `centres` to `out` of the last registerDepthAround() call,
   /// which must have been made with the same `frame` and `cam_color` (the depth points projected
   /// then are kept); pixels already registered keep their values.
   void registerMoreDepthAround(const RgbdFrame& frame, const PinholeCamera& cam_color,
-                               const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out);
+                               const std::vector<Eigen::Vector2d>& centres, int radius_px,
+                               cv::Mat& out);
 
  private:
   /// Validates the frame; for unaligned depth also prepares rays, projection and buffers.
@@ -68,19 +70,21 @@ class DepthRegistrar {
                        const std::vector<Eigen::Vector2d>& centres, int radius_px, cv::Mat& out);
 
   FrontendOptions options_;
-  PinholeCamera rays_camera_;    ///< intrinsics the cached rays belong to
-  std::vector<float> rays_xn_;   ///< interleaved undistorted (x/z, y/z) per depth pixel
-  PinholeCamera cam_color_;      ///< colour camera of the current call
+  PinholeCamera rays_camera_;   ///< intrinsics the cached rays belong to
+  std::vector<float> rays_xn_;  ///< interleaved undistorted (x/z, y/z) per depth pixel
+  PinholeCamera cam_color_;     ///< colour camera of the current call
   Eigen::Matrix3f R_color_depth_;
   Eigen::Vector3f t_color_depth_;
-  float max_radius2_ = 0.0f;     ///< projection validity bound (see maxNormalisedRadius2)
-  cv::Mat values_;               ///< nearest-pixel z-buffer, +max float = no point
-  cv::Mat cover_;                ///< 2x2-footprint z-buffer, +max float = no point
-  double nearest_range_m_ = 0.0;  ///< of the current frame: no depth point is nearer (0 = none known)
-  bool any_depth_ = false;        ///< the current frame has a valid depth pixel
+  float max_radius2_ = 0.0f;  ///< projection validity bound (see maxNormalisedRadius2)
+  cv::Mat values_;            ///< nearest-pixel z-buffer, +max float = no point
+  cv::Mat cover_;             ///< 2x2-footprint z-buffer, +max float = no point
+  double nearest_range_m_ =
+      0.0;                  ///< of the current frame: no depth point is nearer (0 = none known)
+  bool any_depth_ = false;  ///< the current frame has a valid depth pixel
 };
 
 /// One-shot registration with the frame's own colour intrinsics (see DepthRegistrar).
-cv::Mat registerDepthToColor(const RgbdFrame& frame, const FrontendOptions& options = FrontendOptions());
+cv::Mat registerDepthToColor(const RgbdFrame& frame,
+                             const FrontendOptions& options = FrontendOptions());
 
 }  // namespace rgbdi::frontend

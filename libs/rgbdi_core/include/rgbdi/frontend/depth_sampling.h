@@ -17,6 +17,7 @@ namespace rgbdi::frontend {
 ///    (features on depth edges are the classic source of wrong depths);
 ///  - the interpolated depth is outside [depth_min_m, depth_max_m].
 /// Throws std::invalid_argument when `depth_m` is not CV_32FC1.
-double sampleDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv, const FrontendOptions& options);
+double sampleDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
+                   const FrontendOptions& options);
 
 }  // namespace rgbdi::frontend

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <vector>
 
@@ -11,7 +10,8 @@ namespace rgbdi::frontend {
 /// One feature seen in one colour image.
 struct FeatureObservation {
   std::uint64_t id = 0;  ///< unique per tracker, starts at 0, increases with detection order
-  Eigen::Vector2d uv = Eigen::Vector2d::Zero();  ///< distorted pixel position in the colour image [px]
+  Eigen::Vector2d uv =
+      Eigen::Vector2d::Zero();  ///< distorted pixel position in the colour image [px]
   Eigen::Vector2d xn = Eigen::Vector2d::Zero();  ///< undistorted normalised coordinates (x/z, y/z)
   /// d(xn)/dt between the previous and this image [1/s]; zero for a newly detected feature.
   /// Used by the estimator for the online camera-IMU time offset.
@@ -22,21 +22,21 @@ struct FeatureObservation {
 
 /// Thread CPU time of each front-end step for one image [ms] (diagnostics only).
 struct FrontendTimings {
-  double grey_ms = 0.0;      ///< colour -> grey conversion (and CLAHE when enabled)
-  double pyramid_ms = 0.0;   ///< image pyramid with derivatives
-  double klt_ms = 0.0;       ///< forward + backward KLT and border check
-  double ransac_ms = 0.0;    ///< fundamental-matrix RANSAC
-  double detect_ms = 0.0;    ///< distribution mask and Shi-Tomasi detection
-  double depth_ms = 0.0;     ///< depth registration and per-feature sampling
-  double total_ms = 0.0;     ///< the whole track() call
+  double grey_ms = 0.0;     ///< colour -> grey conversion (and CLAHE when enabled)
+  double pyramid_ms = 0.0;  ///< image pyramid with derivatives
+  double klt_ms = 0.0;      ///< forward + backward KLT and border check
+  double ransac_ms = 0.0;   ///< fundamental-matrix RANSAC
+  double detect_ms = 0.0;   ///< distribution mask and Shi-Tomasi detection
+  double depth_ms = 0.0;    ///< depth registration and per-feature sampling
+  double total_ms = 0.0;    ///< the whole track() call
   /// Tracking + detection: the part with the 6 ms budget (everything except depth).
   double trackingMs() const { return grey_ms + pyramid_ms + klt_ms + ransac_ms + detect_ms; }
 };
 
 /// All features of one colour image, ordered by increasing id.
 struct FeatureFrame {
-  double t = 0.0;                ///< stamp of the colour image [s]
-  std::uint64_t frame_index = 0; ///< RgbdFrame::index of the source image
+  double t = 0.0;                 ///< stamp of the colour image [s]
+  std::uint64_t frame_index = 0;  ///< RgbdFrame::index of the source image
   std::vector<FeatureObservation> features;
 
   int n_tracked = 0;          ///< features carried over from the previous image
@@ -45,9 +45,9 @@ struct FeatureFrame {
   int n_border_rejected = 0;  ///< tracked too close to (or beyond) the image border
   int n_ransac_rejected = 0;  ///< rejected as outliers of the fundamental matrix
   int n_too_close = 0;        ///< dropped because a longer-tracked feature is within min distance
-  int n_occluded = 0;         ///< tracked features dropped: their window straddles an occlusion boundary
-  int n_occluded_skipped = 0; ///< corners not taken as new features for the same reason
-  int n_with_depth = 0;       ///< features with depth_m > 0
+  int n_occluded = 0;  ///< tracked features dropped: their window straddles an occlusion boundary
+  int n_occluded_skipped = 0;  ///< corners not taken as new features for the same reason
+  int n_with_depth = 0;        ///< features with depth_m > 0
   FrontendTimings timings;
 };
 

@@ -1,11 +1,10 @@
 // KLT feature tracker of the visual front end: one colour image in, the tracked features out.
 #pragma once
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <cstdint>
 #include <memory>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "rgbdi/common/camera.h"
@@ -67,15 +66,18 @@ class FeatureTracker {
   /// Forward/backward KLT, border and RANSAC checks; returns the surviving tracks moved to the
   /// current image (positions updated, lengths incremented).
   std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid, FeatureFrame& out);
-  /// Keeps features min_distance_px apart (longest-tracked first); returns the spacing of those kept.
+  /// Keeps features min_distance_px apart (longest-tracked first); returns the spacing of those
+  /// kept.
   FeatureSpacing distribute(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out);
   /// Drops the tracks whose window straddles an occlusion boundary in depth_m_ (their places stay
   /// taken in `spacing` and in `occupied`, so no corner on the same edge replaces them at once).
-  void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, int& dropped) const;
+  void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
+                    int& dropped) const;
   /// Tops `tracks` up to max_features with new corners away from `occupied`; with depth, corners
   /// on occlusion boundaries are refused and the next candidates taken instead.
-  void detectNew(const RgbdFrame& frame, const cv::Mat& grey, const cv::Mat& derivatives, std::vector<Track>& tracks,
-                 std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing, FeatureFrame& out);
+  void detectNew(const RgbdFrame& frame, const cv::Mat& grey, const cv::Mat& derivatives,
+                 std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
+                 FeatureSpacing& spacing, FeatureFrame& out);
   /// Half-size of the depth windows registered around features.
   int depthWindowRadius() const;
 
@@ -83,13 +85,13 @@ class FeatureTracker {
   PinholeCamera cam_;
   DepthRegistrar registrar_;
   std::unique_ptr<CornerDetector> detector_;  ///< keeps its work buffers between images
-  cv::Mat depth_m_;  ///< registered depth around the current features (reused buffer)
+  cv::Mat depth_m_;           ///< registered depth around the current features (reused buffer)
   cv::Ptr<cv::CLAHE> clahe_;  ///< only when clahe_clip_limit > 0
 
   bool has_previous_ = false;
   double previous_t_ = 0.0;
   std::vector<cv::Mat> previous_pyramid_;
-  std::vector<cv::Mat> spare_pyramid_;  ///< rebuilt for each new image (keeps its memory)
+  std::vector<cv::Mat> spare_pyramid_;         ///< rebuilt for each new image (keeps its memory)
   cv::Mat grey_, equalised_, detection_mask_;  ///< per-image work buffers, reused
   std::vector<Track> previous_tracks_;
   std::uint64_t next_id_ = 0;

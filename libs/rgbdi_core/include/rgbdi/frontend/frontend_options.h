@@ -8,32 +8,33 @@ namespace rgbdi::frontend {
 /// Tracker, outlier-rejection and depth-sampling parameters. Defaults equal share/config.ini.
 struct FrontendOptions {
   // --- feature count and distribution ---
-  int max_features = 150;                 ///< [count] features kept per frame
-  double min_distance_px = 15.0;          ///< [px] no two features closer than this
-  double shi_tomasi_quality = 0.01;       ///< [unitless] corner threshold relative to the best corner
-  int shi_tomasi_block_size = 3;          ///< [px] window of the corner (min eigenvalue) measure
-  int border_px = 1;                      ///< [px] features closer than this to the image edge are dropped
+  int max_features = 150;            ///< [count] features kept per frame
+  double min_distance_px = 15.0;     ///< [px] no two features closer than this
+  double shi_tomasi_quality = 0.01;  ///< [unitless] corner threshold relative to the best corner
+  int shi_tomasi_block_size = 3;     ///< [px] window of the corner (min eigenvalue) measure
+  int border_px = 1;  ///< [px] features closer than this to the image edge are dropped
   /// [unitless] CLAHE contrast limit applied to the grey image before tracking; 0 disables it.
   double clahe_clip_limit = 0.0;
 
   // --- KLT tracking ---
-  int klt_window_px = 21;                 ///< [px] side of the KLT window
-  int klt_pyramid_levels = 3;             ///< [count] pyramid levels above the base image
-  int klt_max_iterations = 30;            ///< [count] Gauss-Newton iterations per level
-  double klt_epsilon_px = 0.01;           ///< [px] stop iterating when the update is smaller
-  /// [px] a feature is dropped when tracking it back to the previous image misses its start by more.
+  int klt_window_px = 21;        ///< [px] side of the KLT window
+  int klt_pyramid_levels = 3;    ///< [count] pyramid levels above the base image
+  int klt_max_iterations = 30;   ///< [count] Gauss-Newton iterations per level
+  double klt_epsilon_px = 0.01;  ///< [px] stop iterating when the update is smaller
+  /// [px] a feature is dropped when tracking it back to the previous image misses its start by
+  /// more.
   double klt_max_forward_backward_px = 0.5;
 
   // --- geometric outlier rejection ---
-  double ransac_threshold_px = 1.0;       ///< [px] epipolar distance at the camera's focal length
-  double ransac_confidence = 0.99;        ///< [unitless] RANSAC success probability
+  double ransac_threshold_px = 1.0;  ///< [px] epipolar distance at the camera's focal length
+  double ransac_confidence = 0.99;   ///< [unitless] RANSAC success probability
 
   // --- per-feature depth ---
-  double depth_min_m = 0.1;               ///< [m] nearest accepted feature depth
+  double depth_min_m = 0.1;  ///< [m] nearest accepted feature depth
   /// [m] farthest accepted feature depth: the sensor's useful range. The estimator applies its
   /// own, tighter gates (depth verification 3 m, initialisation 10 m).
   double depth_max_m = 10.0;
-  int depth_neighbourhood_px = 2;         ///< [px] half-size of the hole/edge check window
+  int depth_neighbourhood_px = 2;           ///< [px] half-size of the hole/edge check window
   double depth_max_relative_spread = 0.03;  ///< [unitless] (max-min)/median allowed in that window
   /// [1/m] sensor depth noise sigma = coeff * z^2 (D435: ~0.004). The window's spread may reach
   /// depth_max_noise_sigmas of this noise before it counts as a depth edge, so that noise alone
@@ -44,8 +45,8 @@ struct FrontendOptions {
   /// surfaces (the inverse-depth plane fit of the window leaves more than
   /// occlusion_max_residual_sigmas of depth noise) is not detected there and is dropped when a
   /// tracked one comes to straddle one. 0 turns the check off.
-  int occlusion_window_px = 10;           ///< [px] half-size of the checked window (KLT window / 2)
-  int occlusion_sample_step_px = 2;       ///< [px] pixel step of the depth samples in that window
+  int occlusion_window_px = 10;      ///< [px] half-size of the checked window (KLT window / 2)
+  int occlusion_sample_step_px = 2;  ///< [px] pixel step of the depth samples in that window
   double occlusion_max_residual_sigmas = 5.0;  ///< [unitless] RMS plane residual allowed, in sigmas
   double occlusion_min_valid_fraction = 0.5;   ///< [unitless] samples with depth needed to judge
   /// [unitless] depth registration: a crack pixel is filled only when its two opposite neighbours

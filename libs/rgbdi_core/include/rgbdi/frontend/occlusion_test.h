@@ -14,8 +14,8 @@ namespace rgbdi::frontend {
 /// its residual measures how far the window is from one plane. With the sensor model
 /// sigma_z = coeff z^2 the inverse-depth noise is the constant coeff [1/m] at every range.
 struct WindowPlaneFit {
-  int samples = 0;        ///< valid depth samples in the window
-  int grid_samples = 0;   ///< samples of the grid inside the image (valid or not)
+  int samples = 0;                  ///< valid depth samples in the window
+  int grid_samples = 0;             ///< samples of the grid inside the image (valid or not)
   double rms_residual_inv_m = 0.0;  ///< RMS inverse-depth residual of the plane fit [1/m]
 };
 
@@ -33,6 +33,7 @@ WindowPlaneFit fitWindowPlane(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
 /// mean error 7 px, and they bias the odometry's scale by 0.5 %). False when the check is off
 /// (occlusion_window_px = 0) or fewer than occlusion_min_valid_fraction of the window's samples
 /// have depth (nothing to judge by).
-bool straddlesOcclusion(const cv::Mat& depth_m, const Eigen::Vector2d& uv, const FrontendOptions& options);
+bool straddlesOcclusion(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
+                        const FrontendOptions& options);
 
 }  // namespace rgbdi::frontend

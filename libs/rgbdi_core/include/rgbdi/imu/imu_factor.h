@@ -13,7 +13,6 @@
 #include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
-
 #include <cstdint>
 
 #include "rgbdi/imu/preintegration.h"

@@ -3,7 +3,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <utility>
 #include <vector>
 
@@ -20,10 +19,11 @@ Eigen::Quaterniond gravityAlignedAttitude(const Eigen::Vector3d& mean_acc);
 /// and the pre-integration over the same interval.
 using GyroBiasPair = std::pair<Eigen::Quaterniond, const Preintegration*>;
 
-/// Linear least squares for the gyro bias: J_theta_bg * dbg = Log(dq_ij^-1 q_ij_vision) stacked over
-/// all pairs. Returns the CORRECTION to add to the linearisation gyro bias of the pre-integrations
-/// (they should share it; otherwise the correction is relative to pairs.front()'s). Throws
-/// std::invalid_argument for an empty list, a null pre-integration, or a rank-deficient system.
+/// Linear least squares for the gyro bias: J_theta_bg * dbg = Log(dq_ij^-1 q_ij_vision) stacked
+/// over all pairs. Returns the CORRECTION to add to the linearisation gyro bias of the
+/// pre-integrations (they should share it; otherwise the correction is relative to
+/// pairs.front()'s). Throws std::invalid_argument for an empty list, a null pre-integration, or a
+/// rank-deficient system.
 Eigen::Vector3d solveGyroBias(const std::vector<GyroBiasPair>& pairs);
 
 }  // namespace rgbdi::imu

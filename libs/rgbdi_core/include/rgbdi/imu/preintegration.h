@@ -12,7 +12,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <vector>
 
@@ -68,8 +67,8 @@ class Preintegration {
   /// Re-integrates the stored samples with new linearisation biases.
   void repropagate(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg);
   /// True when |ba - biasAcc()| > acc_thresh or |bg - biasGyr()| > gyr_thresh.
-  bool needsRepropagation(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg,
-                          double acc_thresh, double gyr_thresh) const;
+  bool needsRepropagation(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg, double acc_thresh,
+                          double gyr_thresh) const;
 
   /// Deltas corrected to first order for biases (ba, bg) that differ from the linearisation point.
   Eigen::Vector3d correctedDeltaP(const Eigen::Vector3d& ba, const Eigen::Vector3d& bg) const;

@@ -13,9 +13,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <stdexcept>
-#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 

@@ -24,6 +24,7 @@ std::string formatName(InputFormat f);
 /// Reads the whole rawlog through RawlogSource and returns its diagnostics. A corrupt record
 /// does not throw: it is reported in StreamDiagnostics::error (everything before it counted).
 /// Throws RawlogError when the file cannot be opened. `quiet` silences the source's logger.
-StreamDiagnostics inspectRawlog(const std::string& path, const StreamConfig& cfg, bool quiet = true);
+StreamDiagnostics inspectRawlog(const std::string& path, const StreamConfig& cfg,
+                                bool quiet = true);
 
 }  // namespace rgbdi::io

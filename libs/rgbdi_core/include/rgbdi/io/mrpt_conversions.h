@@ -6,8 +6,8 @@
 //   T_mrptdepth_depthoptical = CPose3D(0,0,0, -90deg, 0, -90deg)
 // maps the depth optical frame into the MRPT depth frame. relativePoseIntensityWRTDepth is the pose
 // of the intensity (colour) camera OPTICAL frame in the MRPT depth frame, so for coinciding cameras
-// it equals that fixed rotation. sensorPose is the pose of the MRPT depth frame on the robot (body).
-// Hence:
+// it equals that fixed rotation. sensorPose is the pose of the MRPT depth frame on the robot
+// (body). Hence:
 //   T_color_depth      = relativePoseIntensityWRTDepth^-1 * T_mrptdepth_depthoptical
 //   source_T_body_cam  = sensorPose * relativePoseIntensityWRTDepth      (colour optical in body)
 //   T_body_depthoptical = sensorPose * T_mrptdepth_depthoptical

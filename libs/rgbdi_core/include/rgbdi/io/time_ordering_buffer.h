@@ -58,9 +58,9 @@ class TimeOrderingBuffer {
   bool any_released_ = false;
   bool finished_ = false;
   std::uint64_t seq_ = 0;
-  std::vector<Item> heap_;           ///< min-heap on (t, kind, seq)
-  std::set<double> pending_[2];      ///< stamps buffered per kind (duplicate detection)
-  double last_released_[2];          ///< newest released stamp per kind (duplicate detection)
+  std::vector<Item> heap_;       ///< min-heap on (t, kind, seq)
+  std::set<double> pending_[2];  ///< stamps buffered per kind (duplicate detection)
+  double last_released_[2];      ///< newest released stamp per kind (duplicate detection)
 };
 
 }  // namespace rgbdi::io

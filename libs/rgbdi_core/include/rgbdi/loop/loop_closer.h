@@ -37,11 +37,11 @@ struct LoopRecord {
 
 /// One relocalisation: a part joined to another by verified loops.
 struct JoinRecord {
-  int segment = 0;         ///< segment of the query keyframes (the part that was moved)
-  int to_segment = 0;      ///< lowest segment of the part it joined (0 = the map / the origin)
-  double t_query = 0.0;    ///< [s] stamp (run clock) of the keyframe that completed the join
+  int segment = 0;       ///< segment of the query keyframes (the part that was moved)
+  int to_segment = 0;    ///< lowest segment of the part it joined (0 = the map / the origin)
+  double t_query = 0.0;  ///< [s] stamp (run clock) of the keyframe that completed the join
   std::uint64_t query_id = 0;
-  int loop_edges = 0;      ///< loop edges added by the join
+  int loop_edges = 0;  ///< loop edges added by the join
 };
 
 struct LoopStats {

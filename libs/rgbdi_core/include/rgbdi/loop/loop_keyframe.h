@@ -4,7 +4,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-
 #include <cstdint>
 
 #include "rgbdi/loop/depth_grid.h"

@@ -14,7 +14,6 @@ bool fitRigidWeighted(const std::vector<Eigen::Vector3d>& src,
                       const std::vector<Eigen::Vector3d>& dst, const std::vector<double>& weights,
                       Eigen::Isometry3d& T_dst_src);
 
-
 /// A 3-D point measured by an RGB-D camera: its position in that camera's frame and the
 /// standard deviations of the measurement across the viewing ray (pixel noise times range) and
 /// along it (depth noise).

@@ -27,11 +27,11 @@ struct MapManifest {
   /// Calibration the map was built with; a run with another one is refused.
   PinholeCamera camera;  ///< colour camera (intrinsics, distortion, size) of the loop keyframes
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
-  std::string descriptor_type;           ///< e.g. "ORB-256"
-  std::uint32_t descriptor_bytes = 0;    ///< bytes per descriptor
-  std::uint64_t next_keyframe_id = 0;    ///< ids of a run that extends the map start here
-  int next_segment = 0;                  ///< segments of a run that extends the map start here
-  int sessions = 0;                      ///< runs that built this map
+  std::string descriptor_type;         ///< e.g. "ORB-256"
+  std::uint32_t descriptor_bytes = 0;  ///< bytes per descriptor
+  std::uint64_t next_keyframe_id = 0;  ///< ids of a run that extends the map start here
+  int next_segment = 0;                ///< segments of a run that extends the map start here
+  int sessions = 0;                    ///< runs that built this map
   /// Informational: the place-index parameters of the run that saved it (INI "key = value"
   /// lines of [loop] place_*); the index is rebuilt with the loading run's parameters.
   std::string index_parameters;

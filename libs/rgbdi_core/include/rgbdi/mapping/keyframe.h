@@ -5,7 +5,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -19,16 +18,16 @@ namespace rgbdi::mapping {
 /// store keeps every keyframe of a session (about 150 features each), and 32 bytes per feature
 /// instead of 64 halve its size; nothing computes with these after the keyframe is stored.
 struct KeyframeFeature {
-  std::uint64_t id = 0;                          ///< tracker id (stable across frames)
-  Eigen::Vector2f uv = Eigen::Vector2f::Zero();  ///< distorted pixel position [px]
-  bool has_position = false;                     ///< p_cam is known (depth or triangulation)
+  std::uint64_t id = 0;                             ///< tracker id (stable across frames)
+  Eigen::Vector2f uv = Eigen::Vector2f::Zero();     ///< distorted pixel position [px]
+  bool has_position = false;                        ///< p_cam is known (depth or triangulation)
   Eigen::Vector3f p_cam = Eigen::Vector3f::Zero();  ///< position in the camera frame [m]
 };
 
 /// Binary descriptors of keypoints of the keyframe (e.g. BRIEF/ORB for a bag-of-words loop
 /// detector). Descriptor k occupies data[k * bytes_per_descriptor, (k+1) * bytes_per_descriptor).
 struct DescriptorSet {
-  std::string type;                          ///< e.g. "BRIEF-256"; empty when there are none
+  std::string type;  ///< e.g. "BRIEF-256"; empty when there are none
   std::uint32_t bytes_per_descriptor = 0;
   std::vector<Eigen::Vector2f> keypoints_uv;  ///< distorted pixel position of each keypoint [px]
   /// Depth-backed position of each keypoint in the colour camera optical frame [m]; all NaN when

@@ -5,14 +5,11 @@
 // the path.
 #pragma once
 
-#include <utility>
-
-#include <Eigen/Geometry>
-
 #include <mrpt/obs/CObservation.h>
 
 #include <Eigen/Geometry>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rgbdi/common/types.h"

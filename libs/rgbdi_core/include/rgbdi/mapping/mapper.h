@@ -48,7 +48,8 @@ struct MapperStats {
   double correction_ms_total = 0.0;  ///< correct() wall-clock time, summed
   double correction_ms_max = 0.0;
   std::size_t points_at_last_correction = 0;
-  double occupancy_rebuild_ms = 0.0;  ///< finish()'s occupancy ray casting, CPU time (0 if not needed)
+  double occupancy_rebuild_ms =
+      0.0;  ///< finish()'s occupancy ray casting, CPU time (0 if not needed)
 };
 
 class Mapper {
@@ -62,8 +63,8 @@ class Mapper {
 
   /// Starts from a saved map (before any addKeyframe): every keyframe with its kept points goes
   /// into the store, the point map and the viewpoint index at its saved pose (and into the
-  /// occupancy map at finish()). Throws std::logic_error when keyframes were added already, std::invalid_argument for
-  /// a duplicate id.
+  /// occupancy map at finish()). Throws std::logic_error when keyframes were added already,
+  /// std::invalid_argument for a duplicate id.
   void restore(const KeyframeStore& saved);
 
   /// Moves keyframes to corrected camera poses (id, T_world_cam); ids not in the store are

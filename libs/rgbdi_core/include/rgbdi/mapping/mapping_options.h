@@ -39,8 +39,8 @@ struct MappingOptions {
   int min_points_per_leaf_rebuild = 3;
   /// A map correction moves a keyframe (and rebuilds the map) only when the correction shifts it
   /// by at least this much or turns it by at least correction_min_rotation_deg.
-  double correction_min_shift_m = 0.01;       ///< [m]
-  double correction_min_rotation_deg = 0.5;   ///< [deg]
+  double correction_min_shift_m = 0.01;      ///< [m]
+  double correction_min_rotation_deg = 0.5;  ///< [deg]
 
   // --- redundant keyframes (see viewpoint_index.h) ---
   /// [m] a keyframe adds points only when no keyframe already in the map is closer than this

@@ -5,10 +5,9 @@
 // depth_max_m still clear the free space up to depth_max_m.
 #pragma once
 
-#include <Eigen/Geometry>
-
 #include <octomap/OcTree.h>
 
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
 #include <string>

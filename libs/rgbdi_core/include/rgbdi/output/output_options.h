@@ -12,8 +12,8 @@ struct OutputOptions {
   bool write_plot = true;            ///< trajectory.png
   double progress_interval_s = 1.0;  ///< [s] wall-clock period of the progress line on stderr
   /// Uncertainty given to odometry edges of pose_graph.graph (between consecutive keyframes).
-  double graph_translation_sigma_m = 0.01;   ///< [m]
-  double graph_rotation_sigma_rad = 0.005;   ///< [rad]
+  double graph_translation_sigma_m = 0.01;  ///< [m]
+  double graph_rotation_sigma_rad = 0.005;  ///< [rad]
 
   static OutputOptions load(IniReader& ini);
 };

@@ -18,7 +18,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -39,7 +38,8 @@ struct PoseGraphEdge {
   Eigen::Isometry3d T_from_to = Eigen::Isometry3d::Identity();
   /// Information in (x, y, z, rotation vector) order, see the file comment.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Identity();
-  std::string kind = "odometry";  ///< "odometry" or "loop" ("unknown" when read from a foreign file)
+  std::string kind =
+      "odometry";  ///< "odometry" or "loop" ("unknown" when read from a foreign file)
 };
 
 struct PoseGraph {

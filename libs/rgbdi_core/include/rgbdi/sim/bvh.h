@@ -8,7 +8,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -104,8 +103,8 @@ void Bvh::traverse(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, do
   for (int a = 0; a < 3; ++a) {
     r.o[a] = static_cast<float>(origin[a]);
     const double d = dir[a];
-    r.inv[a] = std::abs(d) < 1e-30 ? (d < 0 ? -kHugeInverse : kHugeInverse)
-                                   : static_cast<float>(1.0 / d);
+    r.inv[a] =
+        std::abs(d) < 1e-30 ? (d < 0 ? -kHugeInverse : kHugeInverse) : static_cast<float>(1.0 / d);
   }
   // Float distances are compared with a small relative margin so that rounding never culls a
   // box holding a hit at (almost) the current best distance.

@@ -9,7 +9,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -22,14 +21,14 @@ namespace rgbdi::sim {
 
 /// The TRUE IMU noise of the simulation ([sim] section).
 struct ImuSynthOptions {
-  double rate_hz = 200.0;               ///< [Hz]
-  double gravity_m_s2 = 9.81;           ///< [m/s^2], world z up, gravity along -z
-  double acc_noise_density = 0.02;      ///< [m/s^2/sqrt(Hz)]
-  double gyr_noise_density = 0.002;     ///< [rad/s/sqrt(Hz)]
-  double acc_random_walk = 4e-4;        ///< [m/s^3/sqrt(Hz)]
-  double gyr_random_walk = 2e-5;        ///< [rad/s^2/sqrt(Hz)]
-  double acc_bias_max = 0.1;            ///< [m/s^2] initial bias uniform in +-this per axis
-  double gyr_bias_max = 0.005;          ///< [rad/s] same for the gyro
+  double rate_hz = 200.0;            ///< [Hz]
+  double gravity_m_s2 = 9.81;        ///< [m/s^2], world z up, gravity along -z
+  double acc_noise_density = 0.02;   ///< [m/s^2/sqrt(Hz)]
+  double gyr_noise_density = 0.002;  ///< [rad/s/sqrt(Hz)]
+  double acc_random_walk = 4e-4;     ///< [m/s^3/sqrt(Hz)]
+  double gyr_random_walk = 2e-5;     ///< [rad/s^2/sqrt(Hz)]
+  double acc_bias_max = 0.1;         ///< [m/s^2] initial bias uniform in +-this per axis
+  double gyr_bias_max = 0.005;       ///< [rad/s] same for the gyro
 
   /// Reads [sim] imu_rate_hz, gravity_m_s2, acc/gyr_noise_density, acc/gyr_random_walk,
   /// acc/gyr_bias_max.

@@ -11,7 +11,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <vector>
 
 #include "rgbdi/sim/motion_smooth_steps.h"

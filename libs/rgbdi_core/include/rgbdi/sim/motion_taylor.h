@@ -86,25 +86,45 @@ class Taylor {
 };
 
 template <int K>
-Taylor<K> operator+(Taylor<K> a, const Taylor<K>& b) { return a += b; }
+Taylor<K> operator+(Taylor<K> a, const Taylor<K>& b) {
+  return a += b;
+}
 template <int K>
-Taylor<K> operator-(Taylor<K> a, const Taylor<K>& b) { return a -= b; }
+Taylor<K> operator-(Taylor<K> a, const Taylor<K>& b) {
+  return a -= b;
+}
 template <int K>
-Taylor<K> operator-(Taylor<K> a) { return a *= -1.0; }
+Taylor<K> operator-(Taylor<K> a) {
+  return a *= -1.0;
+}
 template <int K>
-Taylor<K> operator+(Taylor<K> a, double s) { return a += s; }
+Taylor<K> operator+(Taylor<K> a, double s) {
+  return a += s;
+}
 template <int K>
-Taylor<K> operator+(double s, Taylor<K> a) { return a += s; }
+Taylor<K> operator+(double s, Taylor<K> a) {
+  return a += s;
+}
 template <int K>
-Taylor<K> operator-(Taylor<K> a, double s) { return a += -s; }
+Taylor<K> operator-(Taylor<K> a, double s) {
+  return a += -s;
+}
 template <int K>
-Taylor<K> operator-(double s, const Taylor<K>& a) { return (-a) += s; }
+Taylor<K> operator-(double s, const Taylor<K>& a) {
+  return (-a) += s;
+}
 template <int K>
-Taylor<K> operator*(Taylor<K> a, double s) { return a *= s; }
+Taylor<K> operator*(Taylor<K> a, double s) {
+  return a *= s;
+}
 template <int K>
-Taylor<K> operator*(double s, Taylor<K> a) { return a *= s; }
+Taylor<K> operator*(double s, Taylor<K> a) {
+  return a *= s;
+}
 template <int K>
-Taylor<K> operator/(Taylor<K> a, double s) { return a *= 1.0 / s; }
+Taylor<K> operator/(Taylor<K> a, double s) {
+  return a *= 1.0 / s;
+}
 
 /// Cauchy product of the coefficient sequences.
 template <int K>

@@ -9,7 +9,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <array>
 #include <cstdint>
 
@@ -103,7 +102,8 @@ class Prism {
   /// Face planes in the world frame: points x inside satisfy normal.dot(x) <= offset.
   std::array<Eigen::Vector3d, kFaces> normal_;
   std::array<double, kFaces> offset_;
-  /// Texture frame of each face in the world: uv = ((x - origin).dot(u_axis), (x - origin).dot(v_axis)).
+  /// Texture frame of each face in the world: uv = ((x - origin).dot(u_axis), (x -
+  /// origin).dot(v_axis)).
   std::array<Eigen::Vector3d, kFaces> uv_origin_, u_axis_, v_axis_;
   std::array<Eigen::Vector3d, 6> corners_;
   std::array<MaterialId, kFaces> materials_;

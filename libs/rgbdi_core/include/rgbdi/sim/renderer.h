@@ -13,7 +13,6 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
-
 #include <vector>
 
 #include "rgbdi/common/camera.h"
@@ -25,8 +24,8 @@ struct RenderOptions {
   double max_range_m = 40.0;  ///< [m] rays end here (no hit -> background, depth 0)
   /// Direction towards the (infinitely distant) light in the world frame; normalised on use.
   Eigen::Vector3d light_dir_world{0.35, 0.25, 0.90};
-  double ambient = 0.45;   ///< [unitless] shading of surfaces facing away from the light
-  double diffuse = 0.55;   ///< [unitless] added Lambert term (ambient + diffuse = full brightness)
+  double ambient = 0.45;  ///< [unitless] shading of surfaces facing away from the light
+  double diffuse = 0.55;  ///< [unitless] added Lambert term (ambient + diffuse = full brightness)
   /// [px] Gaussian blur of the colour image standing for the lens point-spread function; it also
   /// smooths the staircase of geometric edges (0 = off).
   double optics_blur_sigma_px = 0.5;

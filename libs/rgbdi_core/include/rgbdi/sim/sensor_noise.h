@@ -6,7 +6,6 @@
 #pragma once
 
 #include <opencv2/core.hpp>
-
 #include <random>
 
 #include "rgbdi/common/ini_reader.h"
@@ -15,10 +14,10 @@ namespace rgbdi::sim {
 
 /// D435-like depth: sigma growing with z^2, millimetre quantisation, range gate, hole blobs.
 struct DepthNoiseOptions {
-  double sigma_coeff = 0.004;   ///< [1/m] sigma = coeff * z^2
-  double min_m = 0.2;           ///< [m] measured depths below this read 0
-  double max_m = 10.0;          ///< [m] measured depths above this read 0
-  double hole_fraction = 0.015; ///< [unitless] fraction of pixels inside hole blobs
+  double sigma_coeff = 0.004;       ///< [1/m] sigma = coeff * z^2
+  double min_m = 0.2;               ///< [m] measured depths below this read 0
+  double max_m = 10.0;              ///< [m] measured depths above this read 0
+  double hole_fraction = 0.015;     ///< [unitless] fraction of pixels inside hole blobs
   double hole_radius_min_px = 1.0;  ///< [px] blob semi-axes are uniform in [min, max]
   double hole_radius_max_px = 4.0;  ///< [px]
 

@@ -9,7 +9,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <array>
 #include <cstddef>

@@ -28,7 +28,7 @@ struct LiveRunOptions {
   bool no_loop = false;      ///< loop closure off
   bool quiet = false;        ///< no progress line
   bool save_simplemap = false;
-  MapRunOptions map;  ///< --load-map, --localize-only, --no-save-map
+  MapRunOptions map;                        ///< --load-map, --localize-only, --no-save-map
   const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C / SIGTERM
 };
 

@@ -22,7 +22,7 @@ struct SlamRunOptions {
   bool quiet = false;       ///< no progress line
   bool save_simplemap = false;  ///< also write keyframes.simplemap (keyframe observations + poses)
   bool threaded = true;  ///< stages on their own threads (false: sequential, identical outputs)
-  MapRunOptions map;  ///< --load-map, --localize-only, --no-save-map
+  MapRunOptions map;     ///< --load-map, --localize-only, --no-save-map
   const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C: stop reading, write what we have
 };
 

@@ -196,7 +196,7 @@ class SlamSystem : public MeasurementSink {
   mutable std::mutex drift_mutex_;
   std::vector<std::vector<Eigen::Isometry3d>> drift_after_keyframe_;
   std::vector<std::vector<char>> in_origin_after_keyframe_;  ///< same indexing: joined to origin
-  std::vector<Eigen::Isometry3d> final_keyframe_poses_;  ///< T_world_body by slot, at the end
+  std::vector<Eigen::Isometry3d> final_keyframe_poses_;      ///< T_world_body by slot, at the end
 
   std::atomic<std::size_t> progress_frames_{0}, progress_keyframes_{0}, progress_loops_{0};
   std::atomic<int> progress_status_{0};

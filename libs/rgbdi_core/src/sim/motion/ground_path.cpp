@@ -1,10 +1,10 @@
-#include "rgbdi/sim/motion_ground_path.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "rgbdi/sim/motion_ground_path.h"
 
 namespace rgbdi::sim {
 namespace {

@@ -51,8 +51,8 @@ ImuSynthesizer::ImuSynthesizer(std::shared_ptr<const BodyTrajectory> trajectory,
     if (!(v >= 0.0) || !std::isfinite(v))
       throw std::invalid_argument("ImuSynthesizer: noise parameters must be finite and >= 0");
 
-  const auto n = static_cast<std::size_t>(
-      std::floor(trajectory_->duration() * options.rate_hz + 1e-9)) + 1;
+  const auto n =
+      static_cast<std::size_t>(std::floor(trajectory_->duration() * options.rate_hz + 1e-9)) + 1;
   biases_.resize(n);
   const CounterRng init(seed, kInitialBias), walk(seed, kBiasWalk);
   ImuBias b;

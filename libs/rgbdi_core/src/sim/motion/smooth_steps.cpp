@@ -1,9 +1,9 @@
-#include "rgbdi/sim/motion_smooth_steps.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "rgbdi/sim/motion_smooth_steps.h"
 
 namespace rgbdi::sim {
 

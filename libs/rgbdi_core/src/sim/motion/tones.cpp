@@ -7,8 +7,10 @@ namespace rgbdi::sim {
 
 ToneSum bandTones(double derivative_rms, int derivative_order, double f_min, double f_max,
                   int count, double slot_offset, std::uint64_t phase_seed) {
-  if (count <= 0 || !(f_min > 0.0) || !(f_max >= f_min) || !(slot_offset > 0.0 && slot_offset < 1.0))
-    throw std::invalid_argument("bandTones: need count > 0, 0 < f_min <= f_max, slot_offset in (0, 1)");
+  if (count <= 0 || !(f_min > 0.0) || !(f_max >= f_min) ||
+      !(slot_offset > 0.0 && slot_offset < 1.0))
+    throw std::invalid_argument(
+        "bandTones: need count > 0, 0 < f_min <= f_max, slot_offset in (0, 1)");
   std::vector<Tone> tones;
   if (derivative_rms <= 0.0) return ToneSum(tones);
   // A sinusoid of amplitude a has RMS a / sqrt(2); count of them with distinct frequencies add

@@ -14,7 +14,8 @@ DepthNoiseOptions DepthNoiseOptions::load(IniReader& ini) {
   o.min_m = ini.getDouble(s, "depth_min_m", o.min_m, 0.0, 10.0);
   o.max_m = ini.getDouble(s, "depth_max_m", o.max_m, 0.1, 65.0);
   if (o.max_m <= o.min_m)
-    ini.fail(s, "depth_max_m", "must be greater than depth_min_m (" + std::to_string(o.min_m) + ")");
+    ini.fail(s, "depth_max_m",
+             "must be greater than depth_min_m (" + std::to_string(o.min_m) + ")");
   o.hole_fraction = ini.getDouble(s, "depth_hole_fraction", o.hole_fraction, 0.0, 0.5);
   return o;
 }

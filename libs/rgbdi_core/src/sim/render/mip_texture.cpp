@@ -28,8 +28,8 @@ MipTexture::MipTexture(const cv::Mat& level0) {
   for (int r = 0; r < size0_; ++r) {
     const std::uint8_t* src = level0.ptr<std::uint8_t>(r);
     for (int c = 0; c < size0_; ++c)
-      l0.texels[static_cast<std::size_t>(r) * static_cast<std::size_t>(size0_) + static_cast<std::size_t>(c)] =
-          pack(src[3 * c], src[3 * c + 1], src[3 * c + 2]);
+      l0.texels[static_cast<std::size_t>(r) * static_cast<std::size_t>(size0_) +
+                static_cast<std::size_t>(c)] = pack(src[3 * c], src[3 * c + 1], src[3 * c + 2]);
   }
   levels_.push_back(std::move(l0));
   // 2x2 box averages: with power-of-two sizes the blocks never straddle the wrap-around seam,
@@ -39,11 +39,13 @@ MipTexture::MipTexture(const cv::Mat& level0) {
     Level next;
     next.size = prev.size / 2;
     next.mask = next.size - 1;
-    const std::size_t ps = static_cast<std::size_t>(prev.size), ns = static_cast<std::size_t>(next.size);
+    const std::size_t ps = static_cast<std::size_t>(prev.size),
+                      ns = static_cast<std::size_t>(next.size);
     next.texels.resize(ns * ns);
     for (std::size_t r = 0; r < ns; ++r)
       for (std::size_t c = 0; c < ns; ++c) {
-        const std::uint32_t a = prev.texels[2 * r * ps + 2 * c], b = prev.texels[2 * r * ps + 2 * c + 1];
+        const std::uint32_t a = prev.texels[2 * r * ps + 2 * c],
+                            b = prev.texels[2 * r * ps + 2 * c + 1];
         const std::uint32_t d = prev.texels[(2 * r + 1) * ps + 2 * c],
                             e = prev.texels[(2 * r + 1) * ps + 2 * c + 1];
         int avg[3];

@@ -1,10 +1,9 @@
 #include "rgbdi/sim/renderer.h"
 
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 namespace rgbdi::sim {
@@ -45,7 +44,8 @@ void projectBounds(const Eigen::AlignedBox3d& b, const Eigen::Matrix3d& R_cam_wo
   constexpr float kInf = std::numeric_limits<float>::infinity();
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
   for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector3d corner(k & 1 ? b.max().x() : b.min().x(), k & 2 ? b.max().y() : b.min().y(),
+    const Eigen::Vector3d corner(k & 1 ? b.max().x() : b.min().x(),
+                                 k & 2 ? b.max().y() : b.min().y(),
                                  k & 4 ? b.max().z() : b.min().z());
     const Eigen::Vector3d p = R_cam_world * (corner - origin);
     if (!(p.z() > 1e-6)) {
@@ -99,9 +99,14 @@ Renderer::Renderer(const Scene& scene, const PinholeCamera& cam, const RenderOpt
     }
   for (int v0 = 0; v0 < cam.height; v0 += kTileSize)
     for (int u0 = 0; u0 < cam.width; u0 += kTileSize) {
-      Tile t{u0, v0, std::min(u0 + kTileSize, cam.width), std::min(v0 + kTileSize, cam.height),
-             std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-             std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+      Tile t{u0,
+             v0,
+             std::min(u0 + kTileSize, cam.width),
+             std::min(v0 + kTileSize, cam.height),
+             std::numeric_limits<double>::infinity(),
+             -std::numeric_limits<double>::infinity(),
+             std::numeric_limits<double>::infinity(),
+             -std::numeric_limits<double>::infinity()};
       for (int v = t.v0; v < t.v1; ++v)
         for (int u = t.u0; u < t.u1; ++u) {
           const Eigen::Vector3d& r = rays_cam_[static_cast<std::size_t>(v) * cam.width + u];
@@ -157,10 +162,9 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
   for (const Tile& tile : tiles_) {
     // The tile's frustum: x_min z <= x <= x_max z and y_min z <= y <= y_max z in the camera
     // frame; its four side planes in the world frame all pass through the camera centre.
-    const Eigen::Vector3d planes[4] = {R * Eigen::Vector3d(-1, 0, tile.x_min),
-                                       R * Eigen::Vector3d(1, 0, -tile.x_max),
-                                       R * Eigen::Vector3d(0, -1, tile.y_min),
-                                       R * Eigen::Vector3d(0, 1, -tile.y_max)};
+    const Eigen::Vector3d planes[4] = {
+        R * Eigen::Vector3d(-1, 0, tile.x_min), R * Eigen::Vector3d(1, 0, -tile.x_max),
+        R * Eigen::Vector3d(0, -1, tile.y_min), R * Eigen::Vector3d(0, 1, -tile.y_max)};
     cand.clear();
     for (const Candidate& c : in_range) {
       const Eigen::AlignedBox3d& b = scene_.primitiveBounds(c.prim);
@@ -219,7 +223,8 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
     }
   }
   if (opt_.optics_blur_sigma_px > 0.0)
-    cv::GaussianBlur(rgb, rgb, cv::Size(0, 0), opt_.optics_blur_sigma_px, 0.0, cv::BORDER_REPLICATE);
+    cv::GaussianBlur(rgb, rgb, cv::Size(0, 0), opt_.optics_blur_sigma_px, 0.0,
+                     cv::BORDER_REPLICATE);
 }
 
 }  // namespace rgbdi::sim

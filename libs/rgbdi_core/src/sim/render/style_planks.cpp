@@ -21,7 +21,8 @@ void paintPlanks(WrapPainter& p, DetRandom& r, double tpm) {
         const cv::Scalar gc = scaled(c, r.uniform(0.6, 0.85));
         while (gx < x + len - gap) {
           const double step = std::min(r.uniform(0.05, 0.2) * tpm, x + len - gap - gx);
-          const double ny = std::clamp(gy + r.uniform(-0.006, 0.006) * tpm, y + 1, y + rh - gap - 1);
+          const double ny =
+              std::clamp(gy + r.uniform(-0.006, 0.006) * tpm, y + 1, y + rh - gap - 1);
           p.line(gx, gy, gx + step, ny, 1, gc);
           gx += step;
           gy = ny;

@@ -25,8 +25,9 @@ void paintPosters(WrapPainter& p, DetRandom& r, double tpm) {
     const double x = r.uniform(0, n), y = r.uniform(0, n);
     const cv::Scalar c = hsv(r.uniform(0, 360), r.uniform(0.3, 1.0), r.uniform(0.3, 1.0));
     p.rect(x, y, s, s * r.uniform(0.7, 1.4), c);
-    if (r.chance(0.6)) paintText(p, r, x + 0.1 * s, y + 0.15 * s, 0.8 * s, 0.7 * s, 0.12 * s,
-                                 contrastingColor(r, c, 70));
+    if (r.chance(0.6))
+      paintText(p, r, x + 0.1 * s, y + 0.15 * s, 0.8 * s, 0.7 * s, 0.12 * s,
+                contrastingColor(r, c, 70));
   }
 }
 

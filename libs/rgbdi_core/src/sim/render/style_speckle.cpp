@@ -11,8 +11,8 @@ void paintSpeckle(WrapPainter& p, DetRandom& r, double tpm) {
   struct Scale {
     double per_m2, r_lo, r_hi, contrast;
   };
-  for (const Scale& s : {Scale{3, 0.1, 0.4, 0.12}, Scale{40, 0.02, 0.08, 0.35},
-                         Scale{250, 0.004, 0.015, 0.6}}) {
+  for (const Scale& s :
+       {Scale{3, 0.1, 0.4, 0.12}, Scale{40, 0.02, 0.08, 0.35}, Scale{250, 0.004, 0.015, 0.6}}) {
     for (int i = 0; i < static_cast<int>(area_m2 * s.per_m2); ++i) {
       const double f = 1.0 + r.uniform(-s.contrast, s.contrast);
       p.ellipse(r.uniform(0, n), r.uniform(0, n), r.uniform(s.r_lo, s.r_hi) * tpm,

@@ -29,8 +29,8 @@ void tile(TileContext& t, double x, double y, double w, double h) {
     }
     return;
   }
-  const cv::Scalar base = t.palette[static_cast<std::size_t>(
-      t.r.integer(0, static_cast<int>(t.palette.size()) - 1))];
+  const cv::Scalar base =
+      t.palette[static_cast<std::size_t>(t.r.integer(0, static_cast<int>(t.palette.size()) - 1))];
   const cv::Scalar c = scaled(base, t.r.uniform(0.8, 1.2));
   const double g = t.grout;
   t.p.rect(x + g, y + g, w - 2 * g, h - 2 * g, c);

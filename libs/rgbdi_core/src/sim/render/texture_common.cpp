@@ -40,8 +40,7 @@ void paintText(WrapPainter& p, DetRandom& r, double x, double y, double w, doubl
   }
 }
 
-void paintPoster(WrapPainter& p, DetRandom& r, double x, double y, double w, double h,
-                 double tpm) {
+void paintPoster(WrapPainter& p, DetRandom& r, double x, double y, double w, double h, double tpm) {
   const cv::Scalar bg = randomColor(r);
   p.rect(x, y, w, h, bg);
   double m = 0.0;
@@ -63,8 +62,12 @@ void paintPoster(WrapPainter& p, DetRandom& r, double x, double y, double w, dou
     const double sw = iw * r.uniform(0.15, 0.6), sh = ih * split * r.uniform(0.2, 0.9);
     const double sx = ix + r.uniform(0, iw - sw), sy = iy + r.uniform(0, ih * split - sh);
     switch (r.integer(0, 3)) {
-      case 0: p.rect(sx, sy, sw, sh, c); break;
-      case 1: p.ellipse(sx + sw / 2, sy + sh / 2, sw / 2, sh / 2, 0, c); break;
+      case 0:
+        p.rect(sx, sy, sw, sh, c);
+        break;
+      case 1:
+        p.ellipse(sx + sw / 2, sy + sh / 2, sw / 2, sh / 2, 0, c);
+        break;
       case 2:
         p.polygon({{sx, sy + sh}, {sx + sw, sy + sh}, {sx + r.uniform(0, sw), sy}}, c);
         break;
@@ -97,12 +100,24 @@ cv::Mat generateTexture(TextureStyle style, int size, double texel_size_m, std::
   detail::DetRandom rnd(seed);
   const double tpm = 1.0 / texel_size_m;
   switch (style) {
-    case TextureStyle::Posters: detail::paintPosters(painter, rnd, tpm); break;
-    case TextureStyle::Bricks: detail::paintBricks(painter, rnd, tpm); break;
-    case TextureStyle::Tiles: detail::paintTiles(painter, rnd, tpm); break;
-    case TextureStyle::Shelves: detail::paintShelves(painter, rnd, tpm); break;
-    case TextureStyle::Speckle: detail::paintSpeckle(painter, rnd, tpm); break;
-    case TextureStyle::Planks: detail::paintPlanks(painter, rnd, tpm); break;
+    case TextureStyle::Posters:
+      detail::paintPosters(painter, rnd, tpm);
+      break;
+    case TextureStyle::Bricks:
+      detail::paintBricks(painter, rnd, tpm);
+      break;
+    case TextureStyle::Tiles:
+      detail::paintTiles(painter, rnd, tpm);
+      break;
+    case TextureStyle::Shelves:
+      detail::paintShelves(painter, rnd, tpm);
+      break;
+    case TextureStyle::Speckle:
+      detail::paintSpeckle(painter, rnd, tpm);
+      break;
+    case TextureStyle::Planks:
+      detail::paintPlanks(painter, rnd, tpm);
+      break;
   }
   // Fine grain on every surface (paper fibre, paint roughness) so that even flat areas are not
   // perfectly uniform; the mip chain averages it away at a distance. cv::RNG keeps it

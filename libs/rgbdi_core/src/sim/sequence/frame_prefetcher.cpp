@@ -4,7 +4,9 @@ namespace rgbdi::sim {
 
 FramePrefetcher::FramePrefetcher(std::function<RgbdFrame(std::size_t)> render, std::size_t count,
                                  std::size_t depth)
-    : render_(std::move(render)), count_(count), depth_(depth < 1 ? 1 : depth),
+    : render_(std::move(render)),
+      count_(count),
+      depth_(depth < 1 ? 1 : depth),
       worker_([this] { run(); }) {}
 
 FramePrefetcher::~FramePrefetcher() {

@@ -18,7 +18,8 @@ namespace rgbdi::sim {
 class FramePrefetcher {
  public:
   /// render(i) produces frame i; at most `depth` frames wait in the queue.
-  FramePrefetcher(std::function<RgbdFrame(std::size_t)> render, std::size_t count, std::size_t depth);
+  FramePrefetcher(std::function<RgbdFrame(std::size_t)> render, std::size_t count,
+                  std::size_t depth);
   /// Stops the worker (after the frame it is rendering) and joins it.
   ~FramePrefetcher();
   FramePrefetcher(const FramePrefetcher&) = delete;

@@ -24,8 +24,9 @@ bool Box::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, d
   // Slab test in the box frame. Track which axis bounds the entry and the exit interval so the
   // face is known without a second pass.
   // Axis-aligned boxes (room slabs, most furniture) skip the rotation into the box frame.
-  const Eigen::Vector3d o = axis_aligned_ ? Eigen::Vector3d(origin - T_world_box_.translation())
-                                          : Eigen::Vector3d(R_box_world_ * (origin - T_world_box_.translation()));
+  const Eigen::Vector3d o =
+      axis_aligned_ ? Eigen::Vector3d(origin - T_world_box_.translation())
+                    : Eigen::Vector3d(R_box_world_ * (origin - T_world_box_.translation()));
   const Eigen::Vector3d d = axis_aligned_ ? dir : Eigen::Vector3d(R_box_world_ * dir);
   RayInterval in;
   for (int a = 0; a < 3; ++a) {

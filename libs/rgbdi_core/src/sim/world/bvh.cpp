@@ -20,7 +20,8 @@ void storeBounds(const Eigen::AlignedBox3d& b, float lo[3], float hi[3]) {
   const double extent = b.sizes().maxCoeff();
   for (int a = 0; a < 3; ++a) {
     const double pad = 1e-5 * (extent + std::abs(b.min()[a]) + std::abs(b.max()[a])) + 1e-6;
-    lo[a] = std::nextafter(static_cast<float>(b.min()[a] - pad), -std::numeric_limits<float>::max());
+    lo[a] =
+        std::nextafter(static_cast<float>(b.min()[a] - pad), -std::numeric_limits<float>::max());
     hi[a] = std::nextafter(static_cast<float>(b.max()[a] + pad), std::numeric_limits<float>::max());
   }
 }

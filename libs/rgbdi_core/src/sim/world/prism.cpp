@@ -7,8 +7,9 @@
 
 namespace rgbdi::sim {
 
-Prism::Prism(const Eigen::Isometry3d& T_world_prism, const std::array<Eigen::Vector2d, 3>& profile_xz,
-             double half_width, const std::array<MaterialId, kFaces>& materials)
+Prism::Prism(const Eigen::Isometry3d& T_world_prism,
+             const std::array<Eigen::Vector2d, 3>& profile_xz, double half_width,
+             const std::array<MaterialId, kFaces>& materials)
     : materials_(materials) {
   if (!(half_width > 0.0) || !std::isfinite(half_width))
     throw std::invalid_argument("Prism: half width must be positive and finite");

@@ -17,8 +17,9 @@ Scene makeFurnishedRoom(std::uint64_t seed, const FurnishedRoomOptions& options)
   Scene scene(seed);
   scene.addRoom({-half.x(), -half.y(), 0.0}, {half.x(), half.y(), options.size.z()});
   detail::DetRandom r(detail::mixSeed(seed, 0x726f6f6dULL));
-  const TextureStyle styles[] = {TextureStyle::Posters, TextureStyle::Bricks, TextureStyle::Tiles,
-                                 TextureStyle::Shelves, TextureStyle::Speckle, TextureStyle::Planks};
+  const TextureStyle styles[] = {TextureStyle::Posters, TextureStyle::Bricks,
+                                 TextureStyle::Tiles,   TextureStyle::Shelves,
+                                 TextureStyle::Speckle, TextureStyle::Planks};
   auto anyStyle = [&]() { return styles[r.integer(0, kTextureStyleCount - 1)]; };
   // A position outside the free disc and inside the walls by `margin`.
   auto place = [&](double margin) {
@@ -40,10 +41,22 @@ Scene makeFurnishedRoom(std::uint64_t seed, const FurnishedRoomOptions& options)
       Eigen::Vector2d c;
       double yaw;
       switch (wall) {
-        case 0: c = {-half.x() + 0.5 * depth, along}; yaw = 0.0; break;
-        case 1: c = {half.x() - 0.5 * depth, along}; yaw = M_PI; break;
-        case 2: c = {along, -half.y() + 0.5 * depth}; yaw = 0.5 * M_PI; break;
-        default: c = {along, half.y() - 0.5 * depth}; yaw = -0.5 * M_PI; break;
+        case 0:
+          c = {-half.x() + 0.5 * depth, along};
+          yaw = 0.0;
+          break;
+        case 1:
+          c = {half.x() - 0.5 * depth, along};
+          yaw = M_PI;
+          break;
+        case 2:
+          c = {along, -half.y() + 0.5 * depth};
+          yaw = 0.5 * M_PI;
+          break;
+        default:
+          c = {along, half.y() - 0.5 * depth};
+          yaw = -0.5 * M_PI;
+          break;
       }
       if (c.norm() < options.free_radius + 0.5 * width) continue;
       scene.addStep(c, {depth, width}, yaw, 0.0, height,
