@@ -62,7 +62,9 @@ if laps:
     print(f"| points added in lap 1 (lap {float(laps.group(1)):.1f} m) | {first} | |")
     print(f"| points added in later laps (share of lap 1) | {later} | each < 10 % |")
 print(f"| peak RSS bench_slam (same system, no outputs) [MB] | {rss(seq + '.bench.time'):.0f} | |")
-if os.path.exists(seq + ".slam.time") and os.path.exists(seq + ".out/summary.json"):
+# With BENCH_ONLY=1 rgbdi-slam did not run: the files of an earlier run are not this run's.
+if os.environ.get("BENCH_ONLY", "0") != "1" and os.path.exists(seq + ".slam.time") \
+        and os.path.exists(seq + ".out/summary.json"):
     s = json.load(open(seq + ".out/summary.json"))
     print(f"| rgbdi-slam: ATE final / odometry [m] | {s['evaluation']['ate_rmse']:.4f} / {s['evaluation_odometry']['ate_rmse']:.4f} | |")
     print(f"| peak RSS rgbdi-slam [MB] | {rss(seq + '.slam.time'):.0f} | < 300 |")

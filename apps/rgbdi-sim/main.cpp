@@ -29,7 +29,7 @@ using rgbdi::kExitUsage;
 const char* const kUsage =
     "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
     "                 [--fps N] [--seed N] [--variant N] [--config FILE] [--time-offset S]\n"
-    "                 [--aliased-walls] [--blackout START:DURATION]\n"
+    "                 [--aliased-walls] [--blackout START:DURATION[:KIND]]\n"
     "                 [--bag [--bag-compression none|bz2|lz4]]\n"
     "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
@@ -47,7 +47,9 @@ const char* const kUsage =
     "  --time-offset      camera-IMU time offset [s]: images stamped t_imu - offset\n"
     "  --aliased-walls    the room's +x wall repeats the -x wall (perceptual aliasing)\n"
     "  --blackout         frames from START for DURATION seconds (sequence time, e.g. 20:3)\n"
-    "                     are black with no depth: a forced tracking loss; IMU unaffected\n"
+    "                     are impaired (IMU unaffected): KIND black (default: black with no\n"
+    "                     depth, a covered lens), bare (no texture: a bare wall; depth kept)\n"
+    "                     or blur (motion blur; depth kept), e.g. 20:2:blur\n"
     "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
     "  --bag-compression  chunk compression of the bag (default none)\n"
     "  --version          print the version\n"
@@ -73,6 +75,7 @@ struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
   double blackout_start = 0.0, blackout_duration = 0.0;
+  std::string blackout_kind;  ///< empty: the configuration's
   long long seed = -1;
   int variant = -1;
   bool has_time_offset = false, bag = false, aliased_walls = false;
@@ -115,9 +118,18 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   cl.value("--blackout", [&](const std::string& v) {
     const auto colon = v.find(':');
     if (colon == std::string::npos)
-      throw UsageError("--blackout needs START:DURATION in seconds, got '" + v + "'");
+      throw UsageError("--blackout needs START:DURATION[:KIND] in seconds, got '" + v + "'");
     a.blackout_start = number("--blackout start", v.substr(0, colon));
-    a.blackout_duration = number("--blackout duration", v.substr(colon + 1));
+    std::string rest = v.substr(colon + 1);
+    const auto colon2 = rest.find(':');
+    if (colon2 != std::string::npos) {
+      a.blackout_kind = rest.substr(colon2 + 1);
+      rest = rest.substr(0, colon2);
+      if (a.blackout_kind != "black" && a.blackout_kind != "bare" && a.blackout_kind != "blur")
+        throw UsageError("--blackout: KIND must be black, bare or blur, got '" + a.blackout_kind +
+                         "'");
+    }
+    a.blackout_duration = number("--blackout duration", rest);
     if (a.blackout_start < 0.0 || a.blackout_duration <= 0.0)
       throw UsageError("--blackout: START must be >= 0 and DURATION > 0, got '" + v + "'");
   });
@@ -157,6 +169,7 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   if (a.blackout_duration > 0.0) {
     o.blackout_start_s = a.blackout_start;
     o.blackout_duration_s = a.blackout_duration;
+    if (!a.blackout_kind.empty()) o.blackout_kind = a.blackout_kind;
   }
   return o;
 }

@@ -6,6 +6,7 @@
 // bridged with made-up poses.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
 
 #include "rgbdi/common/fan_out_sink.h"
@@ -122,6 +123,74 @@ TEST(TrackingLoss, ThreeSecondsOfBlackFramesEndInOneContinuousTrajectory) {
             << ate(gt, part(cfin, t_light, 1e18)) << " m, lossy "
             << ate(gt, part(fin, t_light, 1e18)) << " m" << std::endl;
   EXPECT_LE(ate_lossy, 1.2 * ate_clean);
+}
+
+TEST(TrackingLoss, TwoSecondsOfBlackFramesAreBridgedByTheImu) {
+  // Issue 14 point 2: a blackout of up to fail_max_blind_s (2 s) is carried by the IMU, with no
+  // reset: the window keeps the frames that saw, the first frame seen again continues it, the
+  // pose graph trusts the IMU-only stretch as little as it deserves and the final trajectory
+  // spreads the correction over the blind frames. Every frame keeps a pose.
+  auto sim_ini = IniReader::empty();
+  sim::SimOptions so = sim::SimOptions::load(sim_ini);
+  so.profile.kind = sim::ProfileKind::WheeledCircle;
+  so.profile.speed_m_s = 0.8;
+  so.profile.duration_s = 30.0;
+  so.fps = 15.0;
+  const sim::SimulatedSequence seq(so);
+  auto ini = IniReader::fromText(sim::slamConfigText(seq), "generated config.ini");
+  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  ASSERT_GE(cfg.estimator.fail_max_blind_s, 2.0);
+  // Frames exposed in [t_black, t_light): 30 black frames, 1.93 s from the first to the last.
+  const double t_black = seq.frameStamp(0) + 19.0, t_light = t_black + 2.0;
+
+  system::SlamSystem clean(cfg, {}), lossy(cfg, {});
+  BlackoutFilter blackout(lossy, t_black, t_light);
+  FanOutSink both({&clean, &blackout});
+  seq.pump(both);
+
+  EXPECT_EQ(clean.odometry().estimatorStats().resets, 0);
+  EXPECT_EQ(lossy.odometry().estimatorStats().resets, 0);
+  EXPECT_EQ(lossy.odometry().estimatorStats().blind_resets, 0);
+  const Trajectory fin = lossy.finalTrajectory();
+  const Trajectory odo = lossy.odometryTrajectory();
+  ASSERT_EQ(fin.size(), clean.finalTrajectory().size());  // no frame without a pose
+  ASSERT_EQ(odo.size(), fin.size());
+  std::size_t blind = 0;
+  for (const StampedPose& p : odo) blind += p.t >= t_black && p.t < t_light ? 1 : 0;
+  EXPECT_GE(blind, 29u);
+
+  const Trajectory gt = seq.bodyTrajectory();
+  auto part = [](const Trajectory& tr, double t0, double t1) {
+    Trajectory out;
+    for (const StampedPose& p : tr)
+      if (p.t >= t0 && p.t < t1) out.push_back(p);
+    return out;
+  };
+  const double ate_clean = ate(gt, clean.finalTrajectory());
+  const double ate_lossy = ate(gt, fin);
+  const double ate_odometry = ate(gt, odo);
+  // The blind frames' error under the whole run's alignment.
+  eval::EvalOptions eo;
+  eo.align = eval::AlignMode::PosYaw;
+  const eval::Alignment al = eval::evaluate(gt, fin, eo).alignment;
+  double blind_sq = 0.0;
+  std::size_t blind_n = 0;
+  std::size_t g = 0;
+  for (const StampedPose& p : fin) {
+    if (p.t < t_black || p.t >= t_light) continue;
+    while (g + 1 < gt.size() && std::abs(gt[g + 1].t - p.t) <= std::abs(gt[g].t - p.t)) ++g;
+    blind_sq += (al.apply(p.p) - gt[g].p).squaredNorm();
+    ++blind_n;
+  }
+  ASSERT_GT(blind_n, 0u);
+  const double blind_rms = std::sqrt(blind_sq / static_cast<double>(blind_n));
+  std::cout << "final ATE without the blackout " << ate_clean << " m, with it " << ate_lossy
+            << " m (odometry " << ate_odometry << " m); the blind frames " << blind_rms
+            << " m; after the blackout alone " << ate(gt, part(fin, t_light, 1e18)) << " m"
+            << std::endl;
+  EXPECT_LE(ate_lossy, 2.0 * ate_clean);
+  EXPECT_LE(blind_rms, 0.04);
+  EXPECT_LE(ate_odometry, 0.06);  // one continuous odometry through the blackout (two frames: ~1 m)
 }
 
 }  // namespace

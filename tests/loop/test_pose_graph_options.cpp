@@ -33,6 +33,8 @@ const std::set<std::string> kKeys = {"graph_sequential_edges",
                                      "graph_odom_yaw_sigma_floor_deg",
                                      "graph_odom_yaw_sigma_per_sqrt_m_deg",
                                      "graph_odom_yaw_sigma_per_sqrt_rad_deg",
+                                     "graph_odom_bridge_pos_sigma_m",
+                                     "graph_odom_bridge_yaw_sigma_deg",
                                      "graph_loop_sigma_pos_m",
                                      "graph_loop_sigma_yaw_deg",
                                      "graph_loss",
@@ -57,6 +59,8 @@ TEST(PoseGraphOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.odom_yaw_sigma_floor_deg, d.odom_yaw_sigma_floor_deg);
   EXPECT_EQ(f.odom_yaw_sigma_per_sqrt_m_deg, d.odom_yaw_sigma_per_sqrt_m_deg);
   EXPECT_EQ(f.odom_yaw_sigma_per_sqrt_rad_deg, d.odom_yaw_sigma_per_sqrt_rad_deg);
+  EXPECT_EQ(f.odom_bridge_pos_sigma_m, d.odom_bridge_pos_sigma_m);
+  EXPECT_EQ(f.odom_bridge_yaw_sigma_deg, d.odom_bridge_yaw_sigma_deg);
   EXPECT_EQ(f.loop_sigma_pos_m, d.loop_sigma_pos_m);
   EXPECT_EQ(f.loop_sigma_yaw_deg, d.loop_sigma_yaw_deg);
   EXPECT_EQ(f.loss, d.loss);

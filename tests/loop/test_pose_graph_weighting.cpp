@@ -181,3 +181,73 @@ TEST(PoseGraphWeighting, LoopEdgesTakeTheirOwnSigmasOrTheOptionsDefaults) {
   EXPECT_THROW(g.addLoopEdge(1, 0, Isometry3d::Identity(), 0.01, std::nan("")),
                std::invalid_argument);
 }
+
+TEST(PoseGraphWeighting, AnImuOnlyStretchIsAWeakEdgeThatTakesTheLoopCorrection) {
+  // A straight chain along x; the step from node 2 to node 3 was carried by the IMU alone for
+  // 1.5 s (blind frames) and is 6 cm too long, the other steps are exact. Its edge gets the
+  // IMU-only variance on top (position sigma 0.1 m * 1.5^1.5, yaw 0.5 deg * 1.5), and one loop
+  // from the last node to the first puts nearly all of the correction there: the closed form
+  // c_k = D * V_k / (V + s^2) of the chain, V_k the summed edge variances up to node k.
+  PoseGraphOptions o;
+  o.sequential_edges = 1;
+  o.odom_pos_sigma_floor_m = 0.002;
+  o.odom_pos_sigma_per_sqrt_m = 0.01;
+  o.odom_bridge_pos_sigma_m = 0.1;
+  o.odom_bridge_yaw_sigma_deg = 0.5;
+  o = tight(o);
+  const std::vector<double> step = {0.3, 0.3, 0.6, 0.3};
+  const std::vector<double> bridged = {0.0, 0.0, 1.5, 0.0};
+  std::vector<Vector3d> truth{Vector3d::Zero()}, odom{Vector3d::Zero()};
+  for (std::size_t k = 0; k < step.size(); ++k) {
+    truth.push_back(truth.back() + Vector3d(step[k], 0, 0));
+    odom.push_back(odom.back() + Vector3d(step[k] + (bridged[k] > 0.0 ? 0.06 : 0.0), 0, 0));
+  }
+  PoseGraph4Dof g(o);
+  g.addNode(0, 0, poseOf(odom[0], 0.0));
+  for (std::size_t k = 1; k < odom.size(); ++k)
+    g.addNode(k, 0, poseOf(odom[k], 0.0), bridged[k - 1]);
+  EXPECT_DOUBLE_EQ(g.nodes()[3].odom_bridged_s, 1.5);
+  EXPECT_DOUBLE_EQ(g.nodes()[4].odom_bridged_s, 1.5);
+
+  // The edge sigmas: known answers.
+  ASSERT_EQ(g.edges().size(), 4u);
+  const double bridge_pos = 0.1 * std::pow(1.5, 1.5);
+  const double step_var = 0.002 * 0.002 + 0.01 * 0.01 * 0.3;
+  EXPECT_NEAR(g.edges()[0].sigma_pos_m, std::sqrt(step_var), 1e-15);
+  const double var_bridged = 0.002 * 0.002 + 0.01 * 0.01 * 0.66 + bridge_pos * bridge_pos;
+  EXPECT_NEAR(g.edges()[2].sigma_pos_m, std::sqrt(var_bridged), 1e-12);
+  const auto [sp, sy] = PoseGraph4Dof::sequentialSigmas(o, 0.66, 0.0, 1.5);
+  EXPECT_EQ(sp, g.edges()[2].sigma_pos_m);
+  const double var_yaw = std::pow(o.odom_yaw_sigma_floor_deg * kDeg, 2) +
+                         std::pow(o.odom_yaw_sigma_per_sqrt_m_deg * kDeg, 2) * 0.66 +
+                         std::pow(0.5 * kDeg * 1.5, 2);
+  EXPECT_NEAR(sy, std::sqrt(var_yaw), 1e-15);
+
+  const double s_loop = 0.01;
+  const std::size_t last = odom.size() - 1;
+  g.addLoopEdge(last, 0, poseOf(truth[0] - truth[last], 0.0), s_loop, 0.1 * kDeg);
+  const PoseGraphSolveReport r = g.solve();
+  ASSERT_TRUE(r.converged);
+  std::vector<double> V{0.0};
+  for (std::size_t k = 1; k < odom.size(); ++k)
+    V.push_back(
+        V.back() +
+        PoseGraph4Dof::sequentialSigmas(o, (odom[k] - odom[k - 1]).norm(), 0.0, bridged[k - 1])
+                .first *
+            PoseGraph4Dof::sequentialSigmas(o, (odom[k] - odom[k - 1]).norm(), 0.0, bridged[k - 1])
+                .first);
+  const Vector3d D = truth[last] - odom[last];
+  for (std::size_t k = 0; k < odom.size(); ++k) {
+    const Vector3d expected = odom[k] + D * V[k] / (V.back() + s_loop * s_loop);
+    EXPECT_NEAR(g.nodes()[k].xyz_yaw.x(), expected.x(), 1e-9) << k;
+  }
+  // The nodes before the blind stretch stay within 3 mm of the truth, the ones after within 6.
+  EXPECT_NEAR(g.nodes()[2].xyz_yaw.x(), truth[2].x(), 0.003);
+  EXPECT_NEAR(g.nodes()[3].xyz_yaw.x(), truth[3].x(), 0.006);
+
+  // An IMU-only time that is negative or not finite is refused, naming the node.
+  PoseGraph4Dof h(o);
+  h.addNode(0, 0, poseOf(odom[0], 0.0));
+  EXPECT_THROW(h.addNode(1, 0, poseOf(odom[1], 0.0), -0.1), std::invalid_argument);
+  EXPECT_THROW(h.addNode(1, 0, poseOf(odom[1], 0.0), std::nan("")), std::invalid_argument);
+}

@@ -331,5 +331,45 @@ TEST(SimulatedSequence, BlackoutFramesAreBlackWithoutDepthAndOnlyThose) {
   EXPECT_EQ(seq.imuSample(500).acc, plain.imuSample(500).acc);
 }
 
+TEST(SimulatedSequence, BareAndBlurredBlackoutFramesKeepTheirDepthAndLoseTheirCorners) {
+  const SimulatedSequence plain(shortOptions());
+  // Strongest corner response (Shi-Tomasi: the smaller eigenvalue of the gradients' matrix).
+  auto strongest = [](const cv::Mat& rgb) {
+    cv::Mat grey, response;
+    cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
+    cv::cornerMinEigenVal(grey, response, 5);
+    double max_response = 0.0;
+    cv::minMaxLoc(response, nullptr, &max_response);
+    return max_response;
+  };
+
+  for (const std::string kind : {"bare", "blur"}) {
+    SimOptions o = shortOptions();
+    o.blackout_start_s = 2.0;
+    o.blackout_duration_s = 1.0;
+    o.blackout_kind = kind;
+    const SimulatedSequence seq(o);
+    const RgbdFrame f = seq.renderFrame(12), p = plain.renderFrame(12);
+    EXPECT_TRUE(seq.inBlackout(12));
+    // The same depth (same noise: one generator per frame), the colour impaired.
+    EXPECT_EQ(cv::norm(f.depth, p.depth, cv::NORM_INF), 0.0) << kind;
+    EXPECT_GT(cv::norm(f.rgb, p.rgb, cv::NORM_INF), 0.0) << kind;
+    // Outside the blackout nothing changes.
+    EXPECT_EQ(cv::norm(seq.renderFrame(9).rgb, plain.renderFrame(9).rgb, cv::NORM_INF), 0.0);
+    if (kind == "bare") {
+      // One colour plus the sensor's noise: every pixel within a few noise sigmas of the mean.
+      cv::Scalar mean, stddev;
+      cv::meanStdDev(f.rgb, mean, stddev);  // per channel
+      for (int c = 0; c < 3; ++c) EXPECT_LT(stddev[c], 2.0 * o.color_noise.sigma + 1.0) << c;
+    } else {
+      // The smear: no corner as strong as a fifth of the sharp frame's strongest.
+      EXPECT_LT(strongest(f.rgb), 0.2 * strongest(p.rgb)) << kind;
+    }
+  }
+  SimOptions bad = shortOptions();
+  bad.blackout_kind = "fog";
+  EXPECT_THROW(SimulatedSequence{bad}, std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace rgbdi::sim

@@ -30,9 +30,8 @@ double triangulate(const FeatureTrack& f, const SlotPoses& T_wb, const Eigen::Is
 
 }  // namespace
 
-void FeatureManager::addFrame(
-    int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
-    double* parallax, int* n_tracked) {
+FeatureManager::FrameLinks FeatureManager::addFrame(
+    int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features) {
   int tracked = 0;
   for (const auto& [id, o] : features) {
     auto it = tracks_.find(id);
@@ -58,8 +57,11 @@ void FeatureManager::addFrame(
       ++n;
     }
   }
-  *parallax = n > 0 ? sum / n : 0.0;
-  *n_tracked = tracked;
+  FrameLinks links;
+  links.parallax = n > 0 ? sum / n : 0.0;
+  links.n_parallax = n;
+  links.n_tracked = tracked;
+  return links;
 }
 
 void FeatureManager::updateDepths(const SlotPoses& T_wb, const Eigen::Isometry3d& T_bc,

@@ -61,6 +61,8 @@ struct SlidingWindowEstimator::Slot {
   double pose[7] = {0, 0, 0, 0, 0, 0, 1};
   double sb[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   std::unique_ptr<imu::Preintegration> preint;  ///< previous slot -> this slot (null for slot 0)
+  /// [s] of the interval from the previous slot carried by the IMU alone (blind frames in it)
+  double bridged_s = 0.0;
   /// Camera pose of this frame relative to the first frame of a moving initialisation (PnP).
   Eigen::Isometry3d T_c0_c = Eigen::Isometry3d::Identity();
   std::vector<frontend::FeatureObservation> raw_features;  ///< for PnP during initialisation
@@ -218,16 +220,19 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
       s.setPose(Pj, Qj);
       s.setV(Vj);
     }
+    if (bridging_) s.bridged_s = t - prev.t;
   }
+  bridging_ = false;
   window_.push_back(std::move(s));
-  double parallax = 0.0;
-  int n_tracked = 0;
-  features_.addFrame(static_cast<int>(window_.size()) - 1, toObservations(frame), &parallax,
-                     &n_tracked);
+  const FeatureManager::FrameLinks links =
+      features_.addFrame(static_cast<int>(window_.size()) - 1, toObservations(frame));
   if (predict_from_previous) assignMotionFieldVelocities(window_.size() - 1);
   const double min_parallax = opt_.keyframe_parallax_px / EstimatorOptions::kVirtualFocalPx;
-  newest_but_one_keyframe_ =
-      window_.size() < 3 || n_tracked < opt_.keyframe_min_tracked || parallax >= min_parallax;
+  // A second-newest frame that shares no feature with the frame before it shows a new view (the
+  // first frame after blind ones): a keyframe, or the window would never take the new features
+  // in (they would only ever be seen in its two newest slots, one of them always dropped).
+  newest_but_one_keyframe_ = window_.size() < 3 || links.n_tracked < opt_.keyframe_min_tracked ||
+                             links.n_parallax == 0 || links.parallax >= min_parallax;
   // Keep what the window needs, and enough history for the stillness test of initialisation.
   imu_->popOlderThan(std::min(window_.front().t, t - 2.0 * opt_.init_static_window_s));
   stats_.sum_ms_preintegration += last_preintegration_ms_;
@@ -350,11 +355,9 @@ bool SlidingWindowEstimator::tryMovingInit() {
       keep.preint.reset();
       keep.T_c0_c = Eigen::Isometry3d::Identity();
       window_.push_back(std::move(keep));
-      double parallax;
-      int tracked;
       frontend::FeatureFrame ff;
       ff.features = window_.front().raw_features;
-      features_.addFrame(0, toObservations(ff), &parallax, &tracked);
+      features_.addFrame(0, toObservations(ff));
       logFmt(mrpt::system::LVL_DEBUG, "PnP with %zu depth-backed correspondences failed\n",
              pts.size());
       return initFail("PnP between consecutive frames failed");
@@ -556,8 +559,18 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
       out.status = status_;
       return out;
     }
-    if (opt_.update_rate_hz > 0.0 && t - window_.back().t < 0.9 / opt_.update_rate_hz) {
-      // Between estimator updates: the causal pose is the IMU propagation of the newest state.
+    // Blind frames get no slot: their pose is the IMU propagation of the newest sighted state,
+    // and the window keeps the frames that saw something. The first frame that sees again joins
+    // it through one pre-integration over the whole blind interval, so velocity and biases stay
+    // held by the features seen before it (a window of featureless slots would leave them to
+    // the IMU alone, and from there the estimate was seen to drift away after the images came
+    // back), and the new frame's depth-verified features fix its position against them.
+    const bool between_updates =
+        opt_.update_rate_hz > 0.0 && t - window_.back().t < 0.9 / opt_.update_rate_hz;
+    bridging_ = bridging_ || out.blind;
+    if (out.blind || between_updates) {
+      // Between estimator updates or blind: the causal pose is the IMU propagation of the newest
+      // state.
       const double t0 = threadCpuSeconds();
       const Slot& s = window_.back();
       imu::Preintegration pre(s.ba(), s.bg(), imu::ImuNoise::fromOptions(imu_opt_));
@@ -792,6 +805,7 @@ void SlidingWindowEstimator::reset(bool keep_anchor) {
   prior_.reset();
   use_init_prior_ = false;
   stillness_frames_.clear();
+  bridging_ = false;
   status_ = EstimatorStatus::kInitializing;
 }
 
@@ -855,7 +869,7 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
       }
     }
     const bool kept = info->marginalize(remove, constant);
-    finished_keyframes_.push_back({s0.t, s0.T(), s0.frame_index, segment_});
+    finished_keyframes_.push_back({s0.t, s0.T(), s0.frame_index, segment_, s0.bridged_s});
     features_.removeOldest(slotPoses(), T_bc_);
     for (size_t k = 1; k <= N; ++k) {
       remap[window_[k].pose] = window_[k - 1].pose;
@@ -901,6 +915,7 @@ void SlidingWindowEstimator::dropSecondNewestSlot() {
   const auto& next = window_[N].preint->samples();
   for (size_t k = 1; k < next.size(); ++k) merged->push(next[k]);
   window_[N].preint = std::move(merged);
+  window_[N].bridged_s += s1.bridged_s;
   features_.removeSlot(static_cast<int>(N) - 1);
   window_.erase(window_.begin() + static_cast<std::ptrdiff_t>(N) - 1);
 }
@@ -914,7 +929,7 @@ std::vector<KeyframeState> SlidingWindowEstimator::takeFinishedKeyframes() {
 std::vector<KeyframeState> SlidingWindowEstimator::windowKeyframes() const {
   std::vector<KeyframeState> out;
   if (status_ != EstimatorStatus::kTracking) return out;
-  for (const auto& s : window_) out.push_back({s.t, s.T(), s.frame_index, segment_});
+  for (const auto& s : window_) out.push_back({s.t, s.T(), s.frame_index, segment_, s.bridged_s});
   return out;
 }
 

@@ -72,7 +72,7 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
     kf.travelled_m += travelled_shift_;
   }
   ++stats_.keyframes;
-  graph_.addNode(kf.id, kf.segment, kf.T_world_body_odom);
+  graph_.addNode(kf.id, kf.segment, kf.T_world_body_odom, kf.bridged_s);
   kf.T_world_body = graph_.pose(kf.id);  // the segment's current drift applied
 
   const auto t_rec = Clock::now();

@@ -39,7 +39,7 @@ PoseGraph4Dof::PoseGraph4Dof(const PoseGraphOptions& options) : options_(options
 }
 
 void PoseGraph4Dof::appendNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T,
-                               bool fixed, const char* caller) {
+                               bool fixed, double bridged_s, const char* caller) {
   const std::string who = std::string(caller) + ": node " + std::to_string(id);
   if (!nodes_.empty() && id <= nodes_.back().id)
     throw std::invalid_argument(who + ": ids must increase, the last node is " +
@@ -53,6 +53,9 @@ void PoseGraph4Dof::appendNode(std::uint64_t id, int segment, const Eigen::Isome
   if (!isRigid(T))
     throw std::invalid_argument(who + (fixed ? ": pose" : ": odometry pose") +
                                 " is not finite and rigid");
+  if (!(std::isfinite(bridged_s) && bridged_s >= 0.0))
+    throw std::invalid_argument(who + ": IMU-only time " + std::to_string(bridged_s) +
+                                " s is not finite and non-negative");
   if (fixed && !nodes_.empty() && !nodes_.back().fixed)
     throw std::invalid_argument(who + ": fixed nodes (a loaded map) come before every free node");
   const bool new_segment = segments_.empty() || segments_.back().segment != segment;
@@ -74,6 +77,7 @@ void PoseGraph4Dof::appendNode(std::uint64_t id, int segment, const Eigen::Isome
     n.odom_rotation_rad =
         prev.odom_rotation_rad +
         Eigen::AngleAxisd(prev.T_world_body_odom.linear().transpose() * T.linear()).angle();
+    n.odom_bridged_s = prev.odom_bridged_s + bridged_s;
   }
   if (new_segment || fixed) {
     n.xyz_yaw << T.translation(), n.yaw_odom_rad;
@@ -92,12 +96,12 @@ void PoseGraph4Dof::appendNode(std::uint64_t id, int segment, const Eigen::Isome
 
 void PoseGraph4Dof::addFixedNode(std::uint64_t id, int segment,
                                  const Eigen::Isometry3d& T_world_body) {
-  appendNode(id, segment, T_world_body, true, "PoseGraph4Dof::addFixedNode");
+  appendNode(id, segment, T_world_body, true, 0.0, "PoseGraph4Dof::addFixedNode");
 }
 
 void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
-                            const Eigen::Isometry3d& T_world_body_odom) {
-  appendNode(id, segment, T_world_body_odom, false, "PoseGraph4Dof::addNode");
+                            const Eigen::Isometry3d& T_world_body_odom, double bridged_s) {
+  appendNode(id, segment, T_world_body_odom, false, bridged_s, "PoseGraph4Dof::addNode");
   const std::size_t index = nodes_.size() - 1;
   const std::size_t first = segments_.back().begin;
 
@@ -117,7 +121,8 @@ void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
     e.measured = fourDofDelta(from.R_tilt, e.T_from_to);
     const auto [sigma_pos, sigma_yaw] =
         sequentialSigmas(options_, nodes_[index].odom_path_m - from.odom_path_m,
-                         nodes_[index].odom_rotation_rad - from.odom_rotation_rad);
+                         nodes_[index].odom_rotation_rad - from.odom_rotation_rad,
+                         nodes_[index].odom_bridged_s - from.odom_bridged_s);
     e.sigma_pos_m = sigma_pos;
     e.sigma_yaw_rad = sigma_yaw;
     edges_.push_back(e);
@@ -125,19 +130,24 @@ void PoseGraph4Dof::addNode(std::uint64_t id, int segment,
 }
 
 std::pair<double, double> PoseGraph4Dof::sequentialSigmas(const PoseGraphOptions& o, double path_m,
-                                                          double rotation_rad) {
+                                                          double rotation_rad, double bridged_s) {
   // Variances of a random walk in path length and rotation; the n overlapping edges of each
   // keyframe share the odometry's information: n (n + 1) / 2 edges span every step (an edge
   // over k steps spans k of them, for k = 1..n), so each gets that multiple of the variance.
   const double n = static_cast<double>(o.sequential_edges);
   const double share = 0.5 * n * (n + 1.0);
+  // IMU-only time: an acceleration error integrates twice (position sigma ~ t^1.5), a gyro bias
+  // once (yaw sigma ~ t).
+  const double bridged_pos = o.odom_bridge_pos_sigma_m * bridged_s * std::sqrt(bridged_s);
+  const double bridged_yaw = deg2rad(o.odom_bridge_yaw_sigma_deg) * bridged_s;
   const double var_pos = o.odom_pos_sigma_floor_m * o.odom_pos_sigma_floor_m +
-                         o.odom_pos_sigma_per_sqrt_m * o.odom_pos_sigma_per_sqrt_m * path_m;
+                         o.odom_pos_sigma_per_sqrt_m * o.odom_pos_sigma_per_sqrt_m * path_m +
+                         bridged_pos * bridged_pos;
   const double yaw_floor = deg2rad(o.odom_yaw_sigma_floor_deg);
   const double yaw_m = deg2rad(o.odom_yaw_sigma_per_sqrt_m_deg);
   const double yaw_rad = deg2rad(o.odom_yaw_sigma_per_sqrt_rad_deg);
-  const double var_yaw =
-      yaw_floor * yaw_floor + yaw_m * yaw_m * path_m + yaw_rad * yaw_rad * rotation_rad;
+  const double var_yaw = yaw_floor * yaw_floor + yaw_m * yaw_m * path_m +
+                         yaw_rad * yaw_rad * rotation_rad + bridged_yaw * bridged_yaw;
   return {std::sqrt(share * var_pos), std::sqrt(share * var_yaw)};
 }
 

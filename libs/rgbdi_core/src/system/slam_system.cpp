@@ -126,6 +126,9 @@ bool SlamSystem::joinsLoopClosing(const KeyframePacket& p) {
   const Eigen::Isometry3d& T = p.state.T_world_body;
   const bool joins = [&] {
     if (p.state.segment != last_loop_segment_) return true;
+    // The first keyframe after blind frames joins, so that the graph has the IMU-only stretch
+    // as one edge of its own, trusted as little as the IMU alone deserves.
+    if (bridged_since_loop_keyframe_ > 0.0) return true;
     // A part not yet placed in the origin's frame (a run in a loaded map, a segment after a
     // reset) queries with every keyframe: relocalising early matters more than the cost.
     if (closer_ && !closer_->connectedToOrigin(p.state.segment)) return true;
@@ -221,6 +224,8 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
   const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
   Eigen::Isometry3d T_world_body = p.state.T_world_body;
   bool solved = false;
+  if (p.state.segment != last_loop_segment_) bridged_since_loop_keyframe_ = 0.0;
+  bridged_since_loop_keyframe_ += p.state.bridged_s;
   const bool joins = cfg_.loop.enable && joinsLoopClosing(p);
   in_loop_graph_.push_back(joins ? 1 : 0);
   if (cfg_.loop.enable && !joins && closer_) {
@@ -238,6 +243,8 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
     lk.t = p.state.t_imu;
     lk.T_world_body_odom = p.state.T_world_body;
     lk.travelled_m = p.travelled_m;
+    lk.bridged_s = bridged_since_loop_keyframe_;
+    bridged_since_loop_keyframe_ = 0.0;
     const auto t0 = std::chrono::steady_clock::now();
     lk.descriptors = extractor_->extract(p.frame, loop_camera_);
     lk.depth_grid = extractor_->depthGrid(p.frame, loop_camera_);
@@ -431,6 +438,36 @@ map::MapView SlamSystem::mapView(std::size_t* dropped_keyframes) const {
   return out;
 }
 
+void SlamSystem::bridgedCorrection(const FrameRecord& r, std::size_t k,
+                                   Eigen::Isometry3d* D) const {
+  // A blind frame's odometry pose is the IMU's propagation from the keyframe before the blind
+  // stretch (k); its error grows until the first frame that sees again, whose pose as output
+  // then (a record) still continued that propagation. Its final pose fixes the error at that
+  // end, so the correction goes from keyframe k's to that one's along the square of the time
+  // (an acceleration error integrated twice), instead of being one keyframe's for every frame.
+  const std::size_t nk = std::min(keyframe_states_.size(), final_keyframe_poses_.size());
+  if (k + 1 >= nk) return;
+  const estimator::KeyframeState& a = keyframe_states_[k].state;
+  const estimator::KeyframeState& b = keyframe_states_[k + 1].state;
+  if (a.segment != r.segment || b.segment != r.segment || !(b.bridged_s > 0.0) ||
+      !(a.t_imu <= r.t_imu && r.t_imu < b.t_imu))
+    return;
+  const auto it = std::lower_bound(frames_.begin(), frames_.end(), b.t_imu,
+                                   [](const FrameRecord& f, double t) { return f.t_imu < t; });
+  if (it == frames_.end() || it->t_imu != b.t_imu || it->segment != r.segment) return;
+  const Eigen::Isometry3d D0 = final_keyframe_poses_[k] * a.T_world_body.inverse();
+  const Eigen::Isometry3d D1 = final_keyframe_poses_[k + 1] * it->T_world_body_odom.inverse();
+  const double tau = (r.t_imu - a.t_imu) / (b.t_imu - a.t_imu);
+  const double w = tau * tau;
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::Quaterniond(D0.linear())
+                     .slerp(w, Eigen::Quaterniond(D1.linear()))
+                     .normalized()
+                     .toRotationMatrix();
+  out.translation() = (1.0 - w) * D0.translation() + w * D1.translation();
+  *D = out;
+}
+
 map::MapData SlamSystem::mapToSave(std::size_t* dropped_keyframes) const {
   return mapView(dropped_keyframes).copy();
 }
@@ -478,6 +515,7 @@ Trajectory SlamSystem::finalTrajectory() const {
       // Exactly the odometry where the keyframe was not corrected (no loop in its segment).
       if (T_final.matrix() != T_odom.matrix()) D = T_final * T_odom.inverse();
     }
+    if (r.blind) bridgedCorrection(r, k, &D);
     t.push_back(StampedPose::fromIsometry(r.t_imu, D * r.T_world_body_odom));
   }
   return t;

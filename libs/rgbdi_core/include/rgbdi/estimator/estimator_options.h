@@ -80,13 +80,13 @@ struct EstimatorOptions {
   double fail_max_speed_m_s = 5.0;        ///< [m/s] estimated speed (state or between updates)
   double fail_max_jump_m = 5.0;           ///< [m]
   double fail_max_vertical_jump_m = 1.0;  ///< [m]
-  /// Tracking is lost (reset, re-initialisation when the images come back) after frames with
-  /// fewer than fail_min_features features for longer than fail_max_blind_s (a covered lens, a
-  /// blackout, a bare wall). Until then the IMU carries the pose. Re-initialising is better
-  /// than continuing: a window of blind keyframes leaves the state (velocity, biases) to the
-  /// IMU alone, and continuing from it was seen to drift away after the images returned.
+  /// A frame with fewer than fail_min_features features is blind (a covered lens, a blackout, a
+  /// bare wall, motion blur): the IMU carries the pose from the newest frame that saw enough,
+  /// and the first frame that sees again continues the window from there. After blind frames
+  /// for longer than fail_max_blind_s tracking is lost instead (reset, re-initialisation when
+  /// the images come back): the IMU alone drifts by centimetres per second.
   int fail_min_features = 10;     ///< [count]
-  double fail_max_blind_s = 1.0;  ///< [s] 0 = never
+  double fail_max_blind_s = 2.0;  ///< [s] 0 = never
 
   /// The virtual focal length [px] in which pixel thresholds above are expressed (VINS convention),
   /// so that the same config works for any camera resolution.

@@ -56,11 +56,15 @@ struct DepthCheckOptions {
 
 class FeatureManager {
  public:
-  /// Adds the features of the frame in `slot`. Returns the mean parallax [normalised units] between
-  /// slots slot-2 and slot-1 of features seen in both (VINS keyframe criterion for slot-1), and
-  /// the number of features of this frame that were already tracked.
-  void addFrame(int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
-                double* parallax, int* n_tracked);
+  /// What links a newly added frame to the window (the keyframe criterion of slot-1).
+  struct FrameLinks {
+    double parallax = 0.0;  ///< [normalised units] mean parallax between slots slot-2 and slot-1
+    int n_parallax = 0;     ///< features seen in both slots slot-2 and slot-1 (parallax's support)
+    int n_tracked = 0;      ///< features of the new frame that were already tracked
+  };
+  /// Adds the features of the frame in `slot` and says how it links to the window.
+  FrameLinks addFrame(int slot,
+                      const std::vector<std::pair<std::uint64_t, TrackObservation>>& features);
 
   /// Paper Algorithm 1 for every feature with >= 2 observations (re-run each frame so the mean
   /// uses every observation in the window):

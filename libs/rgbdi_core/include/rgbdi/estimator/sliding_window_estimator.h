@@ -64,6 +64,9 @@ struct KeyframeState {
   /// Odometry segment: 0 until the first reset, then one more after each reset. Keyframes of
   /// different segments are not related by odometry (each restart has a frame of its own).
   int segment = 0;
+  /// [s] of the interval since the previous keyframe carried by the IMU alone (blind frames:
+  /// a blackout, a bare wall, motion blur), which the pose graph trusts less than tracking.
+  double bridged_s = 0.0;
 };
 
 struct EstimatorStats {
@@ -164,7 +167,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
-  double last_sighted_t_ = 0.0;          ///< [s] newest frame with fail_min_features features
+  double last_sighted_t_ = 0.0;  ///< [s] newest frame with fail_min_features features
+  bool bridging_ = false;        ///< blind frames since the newest slot (the IMU carries the pose)
   double last_preintegration_ms_ = 0.0;  ///< [ms] CPU time of the newest slot's pre-integration
   std::vector<KeyframeState> finished_keyframes_;
   /// States of the window's keyframes after the last successful update: handed out at a reset,

@@ -23,6 +23,9 @@ struct LoopKeyframe {
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
   /// [m] path length of the odometry from the start of the run (all segments) to this keyframe.
   double travelled_m = 0.0;
+  /// [s] of the odometry since the previous keyframe of its segment in loop closing that the IMU
+  /// carried alone (blind frames): the pose graph's edge across it is weak.
+  double bridged_s = 0.0;
   /// ORB keypoints of the colour image: distorted pixels, descriptors (type "ORB-256", 32 bytes)
   /// and depth-backed points in the colour camera frame (NaN where the keypoint has no depth).
   mapping::DescriptorSet descriptors;

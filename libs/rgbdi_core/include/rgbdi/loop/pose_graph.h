@@ -48,6 +48,8 @@ struct GraphNode {
   /// [rad] odometry rotation from the first node of the segment (sum of the rotation angles
   /// between consecutive nodes' attitudes)
   double odom_rotation_rad = 0.0;
+  /// [s] odometry time from the first node of the segment carried by the IMU alone
+  double odom_bridged_s = 0.0;
   bool fixed = false;  ///< held constant by solve() (a loaded map's keyframe)
   /// Corrected state [x, y, z] [m] and yaw [rad, in [-pi, pi)]: one Ceres parameter block.
   Eigen::Vector4d xyz_yaw = Eigen::Vector4d::Zero();
@@ -103,7 +105,10 @@ class PoseGraph4Dof {
   /// node starts at drift(segment) * T_world_body_odom. Throws std::invalid_argument naming the
   /// id when the id is not greater than the last one, the segment is negative or lower than the
   /// last node's (segments only begin, they never resume), or the pose is not finite and rigid.
-  void addNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T_world_body_odom);
+  /// `bridged_s` [s]: of the odometry since the previous node, the time the IMU carried alone
+  /// (blind frames), which weakens the edges across it; negative or non-finite also throws.
+  void addNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T_world_body_odom,
+               double bridged_s = 0.0);
 
   /// Adds a node whose pose stays T_world_body in every solve (a keyframe of a loaded map), with
   /// no odometry edge. Same id and segment rules as addNode; fixed nodes come before every free
@@ -121,9 +126,10 @@ class PoseGraph4Dof {
                   double sigma_pos_m, double sigma_yaw_rad);
 
   /// Sigmas ([m], [rad]) of a sequential edge between two nodes of one segment whose odometry
-  /// differs by `path_m` of path and `rotation_rad` of rotation (see PoseGraphOptions).
+  /// differs by `path_m` of path, `rotation_rad` of rotation and `bridged_s` of IMU-only time
+  /// (see PoseGraphOptions).
   static std::pair<double, double> sequentialSigmas(const PoseGraphOptions& o, double path_m,
-                                                    double rotation_rad);
+                                                    double rotation_rad, double bridged_s = 0.0);
 
   /// Optimises every component that has an active loop edge (others are set to their odometry),
   /// then rolls back wrong loops (see the file comment). Throws std::runtime_error when Ceres
@@ -155,7 +161,7 @@ class PoseGraph4Dof {
   };
 
   void appendNode(std::uint64_t id, int segment, const Eigen::Isometry3d& T, bool fixed,
-                  const char* caller);
+                  double bridged_s, const char* caller);
   std::size_t indexOf(std::uint64_t id) const;  ///< throws std::out_of_range
   std::size_t segmentIndexOfNode(std::size_t node_index) const;
   /// Component label per segment index (lowest segment index of its component).

@@ -34,6 +34,13 @@ struct PoseGraphOptions {
   double odom_yaw_sigma_per_sqrt_m_deg = 0.5;
   /// [deg/sqrt(rad)] yaw sigma after turning 1 rad (rotation angle of the odometry attitude)
   double odom_yaw_sigma_per_sqrt_rad_deg = 0.3;
+  // Odometry the IMU carried alone (blind frames: a blackout, a bare wall, motion blur) drifts
+  // by centimetres per second: its edges get these sigmas on top, so loops after the blind
+  // stretch re-align what follows it rather than spreading the jump along the path.
+  /// [m] position sigma after 1 s carried by the IMU alone (sigma = this * (t / 1 s)^1.5)
+  double odom_bridge_pos_sigma_m = 0.1;
+  /// [deg] yaw sigma after 1 s carried by the IMU alone (sigma = this * t / 1 s)
+  double odom_bridge_yaw_sigma_deg = 0.5;
 
   // --- loop edges ---
   double loop_sigma_pos_m = 0.05;        ///< [m] position sigma of a verified loop

@@ -46,13 +46,18 @@ struct SimOptions {
   double config_noise_inflation = 2.0;
   /// Render frames on a second thread while the consumer works on the previous one.
   bool prefetch_frames = true;
-  /// A forced tracking loss (lens covered, lights out): frames exposed in [start, start +
-  /// duration) of the sequence's time are black with no depth; the IMU is unaffected.
+  /// A forced tracking loss: frames exposed in [start, start + duration) of the sequence's time
+  /// are impaired as blackout_kind says; the IMU is unaffected.
   double blackout_start_s = 0.0;     ///< [s] since the first IMU sample
   double blackout_duration_s = 0.0;  ///< [s] 0 = none
+  /// "black": lens covered or lights out (black colour, depth 0); "bare": a view without
+  /// texture, as of a bare wall (colour the frame's mean, sensor noise on it; depth kept); "blur":
+  /// motion blur (colour smeared along a horizontal line of blackout_blur_px; depth kept).
+  std::string blackout_kind = "black";
+  int blackout_blur_px = 41;  ///< [px] length of the blur line ("blur")
 
   /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls,
-  /// blackout_start_s, blackout_duration_s and
+  /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px and
   /// the keys of
   /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
   /// [extrinsic]. The profile kind is not read (command line).
@@ -98,9 +103,10 @@ class SimulatedSequence {
   bool inBlackout(std::size_t i) const;
   /// Renders frame i: colour with photometric noise, depth with D435-like noise in mm, both
   /// cameras the configured colour camera (cam_color = cam_depth, depth aligned). A frame in
-  /// the blackout is all black with depth 0 (no measurement).
+  /// the blackout is impaired as SimOptions::blackout_kind says.
   RgbdFrame renderFrame(std::size_t i) const;
-  /// Same rendering without any noise: rgb CV_8UC3, depth CV_32FC1 in metres (0 = no hit).
+  /// Same rendering without any noise: rgb CV_8UC3, depth CV_32FC1 in metres (0 = no hit). No
+  /// blackout either.
   void renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const;
 
   /// Ground truth at an IMU-clock stamp (clamped to the sequence).
@@ -118,6 +124,7 @@ class SimulatedSequence {
   void pump(MeasurementSink& sink, const std::atomic<bool>* stop = nullptr) const;
 
  private:
+  void impairColour(cv::Mat& rgb) const;      ///< colour of a blackout frame ("bare", "blur")
   void checkFrameIndex(std::size_t i) const;  ///< throws std::out_of_range
 
   SimOptions options_;

@@ -173,9 +173,14 @@ class SlamSystem : public MeasurementSink {
   std::vector<char> in_loop_graph_;  ///< by keyframe slot: joined loop closing (a graph node)
   Eigen::Isometry3d last_loop_keyframe_ = Eigen::Isometry3d::Identity();
   int last_loop_segment_ = -1;
+  /// [s] carried by the IMU alone since the newest keyframe in the loop graph (same segment)
+  double bridged_since_loop_keyframe_ = 0.0;
   /// Whether keyframe `p` joins loop closing (distance/angle from the last one that joined).
   bool joinsLoopClosing(const KeyframePacket& p);
   /// Final body poses of every keyframe once loop closing has finished.
+  /// The correction of a blind frame `r` of the final trajectory whose keyframe before it is k:
+  /// unchanged unless keyframe k + 1 ends the IMU-only stretch r is in (see the definition).
+  void bridgedCorrection(const FrameRecord& r, std::size_t k, Eigen::Isometry3d* D) const;
   void computeFinalKeyframePoses();
 
   // Odometry-thread state.

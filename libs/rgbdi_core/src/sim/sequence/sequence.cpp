@@ -2,6 +2,8 @@
 
 #include <climits>
 #include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -39,6 +41,8 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.blackout_start_s = ini.getDouble(s, "blackout_start_s", o.blackout_start_s, 0.0, 1.0e6);
   o.blackout_duration_s =
       ini.getDouble(s, "blackout_duration_s", o.blackout_duration_s, 0.0, 1.0e6);
+  o.blackout_kind = ini.getEnum(s, "blackout_kind", o.blackout_kind, {"black", "bare", "blur"});
+  o.blackout_blur_px = ini.getInt(s, "blackout_blur_px", o.blackout_blur_px, 1, 1001);
   return o;
 }
 
@@ -51,6 +55,13 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   if (!(options.blackout_start_s >= 0.0) || !(options.blackout_duration_s >= 0.0) ||
       !std::isfinite(options.blackout_start_s + options.blackout_duration_s))
     throw std::invalid_argument("SimulatedSequence: blackout start and duration must be >= 0");
+  if (options.blackout_kind != "black" && options.blackout_kind != "bare" &&
+      options.blackout_kind != "blur")
+    throw std::invalid_argument(
+        "SimulatedSequence: blackout kind must be black, bare or blur (got '" +
+        options.blackout_kind + "')");
+  if (options.blackout_blur_px < 1)
+    throw std::invalid_argument("SimulatedSequence: blackout_blur_px must be >= 1");
   if (options.start_time_s - options.time_offset_s <= 0.0)
     throw std::invalid_argument("SimulatedSequence: start_time_s - time_offset_s must be positive");
   // The dataset extrinsic is given to 7 digits (not exactly orthonormal): use the nearest
@@ -96,6 +107,18 @@ void SimulatedSequence::renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_
   renderer_->render(cameraPose(frameExposureTime(i)), rgb, depth_m);
 }
 
+void SimulatedSequence::impairColour(cv::Mat& rgb) const {
+  if (options_.blackout_kind == "bare") {
+    // No texture left: every pixel the frame's mean colour (the sensor noise comes after).
+    rgb.setTo(cv::mean(rgb));
+  } else if (options_.blackout_kind == "blur") {
+    // A smear along a horizontal line, as a fast pan during the exposure.
+    const int n = options_.blackout_blur_px;
+    cv::Mat kernel = cv::Mat::ones(1, n, CV_32F) / static_cast<float>(n);
+    cv::filter2D(rgb, rgb, -1, kernel, cv::Point(-1, -1), 0.0, cv::BORDER_REFLECT);
+  }
+}
+
 bool SimulatedSequence::inBlackout(std::size_t i) const {
   const double t = static_cast<double>(i) / options_.fps;
   return options_.blackout_duration_s > 0.0 && t >= options_.blackout_start_s &&
@@ -104,7 +127,7 @@ bool SimulatedSequence::inBlackout(std::size_t i) const {
 
 RgbdFrame SimulatedSequence::renderFrame(std::size_t i) const {
   RgbdFrame f;
-  if (inBlackout(i)) {
+  if (inBlackout(i) && options_.blackout_kind == "black") {
     checkFrameIndex(i);
     const int w = options_.camera.camera.width, h = options_.camera.camera.height;
     f.rgb = cv::Mat::zeros(h, w, CV_8UC3);
@@ -112,6 +135,7 @@ RgbdFrame SimulatedSequence::renderFrame(std::size_t i) const {
   } else {
     cv::Mat depth_m;
     renderIdeal(i, f.rgb, depth_m);
+    if (inBlackout(i)) impairColour(f.rgb);
     // One generator per frame, seeded from (seed, frame): frames are independent of order.
     std::mt19937_64 rng(CounterRng(options_.seed, kFrameNoiseStream).bits(i));
     f.depth = applyDepthNoise(depth_m, options_.depth_noise, rng);

@@ -171,7 +171,10 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
           "[bool] the +x wall repeats the -x wall (perceptual aliasing)");
   iniLine(os, "blackout_start_s", iniNumber(o.blackout_start_s), "[s] since the start");
   iniLine(os, "blackout_duration_s", iniNumber(o.blackout_duration_s),
-          "[s] frames black with no depth (0 = none)");
+          "[s] frames impaired as blackout_kind says (0 = none)");
+  iniLine(os, "blackout_kind", o.blackout_kind,
+          "black (no colour, no depth) | bare (no texture) | blur (motion blur)");
+  iniLine(os, "blackout_blur_px", std::to_string(o.blackout_blur_px), "[px] blur line length");
   iniLine(os, "duration_s", iniNumber(seq.duration()), "[s]");
   iniLine(os, "speed", toString(p.speed), "slow|normal|fast");
   iniLine(os, "speed_m_s", iniNumber(p.speed_m_s), "[m/s] 0 = profile default");
