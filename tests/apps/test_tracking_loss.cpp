@@ -46,18 +46,35 @@ double ate(const Trajectory& gt, const Trajectory& est) {
   return eval::evaluate(gt, est, eo).ate.rmse;
 }
 
-TEST(TrackingLoss, ThreeSecondsOfBlackFramesEndInOneContinuousTrajectory) {
-  // The wheeled robot's circle at 0.8 m/s: a 16 s lap, so the blackout in the second lap ends
-  // where the first lap has mapped.
+/// The wheeled robot's circle at 0.8 m/s (a 16 s lap), 30 s at 15 Hz.
+sim::SimOptions fastCircle() {
   auto sim_ini = IniReader::empty();
   sim::SimOptions so = sim::SimOptions::load(sim_ini);
   so.profile.kind = sim::ProfileKind::WheeledCircle;
   so.profile.speed_m_s = 0.8;
   so.profile.duration_s = 30.0;
   so.fps = 15.0;
-  const sim::SimulatedSequence seq(so);
+  return so;
+}
+
+system::SystemConfig configOf(const sim::SimulatedSequence& seq) {
   auto ini = IniReader::fromText(sim::slamConfigText(seq), "generated config.ini");
-  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  return system::SystemConfig::load(ini);
+}
+
+/// The poses of `tr` stamped in [t0, t1).
+Trajectory part(const Trajectory& tr, double t0, double t1) {
+  Trajectory out;
+  for (const StampedPose& p : tr)
+    if (p.t >= t0 && p.t < t1) out.push_back(p);
+  return out;
+}
+
+TEST(TrackingLoss, ThreeSecondsOfBlackFramesEndInOneContinuousTrajectory) {
+  // The wheeled robot's circle at 0.8 m/s: a 16 s lap, so the blackout in the second lap ends
+  // where the first lap has mapped.
+  const sim::SimulatedSequence seq(fastCircle());
+  const system::SystemConfig cfg = configOf(seq);
   const double t_black = seq.frameStamp(0) + 19.0, t_light = t_black + 3.0;
 
   system::SlamSystem clean(cfg, {}), lossy(cfg, {});
@@ -111,12 +128,6 @@ TEST(TrackingLoss, ThreeSecondsOfBlackFramesEndInOneContinuousTrajectory) {
             << " m; odometry with the loss (two frames, one alignment) " << ate(gt, odo) << " m"
             << std::endl;
   // Where the difference is: each part of both runs on its own (own alignment).
-  auto part = [](const Trajectory& tr, double t0, double t1) {
-    Trajectory out;
-    for (const StampedPose& p : tr)
-      if (p.t >= t0 && p.t < t1) out.push_back(p);
-    return out;
-  };
   const Trajectory& cfin = clean.finalTrajectory();
   std::cout << "before the blackout: clean " << ate(gt, part(cfin, 0, t_black)) << " m, lossy "
             << ate(gt, part(fin, 0, t_black)) << " m; after it: clean "
@@ -130,15 +141,8 @@ TEST(TrackingLoss, TwoSecondsOfBlackFramesAreBridgedByTheImu) {
   // reset: the window keeps the frames that saw, the first frame seen again continues it, the
   // pose graph trusts the IMU-only stretch as little as it deserves and the final trajectory
   // spreads the correction over the blind frames. Every frame keeps a pose.
-  auto sim_ini = IniReader::empty();
-  sim::SimOptions so = sim::SimOptions::load(sim_ini);
-  so.profile.kind = sim::ProfileKind::WheeledCircle;
-  so.profile.speed_m_s = 0.8;
-  so.profile.duration_s = 30.0;
-  so.fps = 15.0;
-  const sim::SimulatedSequence seq(so);
-  auto ini = IniReader::fromText(sim::slamConfigText(seq), "generated config.ini");
-  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  const sim::SimulatedSequence seq(fastCircle());
+  const system::SystemConfig cfg = configOf(seq);
   ASSERT_GE(cfg.estimator.fail_max_blind_s, 2.0);
   // Frames exposed in [t_black, t_light): 30 black frames, 1.93 s from the first to the last.
   const double t_black = seq.frameStamp(0) + 19.0, t_light = t_black + 2.0;
@@ -160,12 +164,6 @@ TEST(TrackingLoss, TwoSecondsOfBlackFramesAreBridgedByTheImu) {
   EXPECT_GE(blind, 29u);
 
   const Trajectory gt = seq.bodyTrajectory();
-  auto part = [](const Trajectory& tr, double t0, double t1) {
-    Trajectory out;
-    for (const StampedPose& p : tr)
-      if (p.t >= t0 && p.t < t1) out.push_back(p);
-    return out;
-  };
   const double ate_clean = ate(gt, clean.finalTrajectory());
   const double ate_lossy = ate(gt, fin);
   const double ate_odometry = ate(gt, odo);
