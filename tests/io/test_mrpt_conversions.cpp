@@ -8,8 +8,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <string>
+#include <utility>
 
 #include "rgbdi/io/mrpt_conversions.h"
 #include "testing/fixtures.h"
@@ -273,6 +276,45 @@ TEST(MrptConversions, ImuRoundTripAndMissingFields) {
                  "IMU observation 'XSENS' at t = 12.500000 s lacks accelerometer/gyroscope data: "
                  "IMU_WX IMU_WY");
   }
+}
+
+// MRPT deserialises a bool as the file's byte: a damaged rawlog can hold 54 in a flag. That is
+// refused as damage, never read as a bool (undefined behaviour; UBSan found it in
+// fuzz_replay_rawlog: "load of value 54, which is not a valid value for type 'bool'").
+TEST(MrptConversions, StoredFlagsThatAreNoBoolAreRefusedAsDamage) {
+  const unsigned char damaged = 54;
+  ImuSample s;
+  s.t = 12.5;
+  s.acc = Eigen::Vector3d(0.1, -0.2, 9.81);
+  const auto imu = toMrpt(s, "IMU");
+  std::memcpy(&imu->dataIsPresent.at(mrpt::obs::IMU_WX), &damaged, 1);
+  try {
+    fromMrpt(*imu);
+    FAIL() << "expected ConversionError";
+  } catch (const ConversionError& e) {
+    EXPECT_STREQ(e.what(),
+                 "IMU observation 'IMU' at t = 12.500000 s: the presence flag of IMU_WX "
+                 "is stored as 54, which is no bool (0 or 1): the record is damaged");
+  }
+
+  const auto obs = toMrpt(makeFrame(true), Eigen::Isometry3d::Identity(), "RGBD");
+  const std::pair<bool*, std::string> flags[] = {{&obs->hasRangeImage, "hasRangeImage"},
+                                                 {&obs->hasIntensityImage, "hasIntensityImage"},
+                                                 {&obs->range_is_depth, "range_is_depth"}};
+  for (const auto& [flag, name] : flags) {
+    const bool saved = *flag;
+    std::memcpy(flag, &damaged, 1);
+    try {
+      fromMrpt(*obs, "x");
+      ADD_FAILURE() << name << ": expected ConversionError";
+    } catch (const ConversionError& e) {
+      EXPECT_EQ(
+          std::string(e.what()),
+          "x: " + name + " is stored as 54, which is no bool (0 or 1): the record is damaged");
+    }
+    *flag = saved;
+  }
+  EXPECT_NO_THROW(fromMrpt(*obs, "x"));  // the same observation with its flags intact
 }
 
 TEST(MrptConversions, TimestampsKeepMicroseconds) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -31,6 +32,27 @@ double cleanFloat(float f) {
     if (static_cast<float>(d) == f) return d;
   }
   return static_cast<double>(f);
+}
+
+/// A flag MRPT read from the file: its CArchive reads a bool as the stored byte, so a damaged
+/// record leaves values other than 0 and 1 in it, and reading those as bool is undefined
+/// behaviour (UBSan in fuzz_replay_rawlog: "load of value 54, which is not a valid value for
+/// type 'bool'"; optimised code may then take the flag as set and as not set). The byte is read
+/// as a byte, and anything but 0 or 1 is refused as damage.
+unsigned char storedByte(const bool& flag) {
+  static_assert(sizeof(bool) == 1, "MRPT serialises a bool as one byte");
+  unsigned char byte;
+  std::memcpy(&byte, &flag, 1);
+  return byte;
+}
+[[noreturn]] void throwDamagedFlag(const std::string& what, unsigned char byte) {
+  throw ConversionError(what + " is stored as " + std::to_string(byte) +
+                        ", which is no bool (0 or 1): the record is damaged");
+}
+bool storedFlag(const bool& flag, const std::string& what) {
+  const unsigned char byte = storedByte(flag);
+  if (byte > 1) throwDamagedFlag(what, byte);
+  return byte == 1;
 }
 
 cv::Mat colorToRgb(const mrpt::img::CImage& img, const std::string& label) {
@@ -89,7 +111,7 @@ cv::Mat rangeToDepth(const mrpt::obs::CObservation3DRangeScan& obs, cv::Mat rang
                      const PinholeCamera& cam_depth, const std::string& label) {
   const int rows = range.rows, cols = range.cols;
   if (rows == 0 || cols == 0) throw ConversionError(label + ": range image is empty (0x0)");
-  if (obs.range_is_depth) return range;
+  if (storedFlag(obs.range_is_depth, label + ": range_is_depth")) return range;
   cv::Mat depth(rows, cols, CV_16UC1);
   // Euclidean ranges along each pixel's ray: depth = range / |(xn, yn, 1)|.
   if (!cam_depth.valid()) {
@@ -176,7 +198,10 @@ mrpt::img::TCamera toMrpt(const PinholeCamera& cam) {
 }
 
 RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label) {
-  if (!obs.hasIntensityImage && !obs.hasRangeImage)
+  // The flags as read from the file are checked once; below only the checked copies are used.
+  const bool has_intensity = storedFlag(obs.hasIntensityImage, label + ": hasIntensityImage");
+  const bool has_range = storedFlag(obs.hasRangeImage, label + ": hasRangeImage");
+  if (!has_intensity && !has_range)
     throw ConversionError(label + ": 3-D range scan has neither an intensity nor a range image");
 
   RgbdFrame f;
@@ -191,15 +216,15 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
                             " does not exist (external images folder " +
                             mrpt::img::CImage::getImagesPathBase() + ")");
   };
-  if (obs.hasRangeImage && obs.rangeImage_isExternallyStored())
+  if (has_range && obs.rangeImage_isExternallyStored())
     requireFile(obs.rangeImage_getExternalStorageFileAbsolutePath(""), "range image");
-  if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored())
+  if (has_intensity && obs.intensityImage.isExternallyStored())
     requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
   try {
     // An external binary range file not loaded yet is read here (libdeflate, image_decode.h);
     // otherwise, or when that fails, load() reads it (images load lazily on access).
     std::optional<cv::Mat> range;
-    if (obs.hasRangeImage && obs.rangeImage_isExternallyStored() && obs.rangeImage.rows() == 0) {
+    if (has_range && obs.rangeImage_isExternallyStored() && obs.rangeImage.rows() == 0) {
       const std::string file = obs.rangeImage_getExternalStorageFileAbsolutePath("");
       if (!mrpt::system::strCmpI(mrpt::system::extractFileExtension(file), "txt"))
         range = readMrptRangeFile(file);
@@ -207,7 +232,7 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
     if (!range) obs.load();
     f.cam_depth = fromMrpt(obs.cameraParams, label + " cameraParams");
     f.cam_color = fromMrpt(obs.cameraParamsIntensity, label + " cameraParamsIntensity");
-    if (obs.hasRangeImage) {
+    if (has_range) {
       if (!range) range = rangeMatrix(obs);
       // MRPT "auto-fixes" the depth intrinsics' size to the serialised matrix size, which is 0x0
       // for externally stored range images: restore it from the loaded matrix.
@@ -224,7 +249,7 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
         throw ConversionError(os.str());
       }
     }
-    if (obs.hasIntensityImage) f.rgb = colorToRgb(obs.intensityImage, label);
+    if (has_intensity) f.rgb = colorToRgb(obs.intensityImage, label);
   } catch (const ConversionError&) {
     throw;
   } catch (const std::exception& e) {
@@ -305,16 +330,20 @@ ImuSample fromMrpt(const mrpt::obs::CObservationIMU& obs) {
   using namespace mrpt::obs;
   const TIMUDataIndex needed[] = {IMU_X_ACC, IMU_Y_ACC, IMU_Z_ACC, IMU_WX, IMU_WY, IMU_WZ};
   const char* names[] = {"IMU_X_ACC", "IMU_Y_ACC", "IMU_Z_ACC", "IMU_WX", "IMU_WY", "IMU_WZ"};
-  std::string missing;
-  for (size_t i = 0; i < 6; ++i)
-    if (!obs.has(needed[i])) missing += (missing.empty() ? "" : " ") + std::string(names[i]);
-  if (!missing.empty()) {
+  const auto who = [&] {
     std::ostringstream os;
     os << std::fixed << std::setprecision(6);
-    os << "IMU observation '" << obs.sensorLabel << "' at t = " << toSeconds(obs.timestamp)
-       << " s lacks accelerometer/gyroscope data: " << missing;
-    throw ConversionError(os.str());
+    os << "IMU observation '" << obs.sensorLabel << "' at t = " << toSeconds(obs.timestamp) << " s";
+    return os.str();
+  };
+  std::string missing;
+  for (size_t i = 0; i < 6; ++i) {  // not obs.has(): see storedByte()
+    const unsigned char present = storedByte(obs.dataIsPresent.at(needed[i]));
+    if (present > 1) throwDamagedFlag(who() + ": the presence flag of " + names[i], present);
+    if (present == 0) missing += (missing.empty() ? "" : " ") + std::string(names[i]);
   }
+  if (!missing.empty())
+    throw ConversionError(who() + " lacks accelerometer/gyroscope data: " + missing);
   ImuSample s;
   s.t = toSeconds(obs.timestamp);
   s.acc = Eigen::Vector3d(obs.get(IMU_X_ACC), obs.get(IMU_Y_ACC), obs.get(IMU_Z_ACC));
