@@ -30,6 +30,7 @@ const char* const kUsage =
     "usage: rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast]\n"
     "                 [--fps N] [--seed N] [--variant N] [--config FILE] [--time-offset S]\n"
     "                 [--aliased-walls] [--blackout START:DURATION[:KIND]]\n"
+    "                 [--spin START:DURATION[:TURNS]]\n"
     "                 [--bag [--bag-compression none|bz2|lz4]]\n"
     "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
@@ -50,6 +51,10 @@ const char* const kUsage =
     "                     are impaired (IMU unaffected): KIND black (default: black with no\n"
     "                     depth, a covered lens), bare (no texture: a bare wall; depth kept)\n"
     "                     or blur (motion blur; depth kept), e.g. 20:2:blur\n"
+    "  --spin             extreme rotation: from START for DURATION seconds the body turns\n"
+    "                     TURNS times (default 1; negative: clockwise) about the vertical on\n"
+    "                     top of its motion; peak rate 13.7 * TURNS / DURATION rad/s, e.g.\n"
+    "                     20:1.5 (9.2 rad/s)\n"
     "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
     "  --bag-compression  chunk compression of the bag (default none)\n"
     "  --version          print the version\n"
@@ -71,11 +76,37 @@ double number(const std::string& option, const std::string& text) {
   return v;
 }
 
+/// START:DURATION[:EXTRA] of --blackout and --spin (seconds of sequence time).
+struct Span {
+  double start = 0.0, duration = 0.0;
+  std::string extra;  ///< empty when not given
+};
+
+Span parseSpan(const std::string& option, const std::string& extra_name, const std::string& v) {
+  const auto colon = v.find(':');
+  if (colon == std::string::npos)
+    throw UsageError(option + " needs START:DURATION[:" + extra_name + "] in seconds, got '" + v +
+                     "'");
+  Span span;
+  span.start = number(option + " start", v.substr(0, colon));
+  std::string rest = v.substr(colon + 1);
+  const auto colon2 = rest.find(':');
+  if (colon2 != std::string::npos) {
+    span.extra = rest.substr(colon2 + 1);
+    rest = rest.substr(0, colon2);
+  }
+  span.duration = number(option + " duration", rest);
+  if (span.start < 0.0 || span.duration <= 0.0)
+    throw UsageError(option + ": START must be >= 0 and DURATION > 0, got '" + v + "'");
+  return span;
+}
+
 struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
   double blackout_start = 0.0, blackout_duration = 0.0;
-  std::string blackout_kind;  ///< empty: the configuration's
+  double spin_start = 0.0, spin_duration = 0.0, spin_turns = 0.0;  ///< turns 0: the configuration's
+  std::string blackout_kind;                                       ///< empty: the configuration's
   long long seed = -1;
   int variant = -1;
   bool has_time_offset = false, bag = false, aliased_walls = false;
@@ -116,22 +147,25 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   });
   cl.flag("--aliased-walls", &a.aliased_walls);
   cl.value("--blackout", [&](const std::string& v) {
-    const auto colon = v.find(':');
-    if (colon == std::string::npos)
-      throw UsageError("--blackout needs START:DURATION[:KIND] in seconds, got '" + v + "'");
-    a.blackout_start = number("--blackout start", v.substr(0, colon));
-    std::string rest = v.substr(colon + 1);
-    const auto colon2 = rest.find(':');
-    if (colon2 != std::string::npos) {
-      a.blackout_kind = rest.substr(colon2 + 1);
-      rest = rest.substr(0, colon2);
-      if (a.blackout_kind != "black" && a.blackout_kind != "bare" && a.blackout_kind != "blur")
-        throw UsageError("--blackout: KIND must be black, bare or blur, got '" + a.blackout_kind +
-                         "'");
+    const Span span = parseSpan("--blackout", "KIND", v);
+    if (!span.extra.empty()) {
+      const auto& kinds = rgbdi::sim::blackoutKinds();
+      if (std::find(kinds.begin(), kinds.end(), span.extra) == kinds.end())
+        throw UsageError("--blackout: KIND must be black, bare or blur, got '" + span.extra + "'");
     }
-    a.blackout_duration = number("--blackout duration", rest);
-    if (a.blackout_start < 0.0 || a.blackout_duration <= 0.0)
-      throw UsageError("--blackout: START must be >= 0 and DURATION > 0, got '" + v + "'");
+    a.blackout_start = span.start;
+    a.blackout_duration = span.duration;
+    a.blackout_kind = span.extra;
+  });
+  cl.value("--spin", [&](const std::string& v) {
+    const Span span = parseSpan("--spin", "TURNS", v);
+    if (!span.extra.empty()) {
+      a.spin_turns = number("--spin turns", span.extra);
+      if (a.spin_turns == 0.0 || std::abs(a.spin_turns) > 100.0)
+        throw UsageError("--spin: TURNS must be non-zero and within +-100, got '" + v + "'");
+    }
+    a.spin_start = span.start;
+    a.spin_duration = span.duration;
   });
   cl.flag("--bag", &a.bag);
   cl.value("--bag-compression", &a.bag_compression);
@@ -170,6 +204,11 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
     o.blackout_start_s = a.blackout_start;
     o.blackout_duration_s = a.blackout_duration;
     if (!a.blackout_kind.empty()) o.blackout_kind = a.blackout_kind;
+  }
+  if (a.spin_duration > 0.0) {
+    o.spin_start_s = a.spin_start;
+    o.spin_duration_s = a.spin_duration;
+    if (a.spin_turns != 0.0) o.spin_turns = a.spin_turns;
   }
   return o;
 }

@@ -83,6 +83,21 @@ TEST(RgbdiSim, UsageAndConfigurationErrors) {
   EXPECT_NE(out.find("unknown bag compression 'zip'"), std::string::npos) << out;
   EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --fps abc", &out), 2);
   EXPECT_NE(out.find("--fps needs a number, got 'abc'"), std::string::npos) << out;
+  // The impairments' START:DURATION[:X] values.
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --blackout 20", &out), 2);
+  EXPECT_NE(out.find("--blackout needs START:DURATION[:KIND] in seconds, got '20'"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --blackout 20:2:fog", &out),
+            2);
+  EXPECT_NE(out.find("KIND must be black, bare or blur, got 'fog'"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --spin 20:0", &out), 2);
+  EXPECT_NE(out.find("--spin: START must be >= 0 and DURATION > 0, got '20:0'"), std::string::npos)
+      << out;
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --spin 20:1:x", &out), 2);
+  EXPECT_NE(out.find("--spin turns needs a number, got 'x'"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --spin 20:1:0", &out), 2);
+  EXPECT_NE(out.find("TURNS must be non-zero"), std::string::npos) << out;
   EXPECT_EQ(runCommand(sim() + " --profile handheld --out " + dir + " --duration 4", &out), 1);
   EXPECT_NE(out.find("duration 4 s is too short"), std::string::npos) << out;
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "rgbdi/common/so3.h"
 #include "rgbdi/sim/sequence.h"
 #include "testing/fixtures.h"
 
@@ -368,6 +369,53 @@ TEST(SimulatedSequence, BareAndBlurredBlackoutFramesKeepTheirDepthAndLoseTheirCo
   }
   SimOptions bad = shortOptions();
   bad.blackout_kind = "fog";
+  EXPECT_THROW(SimulatedSequence{bad}, std::invalid_argument);
+}
+
+TEST(SimulatedSequence, SpinTurnsTheBodyAboutTheVerticalOnTopOfItsMotion) {
+  SimOptions o = shortOptions();
+  o.spin_start_s = 3.0;
+  o.spin_duration_s = 1.0;
+  o.spin_turns = 1.0;
+  const SimulatedSequence spun(o), plain(shortOptions());
+  const BodyTrajectory &a = spun.trajectory(), &b = plain.trajectory();
+  auto expectSame = [](const KinematicState& x, const KinematicState& y, double t) {
+    EXPECT_LT((x.T_world_body.matrix() - y.T_world_body.matrix()).norm(), 1e-9) << t;
+    EXPECT_LT((x.omega_body - y.omega_body).norm(), 1e-9) << t;
+    EXPECT_LT((x.v_world - y.v_world).norm(), 1e-12) << t;
+  };
+  // Before and after a whole turn: the profile's own motion.
+  for (double t : {1.0, 2.99, 4.01, 6.5}) expectSame(a.state(t), b.state(t), t);
+  // Mid-turn: half a turn about the world z axis at the smoothstep's peak rate
+  // 2 pi * 35/16 / 1 s; position and velocity unchanged.
+  const KinematicState mid = a.state(3.5), ref = b.state(3.5);
+  const Eigen::Matrix3d half_turn =
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT((mid.T_world_body.linear() - half_turn * ref.T_world_body.linear()).norm(), 1e-9);
+  EXPECT_LT((mid.T_world_body.translation() - ref.T_world_body.translation()).norm(), 1e-12);
+  // World-frame rate: the turn's plus the profile's own, turned with the body.
+  const Eigen::Vector3d expected_world = Eigen::Vector3d(0, 0, 2.0 * M_PI * 35.0 / 16.0) +
+                                         half_turn * ref.T_world_body.linear() * ref.omega_body;
+  EXPECT_LT((mid.T_world_body.linear() * mid.omega_body - expected_world).norm(), 1e-9);
+  // The angular rate is the derivative of the pose (4th-order differences), also while turning.
+  const double h = 2e-4;
+  for (double t : {3.1, 3.5, 3.77}) {
+    const Eigen::Matrix3d R0 = a.pose(t).linear();
+    auto rel = [&](double dt) { return logSO3(R0.transpose() * a.pose(t + dt).linear()); };
+    const Eigen::Vector3d w_num = (rel(-2 * h) - 8 * rel(-h) + 8 * rel(h) - rel(2 * h)) / (12 * h);
+    EXPECT_LT((w_num - a.state(t).omega_body).norm(), 1e-6) << t;
+  }
+  // The gyroscope measures it: at 200 Hz sample 700 is exposed at 3.5 s.
+  const double dt_imu = spun.imuSample(1).t - spun.imuSample(0).t;
+  const std::size_t k = static_cast<std::size_t>(std::lround(3.5 / dt_imu));
+  EXPECT_NEAR(spun.imuSample(k).gyr.norm(), mid.omega_body.norm(), 0.1);
+  EXPECT_GT(mid.omega_body.norm(), 13.0);
+
+  SimOptions bad = shortOptions();
+  bad.spin_duration_s = -1.0;
+  EXPECT_THROW(SimulatedSequence{bad}, std::invalid_argument);
+  bad.spin_duration_s = 1.0;
+  bad.spin_turns = std::nan("");
   EXPECT_THROW(SimulatedSequence{bad}, std::invalid_argument);
 }
 

@@ -168,6 +168,10 @@ void SlidingWindowEstimator::feedImu(const ImuSample& s) {
   imu_->push(s);
 }
 
+Eigen::Vector3d SlidingWindowEstimator::gyroBias() const {
+  return window_.empty() ? Eigen::Vector3d::Zero() : window_.back().bg();
+}
+
 double SlidingWindowEstimator::latestImuTime() const {
   return imu_->empty() ? -1e300 : imu_->newestTime();
 }
@@ -538,7 +542,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
       return out;
     }
     status_ = EstimatorStatus::kTracking;
-    last_sighted_t_ = t;
+    last_sighted_t_ = frame.t;
     out.just_initialised = true;
     prior_.reset();
     features_.updateDepths(slotPoses(), T_bc_, depth_opt_);
@@ -546,12 +550,17 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
     if (window_.size() >= 2) optimise(&out, false);
   } else {
     out.blind = static_cast<int>(frame.features.size()) < opt_.fail_min_features;
+    // Image stamps, not IMU-clock times: the time-offset estimate moves between the two frames
+    // and would decide a blackout of exactly fail_max_blind_s (a whole number of frame periods)
+    // by its last digits; the tolerance keeps round-off of the stamps out of it too.
+    constexpr double kStampTolerance_s = 1e-3;
     if (!out.blind) {
-      last_sighted_t_ = t;
-    } else if (opt_.fail_max_blind_s > 0.0 && t - last_sighted_t_ > opt_.fail_max_blind_s) {
+      last_sighted_t_ = frame.t;
+    } else if (opt_.fail_max_blind_s > 0.0 &&
+               frame.t - last_sighted_t_ > opt_.fail_max_blind_s + kStampTolerance_s) {
       logFmt(mrpt::system::LVL_WARN,
              "t=%.3f: fewer than %d features for %.2f s: tracking lost, re-initialising\n", t,
-             opt_.fail_min_features, t - last_sighted_t_);
+             opt_.fail_min_features, frame.t - last_sighted_t_);
       ++stats_.resets;
       ++stats_.blind_resets;
       reset(true);
@@ -569,8 +578,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
         opt_.update_rate_hz > 0.0 && t - window_.back().t < 0.9 / opt_.update_rate_hz;
     bridging_ = bridging_ || out.blind;
     if (out.blind || between_updates) {
-      // Between estimator updates or blind: the causal pose is the IMU propagation of the newest
-      // state.
+      // Also between estimator updates (update_rate_hz): the IMU propagation of the newest slot.
       const double t0 = threadCpuSeconds();
       const Slot& s = window_.back();
       imu::Preintegration pre(s.ba(), s.bg(), imu::ImuNoise::fromOptions(imu_opt_));

@@ -9,6 +9,10 @@
 namespace rgbdi::frontend {
 
 void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size) {
+  if (derivatives.type() != CV_16SC2)
+    throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives");
+  if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
+  block_size_ = block_size;
   const int w = derivatives.cols, h = derivatives.rows, half = block_size / 2;
   // Pixels closer than half a block to the border have no complete window: response 0 there.
   response_.create(h, w, CV_32FC1);
@@ -67,23 +71,38 @@ void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size)
   }
 }
 
-std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& derivatives, const cv::Mat& mask,
-                                                int max_corners, double quality, int block_size,
+double CornerDetector::responseFloor(int block_size, double min_gradient) {
+  // The response sums the squared Scharr derivatives over block_size^2 pixels.
+  return kScharrScale * kScharrScale * block_size * block_size * min_gradient * min_gradient;
+}
+
+bool CornerDetector::isCorner(const cv::Point2f& p, double min_gradient) const {
+  const int uc = cvRound(p.x), vc = cvRound(p.y);
+  const float floor = static_cast<float>(responseFloor(block_size_, min_gradient));
+  for (int v = std::max(0, vc - 1); v <= std::min(response_.rows - 1, vc + 1); ++v) {
+    const float* r = response_.ptr<float>(v);
+    for (int u = std::max(0, uc - 1); u <= std::min(response_.cols - 1, uc + 1); ++u)
+      if (r[u] >= floor) return true;
+  }
+  return false;
+}
+
+std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_corners,
+                                                double quality, double min_gradient,
                                                 FeatureSpacing& spacing) {
-  if (derivatives.type() != CV_16SC2 || mask.type() != CV_8UC1 || mask.size() != derivatives.size())
+  if (mask.type() != CV_8UC1 || mask.size() != response_.size())
     throw std::invalid_argument(
-        "CornerDetector: need CV_16SC2 derivatives and a CV_8UC1 mask of the same size");
-  if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
+        "CornerDetector: need a CV_8UC1 mask of the size of the last computeResponse() image");
   std::vector<cv::Point2f> corners;
   candidates_.clear();  // detectMore() never continues the candidates of an earlier image
   next_candidate_ = 0;
   if (max_corners <= 0) return corners;
-  computeResponse(derivatives, block_size);
 
   double strongest = 0.0;
   cv::minMaxLoc(response_, nullptr, &strongest, nullptr, nullptr, mask);
-  if (!(strongest > 0.0)) return corners;  // flat image, or nothing allowed
-  const float threshold = static_cast<float>(quality * strongest);
+  const double floor = responseFloor(block_size_, min_gradient);
+  if (!(strongest > 0.0) || strongest < floor) return corners;  // flat, bare, or nothing allowed
+  const float threshold = static_cast<float>(std::max(quality * strongest, floor));
 
   // Candidates: allowed 3x3 local maxima at or above the threshold.
   const int w = response_.cols, h = response_.rows;

@@ -71,7 +71,8 @@ cv::Mat FeatureTracker::toGrey(const RgbdFrame& frame) {
 }
 
 std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
-    const std::vector<cv::Mat>& pyramid, FeatureFrame& out) {
+    const std::vector<cv::Mat>& pyramid, const std::optional<Eigen::Matrix3d>& R_previous_current,
+    FeatureFrame& out) {
   Stopwatch watch;
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
@@ -80,13 +81,32 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   std::vector<cv::Point2f> previous_uv(n), current_uv;
   for (size_t i = 0; i < n; ++i) previous_uv[i] = previous_tracks_[i].uv;
   std::vector<std::uint8_t> status;
+  int flags = 0;
+  const bool predict = R_previous_current && options_.klt_predict_rotation && n > 0;
+  // Where the rotation alone moves a point (its bearing turned into the other camera frame);
+  // translation is left to KLT, which finds the smaller shifts it causes by itself.
+  auto rotated = [&](const cv::Point2f& from, const Eigen::Matrix3d& R_to_from) {
+    const Eigen::Vector3d bearing =
+        R_to_from * cam_.pixelToNormalized({from.x, from.y}).homogeneous();
+    Eigen::Vector2d uv;
+    if (!cam_.project(bearing, uv)) return from;
+    return cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+  };
+  if (predict) {
+    const Eigen::Matrix3d R_current_previous = R_previous_current->transpose();
+    current_uv.resize(n);
+    for (size_t i = 0; i < n; ++i) current_uv[i] = rotated(previous_uv[i], R_current_previous);
+    flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+  }
   // No error output (cv::noArray()): OpenCV would interpolate every window once more to fill it,
   // and nothing here reads it.
   if (n > 0)
     cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous_uv, current_uv, status,
-                             cv::noArray(), window, options_.klt_pyramid_levels, criteria);
+                             cv::noArray(), window, options_.klt_pyramid_levels, criteria, flags);
 
-  // Forward success and border check first, so the backward pass only runs on candidates.
+  // Forward success, border and texture checks first, so the backward pass only runs on
+  // candidates.
+  const double min_gradient = options_.min_gradient_grey_per_px;
   std::vector<size_t> candidates;
   for (size_t i = 0; i < n; ++i) {
     if (!status[i]) {
@@ -97,18 +117,29 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
       ++out.n_border_rejected;
       continue;
     }
+    // KLT converges on sensor noise too: a feature must still be on a corner where it landed.
+    if (min_gradient > 0.0 && !detector_->isCorner(current_uv[i], min_gradient)) {
+      ++out.n_low_texture;
+      continue;
+    }
     candidates.push_back(i);
   }
 
   // Backward check: track the new positions back to the previous image. It starts from the new
-  // positions themselves (no hint from the old ones), so a wrong forward match cannot be pulled
-  // back onto its starting point by the initial guess.
+  // positions themselves, turned back by the rotation when one is given (no hint from the old
+  // positions), so a wrong forward match cannot be pulled back onto its starting point by the
+  // initial guess.
   std::vector<cv::Point2f> forward(candidates.size()), backward;
   for (size_t k = 0; k < candidates.size(); ++k) forward[k] = current_uv[candidates[k]];
+  if (predict) {
+    backward.resize(forward.size());
+    for (size_t k = 0; k < forward.size(); ++k)
+      backward[k] = rotated(forward[k], *R_previous_current);
+  }
   std::vector<std::uint8_t> back_status;
   if (!forward.empty())
     cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, forward, backward, back_status,
-                             cv::noArray(), window, options_.klt_pyramid_levels, criteria);
+                             cv::noArray(), window, options_.klt_pyramid_levels, criteria, flags);
   const double max_fb2 =
       options_.klt_max_forward_backward_px * options_.klt_max_forward_backward_px;
   std::vector<Track> survivors;
@@ -192,9 +223,8 @@ void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Po
 }
 
 void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
-                               const cv::Mat& derivatives, std::vector<Track>& tracks,
-                               std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing,
-                               FeatureFrame& out) {
+                               std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
+                               FeatureSpacing& spacing, FeatureFrame& out) {
   int missing = options_.max_features - static_cast<int>(tracks.size());
   if (missing <= 0) return;
   // The mask keeps the detector away from the border band and from existing features (which
@@ -213,9 +243,8 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
                cv::FILLED);
   for (const cv::Point2f& p : occupied)
     cv::circle(mask, cv::Point(cvRound(p.x), cvRound(p.y)), radius, cv::Scalar(0), cv::FILLED);
-  std::vector<cv::Point2f> corners =
-      detector_->detect(derivatives, mask, missing, options_.shi_tomasi_quality,
-                        options_.shi_tomasi_block_size, spacing);
+  std::vector<cv::Point2f> corners = detector_->detect(mask, missing, options_.shi_tomasi_quality,
+                                                       options_.min_gradient_grey_per_px, spacing);
   const bool with_depth = frame.hasDepth();
   const bool check = with_depth && options_.occlusion_window_px > 0;
   // Refused corners are replaced by the next candidates; a few rounds at most bound the cost
@@ -242,7 +271,8 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
   }
 }
 
-FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
+FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
+                                   const std::optional<Eigen::Matrix3d>& R_previous_current) {
   Stopwatch total, step;
   if (!frame.hasColor()) failFrame(frame, "no colour image (the front end tracks colour images)");
   if (frame.rgb.type() != CV_8UC3 && frame.rgb.type() != CV_8UC1)
@@ -273,12 +303,16 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   cv::buildOpticalFlowPyramid(grey, pyramid, window, options_.klt_pyramid_levels, true);
   out.timings.pyramid_ms = step.lapMs();
+  // Corner response from pyramid[1], the Scharr derivatives of the full-resolution image (stored
+  // after each level): tracked features are checked against it, new corners taken from it.
+  detector_->computeResponse(pyramid[1], options_.shi_tomasi_block_size);
+  out.timings.detect_ms = step.lapMs();
 
   std::vector<Track> tracks;
-  if (has_previous_) tracks = trackPrevious(pyramid, out);
+  if (has_previous_) tracks = trackPrevious(pyramid, R_previous_current, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
   FeatureSpacing spacing = distribute(grey, tracks, out);
-  out.timings.detect_ms = step.lapMs();
+  out.timings.detect_ms += step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
   const bool with_depth = frame.hasDepth();
@@ -295,8 +329,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame) {
   }
   out.n_tracked = static_cast<int>(tracks.size());
   out.timings.depth_ms = step.lapMs();
-  // pyramid[1]: Scharr derivatives of the full-resolution image (stored after each level).
-  detectNew(frame, grey, pyramid[1], tracks, occupied, spacing, out);
+  detectNew(frame, grey, tracks, occupied, spacing, out);
   out.timings.detect_ms += step.lapMs();
   // tracks: the tracked ones in id order, then the new ones with larger ids.
 

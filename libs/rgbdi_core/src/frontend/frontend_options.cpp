@@ -37,6 +37,7 @@ const IntKey kIntKeys[] = {
 const DoubleKey kDoubleKeys[] = {
     {"min_distance_px", &FrontendOptions::min_distance_px, 1.0, 500.0},
     {"shi_tomasi_quality", &FrontendOptions::shi_tomasi_quality, 1e-5, 1.0},
+    {"min_gradient_grey_per_px", &FrontendOptions::min_gradient_grey_per_px, 0.0, 255.0},
     {"clahe_clip_limit", &FrontendOptions::clahe_clip_limit, 0.0, 100.0},
     {"klt_epsilon_px", &FrontendOptions::klt_epsilon_px, 1e-6, 1.0},
     {"klt_max_forward_backward_px", &FrontendOptions::klt_max_forward_backward_px, 0.01, 20.0},
@@ -94,6 +95,7 @@ FrontendOptions FrontendOptions::load(IniReader& ini) {
     o.*k.field = ini.getInt(kSection, k.key, o.*k.field, k.min, k.max);
   for (const DoubleKey& k : kDoubleKeys)
     o.*k.field = ini.getDouble(kSection, k.key, o.*k.field, k.min, k.max);
+  o.klt_predict_rotation = ini.getBool(kSection, "klt_predict_rotation", o.klt_predict_rotation);
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });

@@ -1,15 +1,20 @@
 #include "rgbdi/system/vio_system.h"
 
 #include <algorithm>
+#include <optional>
 #include <unordered_set>
 
 #include "rgbdi/common/cpu_clock.h"
+#include "rgbdi/imu/gyro_rotation.h"
 
 namespace rgbdi::system {
 
 namespace {
 // Frames waiting for IMU beyond this many are dropped (an IMU stream that stopped): bounded memory.
 constexpr std::size_t kMaxPendingFrames = 64;
+// [s] IMU kept for the rotation prediction when no image arrives (an image stream that
+// stopped): bounded memory; an image after a longer gap is predicted with held rates.
+constexpr double kMaxGyroHistory_s = 2.0;
 }  // namespace
 
 VioSystem::VioSystem(const SystemConfig& cfg, bool use_depth)
@@ -27,6 +32,11 @@ PinholeCamera VioSystem::cameraFor(const RgbdFrame& frame) const {
 
 void VioSystem::feedImu(const ImuSample& imu) {
   estimator_->feedImu(imu);
+  if (gyro_history_.empty() || imu.t > gyro_history_.newestTime()) {
+    gyro_history_.push(imu);
+    if (imu.t - gyro_history_.oldestTime() > kMaxGyroHistory_s)
+      gyro_history_.popOlderThan(imu.t - kMaxGyroHistory_s);
+  }
   processReady(false);
 }
 
@@ -44,7 +54,14 @@ void VioSystem::feedRgbd(const RgbdFrame& in) {
   // Thread CPU time, like the estimator's stages: on a shared machine wall time mostly measures
   // the other processes.
   const double t0 = threadCpuSeconds();
-  p.features = tracker_->track(p.frame);
+  std::optional<Eigen::Matrix3d> R_previous_current;
+  if (has_tracked_ && cfg_.frontend.klt_predict_rotation)
+    R_previous_current = cameraRotation(last_tracked_t_, in.t);
+  p.features = tracker_->track(p.frame, R_previous_current);
+  last_tracked_t_ = in.t;
+  has_tracked_ = true;
+  // The next prediction starts at this image.
+  if (!gyro_history_.empty()) gyro_history_.popOlderThan(in.t + estimator_->timeOffset());
   timings_.tracking_ms += 1e3 * (threadCpuSeconds() - t0);
   ++timings_.frames_tracked;
   pending_.push_back(std::move(p));
@@ -53,6 +70,14 @@ void VioSystem::feedRgbd(const RgbdFrame& in) {
     ++frames_dropped_;
   }
   processReady(false);
+}
+
+Eigen::Matrix3d VioSystem::cameraRotation(double t0, double t1) const {
+  const double td = estimator_->timeOffset();
+  const Eigen::Matrix3d R_body =
+      imu::gyroRotation(gyro_history_, t0 + td, t1 + td, estimator_->gyroBias()).toRotationMatrix();
+  const Eigen::Matrix3d R_bc = cfg_.extrinsic.T_body_cam.linear();
+  return R_bc.transpose() * R_body * R_bc;
 }
 
 void VioSystem::endOfStream() {

@@ -97,6 +97,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   double latestImuTime() const;
   /// Current time offset estimate: t_imu = t_image + timeOffset().
   double timeOffset() const { return td_; }
+  /// Gyroscope bias of the newest window slot [rad/s] (zero before the first slot).
+  Eigen::Vector3d gyroBias() const;
   /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().
   FrameEstimate processFrame(const frontend::FeatureFrame& frame);
 
@@ -167,8 +169,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
-  double last_sighted_t_ = 0.0;  ///< [s] newest frame with fail_min_features features
-  bool bridging_ = false;        ///< blind frames since the newest slot (the IMU carries the pose)
+  double last_sighted_t_ =
+      0.0;                 ///< [s] image stamp of the newest frame with fail_min_features features
+  bool bridging_ = false;  ///< blind frames since the newest slot (the IMU carries the pose)
   double last_preintegration_ms_ = 0.0;  ///< [ms] CPU time of the newest slot's pre-integration
   std::vector<KeyframeState> finished_keyframes_;
   /// States of the window's keyframes after the last successful update: handed out at a reset,

@@ -5,6 +5,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <vector>
 
 #include "rgbdi/common/camera.h"
@@ -43,8 +44,12 @@ class FeatureTracker {
 
   /// Throws std::invalid_argument (naming frame.source_label) when the frame has no colour image,
   /// an unsupported image type, a size different from the camera's, or a stamp not after the
-  /// previous frame's.
-  FeatureFrame track(const RgbdFrame& frame);
+  /// previous frame's. `R_previous_current`: the rotation of this image's camera in the previous
+  /// image's camera frame (e.g. from the gyroscope); when given and klt_predict_rotation is on,
+  /// KLT starts each feature where that rotation moves it (a fast turn moves features by more than
+  /// the pyramid can find), otherwise at its previous position.
+  FeatureFrame track(const RgbdFrame& frame,
+                     const std::optional<Eigen::Matrix3d>& R_previous_current = std::nullopt);
 
   /// Forgets all tracks (e.g. after the estimator resets); ids keep increasing.
   void reset();
@@ -65,7 +70,9 @@ class FeatureTracker {
   cv::Mat toGrey(const RgbdFrame& frame);
   /// Forward/backward KLT, border and RANSAC checks; returns the surviving tracks moved to the
   /// current image (positions updated, lengths incremented).
-  std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid, FeatureFrame& out);
+  std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid,
+                                   const std::optional<Eigen::Matrix3d>& R_previous_current,
+                                   FeatureFrame& out);
   /// Keeps features min_distance_px apart (longest-tracked first); returns the spacing of those
   /// kept.
   FeatureSpacing distribute(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out);
@@ -75,9 +82,8 @@ class FeatureTracker {
                     int& dropped) const;
   /// Tops `tracks` up to max_features with new corners away from `occupied`; with depth, corners
   /// on occlusion boundaries are refused and the next candidates taken instead.
-  void detectNew(const RgbdFrame& frame, const cv::Mat& grey, const cv::Mat& derivatives,
-                 std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
-                 FeatureSpacing& spacing, FeatureFrame& out);
+  void detectNew(const RgbdFrame& frame, const cv::Mat& grey, std::vector<Track>& tracks,
+                 std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing, FeatureFrame& out);
   /// Half-size of the depth windows registered around features.
   int depthWindowRadius() const;
 

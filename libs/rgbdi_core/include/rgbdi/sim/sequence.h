@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/measurement_sink.h"
@@ -55,14 +56,24 @@ struct SimOptions {
   /// motion blur (colour smeared along a horizontal line of blackout_blur_px; depth kept).
   std::string blackout_kind = "black";
   int blackout_blur_px = 41;  ///< [px] length of the blur line ("blur")
+  /// Extreme rotation: the body turns spin_turns times about the world vertical between
+  /// spin_start_s and spin_start_s + spin_duration_s (sequence time; smoothstep angle, peak rate
+  /// 2 pi * turns * 35/16 / duration at mid-turn), on top of the profile's motion; images and
+  /// IMU both see it.
+  double spin_start_s = 0.0;     ///< [s] since the first IMU sample
+  double spin_duration_s = 0.0;  ///< [s] 0 = none
+  double spin_turns = 1.0;       ///< [turns] negative: clockwise seen from above
 
   /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls,
-  /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px and
-  /// the keys of
+  /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px, spin_start_s,
+  /// spin_duration_s, spin_turns and the keys of
   /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
   /// [extrinsic]. The profile kind is not read (command line).
   static SimOptions load(IniReader& ini);
 };
+
+/// The values SimOptions::blackout_kind may take: black, bare, blur.
+const std::vector<std::string>& blackoutKinds();
 
 /// Ground truth of the body (IMU) frame at one IMU-clock stamp.
 struct GroundTruthState {

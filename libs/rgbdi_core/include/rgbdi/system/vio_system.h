@@ -11,6 +11,7 @@
 #include "rgbdi/common/measurement_sink.h"
 #include "rgbdi/estimator/sliding_window_estimator.h"
 #include "rgbdi/frontend/feature_tracker.h"
+#include "rgbdi/imu/imu_buffer.h"
 #include "rgbdi/system/system_config.h"
 
 namespace rgbdi::system {
@@ -78,6 +79,9 @@ class VioSystem : public MeasurementSink {
     RgbdFrame frame;
   };
   void processReady(bool flush);
+  /// R_cam(t0)_cam(t1) from the gyroscope (camera stamps; the estimator's time offset and gyro
+  /// bias applied).
+  Eigen::Matrix3d cameraRotation(double t0, double t1) const;
   void emitKeyframes(std::vector<estimator::KeyframeState> kfs);
   void emitEarlyKeyframes();
   const Pending* recentFrame(std::uint64_t frame_index) const;
@@ -87,6 +91,10 @@ class VioSystem : public MeasurementSink {
   std::unique_ptr<frontend::FeatureTracker> tracker_;
   std::unique_ptr<estimator::SlidingWindowEstimator> estimator_;
   std::deque<Pending> pending_;
+  /// IMU samples since the last tracked image, for the front end's rotation prediction.
+  imu::ImuBuffer gyro_history_;
+  double last_tracked_t_ = 0.0;
+  bool has_tracked_ = false;
   Trajectory traj_body_, traj_cam_;
   std::vector<estimator::FrameEstimate> estimates_;
   VioTimings timings_;

@@ -1,5 +1,6 @@
 #include "rgbdi/sim/sequence.h"
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -10,6 +11,7 @@
 
 #include "rgbdi/sim/profile_scene.h"
 #include "sim/motion/counter_gaussian.h"
+#include "sim/motion/spin_overlay.h"
 #include "sim/sequence/frame_prefetcher.h"
 
 namespace rgbdi::sim {
@@ -21,6 +23,11 @@ constexpr std::uint64_t kFrameNoiseStream = 100;
 constexpr std::size_t kPrefetchDepth = 3;
 
 }  // namespace
+
+const std::vector<std::string>& blackoutKinds() {
+  static const std::vector<std::string> kinds{"black", "bare", "blur"};
+  return kinds;
+}
 
 SimOptions SimOptions::load(IniReader& ini) {
   SimOptions o;
@@ -41,8 +48,11 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.blackout_start_s = ini.getDouble(s, "blackout_start_s", o.blackout_start_s, 0.0, 1.0e6);
   o.blackout_duration_s =
       ini.getDouble(s, "blackout_duration_s", o.blackout_duration_s, 0.0, 1.0e6);
-  o.blackout_kind = ini.getEnum(s, "blackout_kind", o.blackout_kind, {"black", "bare", "blur"});
+  o.blackout_kind = ini.getEnum(s, "blackout_kind", o.blackout_kind, blackoutKinds());
   o.blackout_blur_px = ini.getInt(s, "blackout_blur_px", o.blackout_blur_px, 1, 1001);
+  o.spin_start_s = ini.getDouble(s, "spin_start_s", o.spin_start_s, 0.0, 1.0e6);
+  o.spin_duration_s = ini.getDouble(s, "spin_duration_s", o.spin_duration_s, 0.0, 1.0e6);
+  o.spin_turns = ini.getDouble(s, "spin_turns", o.spin_turns, -100.0, 100.0);
   return o;
 }
 
@@ -55,11 +65,15 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   if (!(options.blackout_start_s >= 0.0) || !(options.blackout_duration_s >= 0.0) ||
       !std::isfinite(options.blackout_start_s + options.blackout_duration_s))
     throw std::invalid_argument("SimulatedSequence: blackout start and duration must be >= 0");
-  if (options.blackout_kind != "black" && options.blackout_kind != "bare" &&
-      options.blackout_kind != "blur")
+  const std::vector<std::string>& kinds = blackoutKinds();
+  if (std::find(kinds.begin(), kinds.end(), options.blackout_kind) == kinds.end())
     throw std::invalid_argument(
         "SimulatedSequence: blackout kind must be black, bare or blur (got '" +
         options.blackout_kind + "')");
+  if (!(options.spin_start_s >= 0.0) || !(options.spin_duration_s >= 0.0) ||
+      !std::isfinite(options.spin_start_s + options.spin_duration_s + options.spin_turns))
+    throw std::invalid_argument(
+        "SimulatedSequence: spin start and duration must be >= 0, turns finite");
   if (options.blackout_blur_px < 1)
     throw std::invalid_argument("SimulatedSequence: blackout_blur_px must be >= 1");
   if (options.start_time_s - options.time_offset_s <= 0.0)
@@ -69,6 +83,9 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   Eigen::Isometry3d& T = options_.extrinsic.T_body_cam;
   T.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
   profile_ = makeMotionProfile(options_.profile, options_.extrinsic.T_body_cam);
+  if (options_.spin_duration_s > 0.0)
+    profile_.trajectory = std::make_shared<SpinOverlayTrajectory>(
+        profile_.trajectory, options_.spin_start_s, options_.spin_duration_s, options_.spin_turns);
   scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed, options_.scene));
   imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
   // Aliased end walls must also be lit alike: a light without an x component shades the -x and

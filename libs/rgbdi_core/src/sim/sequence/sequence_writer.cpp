@@ -175,6 +175,10 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "blackout_kind", o.blackout_kind,
           "black (no colour, no depth) | bare (no texture) | blur (motion blur)");
   iniLine(os, "blackout_blur_px", std::to_string(o.blackout_blur_px), "[px] blur line length");
+  iniLine(os, "spin_start_s", iniNumber(o.spin_start_s), "[s] since the start");
+  iniLine(os, "spin_duration_s", iniNumber(o.spin_duration_s),
+          "[s] extra turn about the vertical (0 = none)");
+  iniLine(os, "spin_turns", iniNumber(o.spin_turns), "[turns] of the extra turn");
   iniLine(os, "duration_s", iniNumber(seq.duration()), "[s]");
   iniLine(os, "speed", toString(p.speed), "slow|normal|fast");
   iniLine(os, "speed_m_s", iniNumber(p.speed_m_s), "[m/s] 0 = profile default");
