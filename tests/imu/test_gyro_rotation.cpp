@@ -67,7 +67,8 @@ TEST(GyroRotation, RotationsComposeInTimeOrder) {
   });
   const Eigen::Vector3d bias(0.02, 0.0, -0.01);
   const Eigen::Quaterniond whole = gyroRotation(b, 0.1, 0.9, bias);
-  const Eigen::Quaterniond parts = gyroRotation(b, 0.1, 0.5, bias) * gyroRotation(b, 0.5, 0.9, bias);
+  const Eigen::Quaterniond parts =
+      gyroRotation(b, 0.1, 0.5, bias) * gyroRotation(b, 0.5, 0.9, bias);
   EXPECT_LT(angleBetween(whole, parts), 1e-12);
   // And they do not commute: the reversed product is measurably different.
   EXPECT_GT(angleBetween(whole, gyroRotation(b, 0.5, 0.9, bias) * gyroRotation(b, 0.1, 0.5, bias)),

@@ -76,15 +76,10 @@ double CornerDetector::responseFloor(int block_size, double min_gradient) {
   return kScharrScale * kScharrScale * block_size * block_size * min_gradient * min_gradient;
 }
 
-bool CornerDetector::isCorner(const cv::Point2f& p, double min_gradient) const {
-  const int uc = cvRound(p.x), vc = cvRound(p.y);
-  const float floor = static_cast<float>(responseFloor(block_size_, min_gradient));
-  for (int v = std::max(0, vc - 1); v <= std::min(response_.rows - 1, vc + 1); ++v) {
-    const float* r = response_.ptr<float>(v);
-    for (int u = std::max(0, uc - 1); u <= std::min(response_.cols - 1, uc + 1); ++u)
-      if (r[u] >= floor) return true;
-  }
-  return false;
+bool CornerDetector::hasCorner(double min_gradient) const {
+  double strongest = 0.0;
+  cv::minMaxLoc(response_, nullptr, &strongest);
+  return strongest >= responseFloor(block_size_, min_gradient);
 }
 
 std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_corners,

@@ -31,9 +31,9 @@ class CornerDetector {
   /// [(grey levels/px)^2] of gradient along its weaker direction.
   static double responseFloor(int block_size, double min_gradient);
 
-  /// Whether the strongest response among the 3x3 pixels around p (rounded) reaches the floor of
-  /// min_gradient: is a tracked feature still on a corner, or did its view lose the texture?
-  bool isCorner(const cv::Point2f& p, double min_gradient) const;
+  /// Whether any response of the image reaches the floor of min_gradient: does the view have
+  /// texture at all?
+  bool hasCorner(double min_gradient) const;
 
   /// Corners of the last computeResponse(): `mask` CV_8UC1 of the image's size, nonzero where
   /// corners may be. A corner's response must reach `quality` x the strongest allowed one and

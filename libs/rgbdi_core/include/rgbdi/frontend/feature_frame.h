@@ -43,8 +43,8 @@ struct FeatureFrame {
   int n_new = 0;              ///< features detected in this image
   int n_klt_lost = 0;         ///< lost by KLT (no convergence or forward-backward mismatch)
   int n_border_rejected = 0;  ///< tracked too close to (or beyond) the image border
-  /// tracked to a place that is no corner above the texture floor (min_gradient_grey_per_px):
-  /// the view lost its texture there (a bare wall, the lights going out)
+  /// dropped because no pixel of the image reaches the texture floor (min_gradient_grey_per_px):
+  /// the view lost its texture (a bare wall, the lights going out)
   int n_low_texture = 0;
   int n_ransac_rejected = 0;  ///< rejected as outliers of the fundamental matrix
   int n_too_close = 0;        ///< dropped because a longer-tracked feature is within min distance

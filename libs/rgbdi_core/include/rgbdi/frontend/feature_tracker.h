@@ -46,8 +46,8 @@ class FeatureTracker {
   /// an unsupported image type, a size different from the camera's, or a stamp not after the
   /// previous frame's. `R_previous_current`: the rotation of this image's camera in the previous
   /// image's camera frame (e.g. from the gyroscope); when given and klt_predict_rotation is on,
-  /// KLT starts each feature where that rotation moves it (a fast turn moves features by more than
-  /// the pyramid can find), otherwise at its previous position.
+  /// KLT starts a feature that the rotation moves beyond the pyramid's reach where the rotation
+  /// puts it (a fast turn), otherwise at its previous position.
   FeatureFrame track(const RgbdFrame& frame,
                      const std::optional<Eigen::Matrix3d>& R_previous_current = std::nullopt);
 

@@ -12,12 +12,11 @@ struct FrontendOptions {
   double min_distance_px = 15.0;     ///< [px] no two features closer than this
   double shi_tomasi_quality = 0.01;  ///< [unitless] corner threshold relative to the best corner
   int shi_tomasi_block_size = 3;     ///< [px] window of the corner (min eigenvalue) measure
-  /// [grey levels/px] absolute texture floor: a corner's smaller structure-tensor eigenvalue per
-  /// pixel of its block must reach the square of this, for new corners and where a tracked
-  /// feature lands (else it is dropped: KLT converges on sensor noise too). The relative
-  /// threshold alone takes sensor-noise blobs of a textureless view (a bare wall) for corners:
-  /// i.i.d. noise of sigma grey levels peaks at about 0.9 sigma here, textured corners at tens.
-  /// 0 = no floor.
+  /// [grey levels/px] absolute texture floor: a new corner's smaller structure-tensor eigenvalue
+  /// per pixel of its block must reach the square of this, and an image where no pixel does
+  /// keeps no track (KLT converges on sensor noise too). The relative threshold alone takes
+  /// sensor-noise blobs of a textureless view (a bare wall) for corners: i.i.d. noise of sigma
+  /// grey levels peaks at about 0.9 sigma here, textured corners at tens. 0 = no floor.
   double min_gradient_grey_per_px = 2.0;
   int border_px = 1;  ///< [px] features closer than this to the image edge are dropped
   /// [unitless] CLAHE contrast limit applied to the grey image before tracking; 0 disables it.
@@ -31,10 +30,10 @@ struct FrontendOptions {
   /// [px] a feature is dropped when tracking it back to the previous image misses its start by
   /// more.
   double klt_max_forward_backward_px = 0.5;
-  /// Start KLT where the gyroscope's rotation since the previous image moves each feature (when
-  /// the caller passes that rotation: VioSystem does) instead of at its previous position. A fast
-  /// turn (a robot spinning in place, a whip pan) moves features by more than the pyramid's reach
-  /// of about klt_window_px * 2^klt_pyramid_levels / 2.
+  /// Features that the gyroscope's rotation since the previous image (when the caller passes it:
+  /// VioSystem does) moves beyond the pyramid's reach, klt_window_px / 2 * 2^klt_pyramid_levels,
+  /// start KLT where the rotation puts them instead of at their previous position (a robot
+  /// spinning in place, a whip pan); nearer ones start as without it.
   bool klt_predict_rotation = true;
 
   // --- geometric outlier rejection ---
