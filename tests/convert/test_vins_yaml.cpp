@@ -154,5 +154,32 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   EXPECT_THROW(rgbdiConfigFromVins(v, 200.0, "test"), ConfigError);
 }
 
+// Fuzzing finding 7 (2026-12-03): an image side beyond INT_MAX was converted from double to int
+// (undefined behaviour, UBSan; INT_MIN in practice, accepted without an error). Sides must be
+// whole pixel counts in the range rgbdi's [camera] section accepts.
+TEST(VinsYaml, ImageSidesAreWholePixelCountsInRange) {
+  const std::string dir = test::makeTempDir("vins_yaml_size");
+  const std::string text = kDatasetYaml;
+  const auto withWidth = [&](const std::string& value) {
+    std::string t = text;
+    t.replace(t.find("image_width: 640"), 16, "image_width: " + value);
+    return write(dir, "size.yaml", t);
+  };
+  for (const std::string bad : {"1e10", "4294967296", "2147483648", "640.5", "8193", "15"}) {
+    const std::string path = withWidth(bad);
+    try {
+      const VinsCalibration v = readVinsYaml(path);
+      ADD_FAILURE() << "image_width " << bad << " accepted as " << v.camera.width;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + " image_width: must be a whole number of pixels "
+                                                  "from 16 to 8192"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(readVinsYaml(withWidth("8192")).camera.width, 8192);
+  EXPECT_EQ(readVinsYaml(withWidth("16")).camera.width, 16);
+}
+
 }  // namespace
 }  // namespace rgbdi::convert

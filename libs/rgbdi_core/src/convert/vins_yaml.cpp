@@ -51,6 +51,21 @@ class YamlReader {
     if (!(v > 0.0)) fail(key, "must be positive");
     return v;
   }
+  /// An image side in pixels: a whole number in the range rgbdi's [camera] accepts, checked
+  /// before it becomes an int (fuzzing finding 7: a double beyond INT_MAX converted to int is
+  /// undefined behaviour, UBSan; in practice INT_MIN, which later size products overflowed).
+  int pixels(const std::string& key) const {
+    const double v = number(key);
+    if (v != std::floor(v) || v < kMinImageSide || v > kMaxImageSide) {
+      std::ostringstream os;
+      os << "must be a whole number of pixels from " << kMinImageSide << " to " << kMaxImageSide
+         << ", got " << std::setprecision(17) << v;
+      fail(key, os.str());
+    }
+    return static_cast<int>(v);
+  }
+  static constexpr int kMinImageSide = 16;    ///< [px] as [camera] width/height (sensor_options)
+  static constexpr int kMaxImageSide = 8192;  ///< [px]
   cv::Mat matrix(const std::string& key, int rows, int cols) const {
     cv::Mat m;
     try {
@@ -84,8 +99,8 @@ VinsCalibration readVinsYaml(const std::string& path) {
     y.fail("model_type",
            "'" + static_cast<std::string>(model) + "' is not supported (only PINHOLE)");
   PinholeCamera& c = v.camera;
-  c.width = static_cast<int>(y.positive("image_width"));
-  c.height = static_cast<int>(y.positive("image_height"));
+  c.width = y.pixels("image_width");
+  c.height = y.pixels("image_height");
   const cv::FileNode proj = y.node("projection_parameters");
   if (proj.empty() || !proj.isMap()) y.fail("projection_parameters", "missing (fx, fy, cx, cy)");
   c.fx = y.number(proj["fx"], "projection_parameters.fx");
