@@ -334,5 +334,31 @@ TEST_F(RawlogDamage, ImageVersion0WithMoreBytesThanPixelsIsACorruptRecord) {
   EXPECT_EQ(r.imu, 30u);
 }
 
+// Finding 14 (2026-12-03, fuzz_rawlog after 5 326 runs): a range image marked as stored in an
+// external file with an empty file name made MRPT's lazy_load_absolute_path assert
+// (std::logic_error) while rgbdi looked the file up, outside the conversion's error handling: the
+// exception left RawlogSource::next as something else than RawlogError (std::terminate in the
+// fuzz target). The observation is reported as unusable and skipped, the rest is read.
+TEST_F(RawlogDamage, ExternalRangeImageWithoutAFileNameIsReportedAndSkipped) {
+  const std::string path = writeFrameRawlog(dir_);
+  Bytes b = readBytes(path);
+  // sensorLabel "RGBD", then points external (bool) + file (""), range external (bool) + file.
+  const std::size_t at =
+      findOnce(b, {4, 0, 0, 0, 'R', 'G', 'B', 'D', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  b[at + 13] = 1;
+  writeBytes(path, b);
+  const ReadResult r = readAll(path);
+  EXPECT_EQ(r.error, "");
+  EXPECT_EQ(r.imu, 50u);
+  EXPECT_EQ(r.frames, 0u);
+  EXPECT_EQ(r.diagnostics.unusable, 1u);
+  ASSERT_FALSE(r.diagnostics.warnings.empty());
+  EXPECT_EQ(
+      r.diagnostics.warnings[0].rfind(
+          path + " record 40: cannot load the observation's images: Assert condition failed", 0),
+      0u)
+      << r.diagnostics.warnings[0];
+}
+
 }  // namespace
 }  // namespace rgbdi::io

@@ -4,6 +4,7 @@
 #include <mrpt/system/filesystem.h>
 #include <mrpt/system/string_utils.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -216,11 +217,14 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
                             " does not exist (external images folder " +
                             mrpt::img::CImage::getImagesPathBase() + ")");
   };
-  if (has_range && obs.rangeImage_isExternallyStored())
-    requireFile(obs.rangeImage_getExternalStorageFileAbsolutePath(""), "range image");
-  if (has_intensity && obs.intensityImage.isExternallyStored())
-    requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
   try {
+    // Inside the try: MRPT asserts on a stored external file name it cannot resolve (fuzzing
+    // finding 14: an empty name made lazy_load_absolute_path throw std::logic_error, which left
+    // RawlogSource as an exception other than its documented RawlogError).
+    if (has_range && obs.rangeImage_isExternallyStored())
+      requireFile(obs.rangeImage_getExternalStorageFileAbsolutePath(""), "range image");
+    if (has_intensity && obs.intensityImage.isExternallyStored())
+      requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
     // An external binary range file not loaded yet is read here (libdeflate, image_decode.h);
     // otherwise, or when that fails, load() reads it (images load lazily on access).
     std::optional<cv::Mat> range;
@@ -253,8 +257,14 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
   } catch (const ConversionError&) {
     throw;
   } catch (const std::exception& e) {
-    // MRPT reports missing external files etc. with multi-line traces: keep the first line.
+    // MRPT reports missing external files etc. with multi-line traces ("==== MRPT exception
+    // ====", "Message: ...", a call stack): keep the message line.
     std::string what = e.what();
+    const auto message = what.find("Message:");
+    if (message != std::string::npos) {
+      what = what.substr(message + 8);
+      what.erase(0, std::min(what.find_first_not_of(" \t"), what.size()));
+    }
     const auto nl = what.find('\n');
     if (nl != std::string::npos) what.resize(nl);
     throw ConversionError(label + ": cannot load the observation's images: " + what);
