@@ -307,6 +307,24 @@ TEST_F(RawlogDamage, DamagedEmbeddedJpegIsACorruptRecordNotAnExit) {
   EXPECT_EQ(r.imu, 40u);
 }
 
+// Finding 11, second input (fuzz_rawlog, 2026-12-03, after 28 999 runs): a JPEG byte count
+// beyond the end of the file. MRPT's ReadBuffer returns the short read without an error and
+// CImage decodes the buffer anyway (libjpeg: "Not a JPEG file: starts with 0xff 0xff", exit 1).
+TEST_F(RawlogDamage, FileEndingInsideAnEmbeddedJpegIsACorruptRecordNotAnExit) {
+  const std::string path = writeJpegFrameRawlog(dir_);
+  Bytes b = readBytes(path);
+  const std::size_t soi = findOnce(b, {0xff, 0xd8, 0xff});
+  b.resize(soi + 20);  // 20 bytes of the JPEG remain
+  writeBytes(path, b);
+  const ReadResult r = readAll(path);
+  EXPECT_EQ(r.error.rfind(path + " record 40: corrupt record (the data ends inside an embedded "
+                                 "JPEG image (20 of ",
+                          0),
+            0u)
+      << r.error;
+  EXPECT_EQ(r.imu, 40u);
+}
+
 // Finding 13 (2026-12-03, read in MRPT's CImage::serializeFrom while fixing 11): version 0 of a
 // CImage reads a stored byte count into the buffer it allocated from the stored width, height
 // and channels, without comparing them (a heap overflow by the difference). The count must match.

@@ -145,7 +145,13 @@ void CImageGuard::afterRead(const std::uint8_t* data, std::size_t n, std::size_t
       break;
     case Step::JpegData:
       step_ = Step::Idle;
-      if (count == length_ && n == count) {
+      // MRPT's CArchive::ReadBuffer returns a short read without an error, and CImage decodes
+      // its whole buffer anyway, the unread part uninitialised (fuzz_rawlog, 2026-12-03, after
+      // 28 999 runs: libjpeg's exit(1) on such a buffer): the file ended inside the image.
+      if (count == length_ && n < count)
+        refuse("the data ends inside an embedded JPEG image (" + std::to_string(n) + " of " +
+               std::to_string(count) + " bytes)");
+      if (count == length_) {
         const std::string problem = jpegProblem(data, n);
         if (!problem.empty())
           refuse("embedded JPEG image (" + std::to_string(n) + " bytes) is damaged: " + problem);

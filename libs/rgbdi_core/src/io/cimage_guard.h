@@ -5,8 +5,9 @@
 //  - MRPT decodes an embedded JPEG (CImage versions 1-9, colour) with libjpeg's default error
 //    handler, which calls exit(1) on a damaged JPEG: rgbdi-slam ended with libjpeg's message
 //    instead of its own refusal naming the file and record. The JPEG bytes are decoded here first
-//    (OpenCV's decoder reports errors instead of exiting); one that does not decode makes the
-//    read throw, and the record is refused as damaged.
+//    (OpenCV's decoder reports errors instead of exiting); one that does not decode, or that the
+//    file ends in (MRPT decodes the short buffer anyway), makes the read throw, and the record
+//    is refused as damaged.
 //  - CImage version 0 reads a stored byte count into a buffer sized by the stored width, height
 //    and channels, without comparing them: a count above the buffer overflowed the heap. A
 //    count that does not match the pixels is refused here before the read.
