@@ -251,6 +251,33 @@ TEST_F(RawlogDamage, SensoryFrameElementsThatAreNoObservationAreReportedAndSkipp
   }
 }
 
+// The same inside another object, where MRPT reads the frame: a version-0 frame nested in a
+// top-level one, with a null element (before: SIGSEGV).
+TEST_F(RawlogDamage, NestedSensoryFrameOfVersion0IsACorruptRecord) {
+  Bytes b;
+  for (int i = 0; i < 30; ++i) {
+    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
+    b.insert(b.end(), imu.begin(), imu.end());
+  }
+  putHeader(b, "mrpt::obs::CSensoryFrame", 2);
+  b.resize(b.size() + 4, 0);
+  putLe32(b, b.size() - 4, 1);
+  putHeader(b, "mrpt::obs::CSensoryFrame", 0);  // ID, stamp, 1 element: null
+  b.resize(b.size() + 16, 0);
+  putLe32(b, b.size() - 4, 1);
+  putHeader(b, "nullptr", -1);
+  b.push_back(0x88);
+  b.push_back(0x88);  // nested frame's end flag
+  b.push_back(0x88);  // top-level frame's end flag
+  const std::string path = dir_ + "/sf_nested.rawlog";
+  writeBytes(path, b);
+  const ReadResult r = readAll(path);
+  EXPECT_EQ(r.error, path +
+                         " record 30: corrupt record (a sensory frame of version 0 inside another "
+                         "object is not read (MRPT cannot check its elements))");
+  EXPECT_EQ(r.imu, 30u);
+}
+
 TEST_F(RawlogDamage, SensoryFrameWithoutItsEndFlagIsACorruptRecord) {
   Bytes b;
   for (int i = 0; i < 30; ++i) {

@@ -1,6 +1,7 @@
 #include "io/cimage_guard.h"
 
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -52,6 +53,16 @@ void CImageGuard::beforeRead(std::size_t count) {
 
 void CImageGuard::startPayload(int version) {
   version_ = version;
+  if (nested_frame_) {
+    // A CSensoryFrame that MRPT reads itself (RawlogSource reads top-level ones): its version 0
+    // writes the frame's stamp through every element pointer, also null ones (finding 10).
+    if (version == 0)
+      refuse(
+          "a sensory frame of version 0 inside another object is not read (MRPT cannot "
+          "check its elements)");
+    step_ = Step::Idle;
+    return;
+  }
   if (version == 0) {
     step_ = Step::V0Width;
   } else if (version == 1) {
@@ -65,12 +76,15 @@ void CImageGuard::startPayload(int version) {
 
 void CImageGuard::watchHeader(const std::uint8_t* data, std::size_t n, std::size_t count) {
   // MRPT 2 stores the class name with its namespace, MRPT 1 without.
-  const auto isImageClass = [&] {
-    for (const char* name : {"CImage", "mrpt::img::CImage"})
+  const auto isClass = [&](std::initializer_list<const char*> names) {
+    for (const char* name : names)
       if (count == std::strlen(name) && n == count && std::memcmp(data, name, n) == 0) return true;
     return false;
   };
-  if (isImageClass()) {
+  const bool image = isClass({"CImage", "mrpt::img::CImage"});
+  const bool frame = isClass({"CSensoryFrame", "mrpt::obs::CSensoryFrame"});
+  if (image || frame) {
+    nested_frame_ = frame;
     if (last_count_ == 1 && last_bytes_ == (0x80u | count)) {
       step_ = Step::Version8;
     } else if (last_count_ == 3 && last_bytes_ == 0 && before_last_count_ == 1 &&
