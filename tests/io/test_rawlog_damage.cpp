@@ -405,5 +405,29 @@ TEST_F(RawlogDamage, ExternalRangeImageWithoutAFileNameIsReportedAndSkipped) {
       << r.diagnostics.warnings[0];
 }
 
+// Finding 15 (fuzz_rawlog, 2026-12-03 evening, after 17 359 runs): the external-storage flag of
+// a scan's range image, a bool MRPT reads as the stored byte, held 8; rgbdi loaded it as bool
+// (UBSan "load of value 8, which is not a valid value for type 'bool'", undefined behaviour: the
+// flag may be taken as set and as not set). Like the public flags of finding 8, such bytes are
+// refused as damage of the observation.
+TEST_F(RawlogDamage, ExternalStorageFlagThatIsNoBoolIsRefusedAsDamage) {
+  const std::string path = writeFrameRawlog(dir_);
+  Bytes b = readBytes(path);
+  const std::size_t at =
+      findOnce(b, {4, 0, 0, 0, 'R', 'G', 'B', 'D', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  b[at + 13] = 8;
+  writeBytes(path, b);
+  const ReadResult r = readAll(path);
+  EXPECT_EQ(r.error, "");
+  EXPECT_EQ(r.imu, 50u);
+  EXPECT_EQ(r.frames, 0u);
+  EXPECT_EQ(r.diagnostics.unusable, 1u);
+  ASSERT_FALSE(r.diagnostics.warnings.empty());
+  EXPECT_EQ(r.diagnostics.warnings[0],
+            path +
+                " record 40: the range image's external flag is stored as 8, which is no bool "
+                "(0 or 1): the record is damaged; skipped");
+}
+
 }  // namespace
 }  // namespace rgbdi::io
