@@ -334,6 +334,25 @@ TEST_F(RawlogDamage, DamagedEmbeddedJpegIsACorruptRecordNotAnExit) {
   EXPECT_EQ(r.imu, 40u);
 }
 
+// Finding 11, third input (fuzz_rawlog, 2026-12-03, after 12 990 runs of the fifth run): the
+// namespace part of the stored class name damaged ("mr\x90\x8b\xc5\xbcimg::CImage"). MRPT finds
+// the class by the part after "::" and decoded the JPEG; the check did not know the name.
+TEST_F(RawlogDamage, DamagedJpegUnderADamagedNamespaceIsACorruptRecordNotAnExit) {
+  const std::string path = writeJpegFrameRawlog(dir_);
+  Bytes b = readBytes(path);
+  const std::string name = "mrpt::img::CImage";
+  const std::size_t at = findOnce(b, Bytes(name.begin(), name.end()));
+  b[at + 2] = 0x90;
+  b[at + 3] = 0x8b;
+  const std::size_t soi = findOnce(b, {0xff, 0xd8, 0xff});
+  b[soi] = b[soi + 1] = 0;
+  writeBytes(path, b);
+  const ReadResult r = readAll(path);
+  EXPECT_EQ(r.error.rfind(path + " record 40: corrupt record (embedded JPEG image (", 0), 0u)
+      << r.error;
+  EXPECT_EQ(r.imu, 40u);
+}
+
 // Finding 11, second input (fuzz_rawlog, 2026-12-03, after 28 999 runs): a JPEG byte count
 // beyond the end of the file. MRPT's ReadBuffer returns the short read without an error and
 // CImage decodes the buffer anyway (libjpeg: "Not a JPEG file: starts with 0xff 0xff", exit 1).

@@ -1,7 +1,6 @@
 #include "io/cimage_guard.h"
 
 #include <cstring>
-#include <initializer_list>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -30,6 +29,16 @@ std::string jpegProblem(const std::uint8_t* data, std::size_t n) {
 }
 
 }  // namespace
+
+bool storedClassIs(const std::uint8_t* name, std::size_t size, const std::string& cls) {
+  // MRPT 2 stores "mrpt::img::CImage", MRPT 1 "CImage"; MRPT finds the class by the part after
+  // the namespace, whatever precedes it (fuzz_rawlog, 2026-12-03: "mr\x90\x8b\xc5\xbcimg::CImage"
+  // was read as a CImage), so this compares that part only.
+  const std::string n(reinterpret_cast<const char*>(name), size);
+  return n == cls ||
+         (n.size() > cls.size() + 1 && n.compare(n.size() - cls.size(), cls.size(), cls) == 0 &&
+          n.compare(n.size() - cls.size() - 2, 2, "::") == 0);
+}
 
 void CImageGuard::refuse(const std::string& why) {
   step_ = Step::Idle;
@@ -76,13 +85,8 @@ void CImageGuard::startPayload(int version) {
 
 void CImageGuard::watchHeader(const std::uint8_t* data, std::size_t n, std::size_t count) {
   // MRPT 2 stores the class name with its namespace, MRPT 1 without.
-  const auto isClass = [&](std::initializer_list<const char*> names) {
-    for (const char* name : names)
-      if (count == std::strlen(name) && n == count && std::memcmp(data, name, n) == 0) return true;
-    return false;
-  };
-  const bool image = isClass({"CImage", "mrpt::img::CImage"});
-  const bool frame = isClass({"CSensoryFrame", "mrpt::obs::CSensoryFrame"});
+  const bool image = n == count && storedClassIs(data, n, "CImage");
+  const bool frame = n == count && storedClassIs(data, n, "CSensoryFrame");
   if (image || frame) {
     nested_frame_ = frame;
     if (last_count_ == 1 && last_bytes_ == (0x80u | count)) {

@@ -26,6 +26,10 @@
 
 namespace rgbdi::io {
 
+/// True if a class name as stored in a rawlog names MRPT's class `cls` ("CImage"): MRPT resolves
+/// it by the part after the last "::".
+bool storedClassIs(const std::uint8_t* name, std::size_t size, const std::string& cls);
+
 class CImageGuard {
  public:
   /// Before the archive reads `count` bytes: throws std::runtime_error if that read would

@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/cimage_guard.h"
 #include "io/counting_input_stream.h"
 #include "io/mrpt_aligned_malloc.h"
 #include "io/rawlog_naming.h"
@@ -108,10 +109,9 @@ struct RawlogSource::Impl {
     try {
       const auto header = peekHeader();
       if (header &&
-          (header->class_name == "mrpt::obs::CSensoryFrame" ||
-           header->class_name == "CSensoryFrame") &&  // MRPT 2 and MRPT 1 names
-          header->version >= 0 &&
-          header->version <= 2) {
+          storedClassIs(reinterpret_cast<const std::uint8_t*>(header->class_name.data()),
+                        header->class_name.size(), "CSensoryFrame") &&
+          header->version >= 0 && header->version <= 2) {
         frame = readSensoryFrame(*header);
       } else {
         obj = archive->ReadObject();
