@@ -143,7 +143,9 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   std::string damaged = text;
   const std::size_t block = damaged.find("extrinsicTranslation");
   damaged.replace(damaged.find("cols: 1", block), 7, ":cosl 1");
-  expectMessage(damaged, ": not a readable OpenCV YAML file");
+  // Since finding 16's fix the line check refuses it before OpenCV parses (the catch of
+  // standard exceptions stays for what the line check lets through).
+  expectMessage(damaged, " line 26: ':cosl 1' is not 'key: value'");
   // Finding 6: a top-level sequence made OpenCV assert in every key look-up.
   expectMessage("%YAML:1.0\n- model_type: PINHOLE\n- 1\n",
                 ": not a VINS yaml: the top level is not a mapping");
@@ -179,6 +181,31 @@ TEST(VinsYaml, ImageSidesAreWholePixelCountsInRange) {
   }
   EXPECT_EQ(readVinsYaml(withWidth("8192")).camera.width, 8192);
   EXPECT_EQ(readVinsYaml(withWidth("16")).camera.width, 16);
+}
+
+// Fuzzing finding 16 (2026-12-03 evening, fuzz_vins_yaml after 851 989 runs): OpenCV's YAML
+// parser looped forever on an indented key followed by a line that is no key (libFuzzer timeout;
+// rawlog-convert --camera-yaml would hang). Lines that are no "key: value" outside a flow
+// collection are refused before OpenCV parses the text; the dataset yaml still reads.
+TEST(VinsYaml, LinesThatAreNoKeysAreRefusedBeforeOpenCvParses) {
+  const std::string dir = test::makeTempDir("vins_yaml_lines");
+  const std::string hang = write(dir, "hang.yaml", "%YAML:1.0\n  t: f\n9, -\n");
+  try {
+    readVinsYaml(hang);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              hang + " line 3: '9, -' is not 'key: value' (a VINS yaml is a mapping of keys)");
+  }
+  const std::string nul = write(dir, "nul.yaml", std::string("%YAML:1.0\nacc_n: 0.1\0\n", 22));
+  EXPECT_THROW(readVinsYaml(nul), ConfigError);
+  // Flow sequences over several lines, comments, quoted keys and CRLF line ends are YAML a VINS
+  // file may use.
+  std::string text = kDatasetYaml;
+  text.replace(text.find("0.0008748, -0.0047406, 0.9999884,"), 33,
+               "0.0008748, -0.0047406, 0.9999884,\n           ");
+  text += "# a comment\n\"quoted key\": 1\r\n";
+  EXPECT_NO_THROW(readVinsYaml(write(dir, "ok.yaml", text)));
 }
 
 }  // namespace
