@@ -448,5 +448,25 @@ TEST_F(RawlogDamage, ExternalStorageFlagThatIsNoBoolIsRefusedAsDamage) {
                 "(0 or 1): the record is damaged; skipped");
 }
 
+// Open finding 1, the action-collection case (fuzz_rawlog, 2026-12-03 evening, out of memory
+// after 24 226 runs of the seventh run): MRPT's CActionCollection resizes a deque to the stored
+// element count before reading any element (4 billion entries: gigabytes). rgbdi reads action
+// collections itself, element by element; a damaged count ends where the data does.
+TEST_F(RawlogDamage, ActionCollectionCountBeyondTheDataEndsAtTheData) {
+  Bytes b;
+  for (int i = 0; i < 30; ++i) {
+    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
+    b.insert(b.end(), imu.begin(), imu.end());
+  }
+  putHeader(b, "mrpt::obs::CActionCollection", 0);
+  b.resize(b.size() + 4, 0);
+  putLe32(b, b.size() - 4, 0xffffffffu);  // 4 294 967 295 actions, none stored
+  const std::string path = dir_ + "/actions.rawlog";
+  writeBytes(path, b);
+  const ReadResult r = readAll(path);
+  EXPECT_EQ(r.error.rfind(path + " record 30: truncated", 0), 0u) << r.error;
+  EXPECT_EQ(r.imu, 30u);
+}
+
 }  // namespace
 }  // namespace rgbdi::io

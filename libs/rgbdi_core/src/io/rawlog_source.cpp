@@ -106,6 +106,7 @@ struct RawlogSource::Impl {
     const uint64_t before = counting->bytes();
     mrpt::serialization::CSerializable::Ptr obj;
     std::optional<SensoryFrame> frame;
+    bool actions = false;
     try {
       const auto header = peekHeader();
       if (header &&
@@ -113,6 +114,12 @@ struct RawlogSource::Impl {
                         header->class_name.size(), "CSensoryFrame") &&
           header->version >= 0 && header->version <= 2) {
         frame = readSensoryFrame(*header);
+      } else if (header &&
+                 storedClassIs(reinterpret_cast<const std::uint8_t*>(header->class_name.data()),
+                               header->class_name.size(), "CActionCollection") &&
+                 header->version == 0) {
+        skipActionCollection(*header);
+        actions = true;
       } else {
         obj = archive->ReadObject();
       }
@@ -129,6 +136,10 @@ struct RawlogSource::Impl {
     }
     const std::size_t rec = record++;
     ++checker.counters().records;
+    if (actions) {
+      ++checker.counters().actions;
+      return;
+    }
     if (frame) {
       for (const auto& issue : frame->issues)
         checker.onUnusable(rec, checker.at(rec) + ": " + issue + "; skipped");
@@ -216,6 +227,21 @@ struct RawlogSource::Impl {
     if (!header.old_format && in.ReadAs<uint8_t>() != 0x88)  // CArchive's end flag
       throw std::runtime_error("the sensory frame's end flag is missing");
     return frame;
+  }
+
+  /// A CActionCollection record (robot actions, not used), read here instead of by MRPT (open
+  /// finding 1, fuzz_rawlog 2026-12-03 evening: MRPT resizes a deque to the stored element
+  /// count before it reads any element, so a damaged count grew the process past 2.7 GB). The
+  /// actions are read one by one and dropped; a damaged count ends at the data.
+  void skipActionCollection(const StoredHeader& header) {
+    std::vector<std::uint8_t> skip(header.size);
+    if (counting->Read(skip.data(), skip.size()) != skip.size())
+      throw std::runtime_error("cannot read the action collection header");
+    auto& in = *archive;
+    const uint32_t n = in.ReadAs<uint32_t>();
+    for (uint32_t i = 0; i < n; ++i) (void)in.ReadObject();
+    if (in.ReadAs<uint8_t>() != 0x88)  // CArchive's end flag
+      throw std::runtime_error("the action collection's end flag is missing");
   }
 
   /// The refusal of a record that could not be read: what the image check found, a record the
