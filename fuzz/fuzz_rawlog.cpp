@@ -3,10 +3,47 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <new>
 
 #include "fuzz_target.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/io/rawlog_writer.h"
+
+// Open finding 1 (doc/robustness.md): MRPT's CArchive allocates what a corrupt size field says
+// before it reads the data (a class-name string, a deque of CActionCollection entries). In
+// rgbdi-slam a request beyond the machine ends as std::bad_alloc, which RawlogSource turns into
+// its documented refusal ("FILE record N: corrupt record (std::bad_alloc)"). Under ASan,
+// operator new aborts the process on a request it cannot serve (allocator_may_return_null
+// only covers malloc), and libFuzzer stops at the first such input, so nothing behind it was
+// fuzzed. In THIS binary only (the libFuzzer target and its replay), operator new / new[]
+// refuse requests above kAllocationCap with std::bad_alloc, the way an exhausted heap does, so
+// the reader's refusal path runs and fuzzing goes on. malloc/free serve them, so every
+// new/delete pair stays consistent; the aligned forms are left to the runtime (their own pair).
+namespace {
+constexpr std::size_t kAllocationCap = std::size_t{256} << 20;  // 256 MiB: 20x a 1280x720 frame
+
+void* cappedNew(std::size_t size) {
+  if (size > kAllocationCap) throw std::bad_alloc();
+  void* p = std::malloc(size == 0 ? 1 : size);
+  if (p == nullptr) throw std::bad_alloc();
+  return p;
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return cappedNew(size); }
+void* operator new[](std::size_t size) { return cappedNew(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  return size > kAllocationCap ? nullptr : std::malloc(size == 0 ? 1 : size);
+}
+void* operator new[](std::size_t size, const std::nothrow_t& t) noexcept {
+  return operator new(size, t);
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rgbdi::io;

@@ -143,7 +143,9 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   std::string damaged = text;
   const std::size_t block = damaged.find("extrinsicTranslation");
   damaged.replace(damaged.find("cols: 1", block), 7, ":cosl 1");
-  expectMessage(damaged, ": not a readable OpenCV YAML file");
+  // Since finding 16's fix the line check refuses it before OpenCV parses (the catch of
+  // standard exceptions stays for what the line check lets through).
+  expectMessage(damaged, " line 26: ':cosl 1' is not 'key: value'");
   // Finding 6: a top-level sequence made OpenCV assert in every key look-up.
   expectMessage("%YAML:1.0\n- model_type: PINHOLE\n- 1\n",
                 ": not a VINS yaml: the top level is not a mapping");
@@ -152,6 +154,58 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   low_g.replace(low_g.find("g_norm: 9.805"), 13, "g_norm: 1.0");
   const VinsCalibration v = readVinsYaml(write(dir, "g.yaml", low_g));
   EXPECT_THROW(rgbdiConfigFromVins(v, 200.0, "test"), ConfigError);
+}
+
+// Fuzzing finding 7 (2026-12-03): an image side beyond INT_MAX was converted from double to int
+// (undefined behaviour, UBSan; INT_MIN in practice, accepted without an error). Sides must be
+// whole pixel counts in the range rgbdi's [camera] section accepts.
+TEST(VinsYaml, ImageSidesAreWholePixelCountsInRange) {
+  const std::string dir = test::makeTempDir("vins_yaml_size");
+  const std::string text = kDatasetYaml;
+  const auto withWidth = [&](const std::string& value) {
+    std::string t = text;
+    t.replace(t.find("image_width: 640"), 16, "image_width: " + value);
+    return write(dir, "size.yaml", t);
+  };
+  for (const std::string bad : {"1e10", "4294967296", "2147483648", "640.5", "8193", "15"}) {
+    const std::string path = withWidth(bad);
+    try {
+      const VinsCalibration v = readVinsYaml(path);
+      ADD_FAILURE() << "image_width " << bad << " accepted as " << v.camera.width;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + " image_width: must be a whole number of pixels "
+                                                  "from 16 to 8192"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(readVinsYaml(withWidth("8192")).camera.width, 8192);
+  EXPECT_EQ(readVinsYaml(withWidth("16")).camera.width, 16);
+}
+
+// Fuzzing finding 16 (2026-12-03 evening, fuzz_vins_yaml after 851 989 runs): OpenCV's YAML
+// parser looped forever on an indented key followed by a line that is no key (libFuzzer timeout;
+// rawlog-convert --camera-yaml would hang). Lines that are no "key: value" outside a flow
+// collection are refused before OpenCV parses the text; the dataset yaml still reads.
+TEST(VinsYaml, LinesThatAreNoKeysAreRefusedBeforeOpenCvParses) {
+  const std::string dir = test::makeTempDir("vins_yaml_lines");
+  const std::string hang = write(dir, "hang.yaml", "%YAML:1.0\n  t: f\n9, -\n");
+  try {
+    readVinsYaml(hang);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              hang + " line 3: '9, -' is not 'key: value' (a VINS yaml is a mapping of keys)");
+  }
+  const std::string nul = write(dir, "nul.yaml", std::string("%YAML:1.0\nacc_n: 0.1\0\n", 22));
+  EXPECT_THROW(readVinsYaml(nul), ConfigError);
+  // Flow sequences over several lines, comments, quoted keys and CRLF line ends are YAML a VINS
+  // file may use.
+  std::string text = kDatasetYaml;
+  text.replace(text.find("0.0008748, -0.0047406, 0.9999884,"), 33,
+               "0.0008748, -0.0047406, 0.9999884,\n           ");
+  text += "# a comment\n\"quoted key\": 1\r\n";
+  EXPECT_NO_THROW(readVinsYaml(write(dir, "ok.yaml", text)));
 }
 
 }  // namespace

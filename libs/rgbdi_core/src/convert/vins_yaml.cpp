@@ -1,7 +1,9 @@
 #include "rgbdi/convert/vins_yaml.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <opencv2/core.hpp>
 #include <sstream>
@@ -12,10 +14,64 @@
 namespace rgbdi::convert {
 namespace {
 
+/// Refuses text that is no YAML mapping of keys before OpenCV parses it (fuzzing finding 16:
+/// OpenCV 4.6's YAML parser loops forever on "%YAML:1.0\n  t: f\n9, -\n", an indented key
+/// followed by a line that is no key). Every line outside a [...] or {...} flow collection must
+/// be blank, a comment, a directive or document marker, "key: value", "key:" or a "- " item; the
+/// text must hold no NUL byte.
+void checkYamlLines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  int depth = 0;  // open [ and { at the start of the line
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.find('\0') != std::string::npos)
+      throw ConfigError(path + " line " + std::to_string(number) + ": not a text file (NUL byte)");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::size_t b = line.find_first_not_of(" \t");
+    const std::string text = b == std::string::npos ? std::string() : line.substr(b);
+    if (depth == 0 && !text.empty() && text[0] != '#' && text[0] != '%' && text != "---" &&
+        text != "..." && text.rfind("- ", 0) != 0 && text != "-") {
+      std::size_t k = 0;
+      if (text[0] == '"' || text[0] == '\'') {
+        k = text.find(text[0], 1);
+        k = k == std::string::npos ? text.size() : k + 1;
+      } else {
+        while (k < text.size() && (std::isalnum(static_cast<unsigned char>(text[k])) ||
+                                   text[k] == '_' || text[k] == '-' || text[k] == '.'))
+          ++k;
+      }
+      while (k < text.size() && text[k] == ' ') ++k;
+      const bool key = k > 0 && k < text.size() && text[k] == ':' &&
+                       (k + 1 == text.size() || text[k + 1] == ' ' || text[k + 1] == '\t');
+      if (!key) {
+        const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+        throw ConfigError(path + " line " + std::to_string(number) + ": '" + shown +
+                          "' is not 'key: value' (a VINS yaml is a mapping of keys)");
+      }
+    }
+    // Brackets of flow collections (outside quotes and comments) carry over to the next lines.
+    char quote = 0;
+    for (const char c : line) {
+      if (quote) {
+        if (c == quote) quote = 0;
+      } else if (c == '"' || c == '\'') {
+        quote = c;
+      } else if (c == '#') {
+        break;
+      } else if (c == '[' || c == '{') {
+        ++depth;
+      } else if ((c == ']' || c == '}') && depth > 0) {
+        --depth;
+      }
+    }
+  }
+}
+
 class YamlReader {
  public:
   explicit YamlReader(const std::string& path) : path_(path) {
     if (!std::filesystem::is_regular_file(path)) throw ConfigError(path + ": no such file");
+    checkYamlLines(path);
     try {
       fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
     } catch (const cv::Exception& e) {
@@ -51,6 +107,21 @@ class YamlReader {
     if (!(v > 0.0)) fail(key, "must be positive");
     return v;
   }
+  /// An image side in pixels: a whole number in the range rgbdi's [camera] accepts, checked
+  /// before it becomes an int (fuzzing finding 7: a double beyond INT_MAX converted to int is
+  /// undefined behaviour, UBSan; in practice INT_MIN, which later size products overflowed).
+  int pixels(const std::string& key) const {
+    const double v = number(key);
+    if (v != std::floor(v) || v < kMinImageSide || v > kMaxImageSide) {
+      std::ostringstream os;
+      os << "must be a whole number of pixels from " << kMinImageSide << " to " << kMaxImageSide
+         << ", got " << std::setprecision(17) << v;
+      fail(key, os.str());
+    }
+    return static_cast<int>(v);
+  }
+  static constexpr int kMinImageSide = 16;    ///< [px] as [camera] width/height (sensor_options)
+  static constexpr int kMaxImageSide = 8192;  ///< [px]
   cv::Mat matrix(const std::string& key, int rows, int cols) const {
     cv::Mat m;
     try {
@@ -84,8 +155,8 @@ VinsCalibration readVinsYaml(const std::string& path) {
     y.fail("model_type",
            "'" + static_cast<std::string>(model) + "' is not supported (only PINHOLE)");
   PinholeCamera& c = v.camera;
-  c.width = static_cast<int>(y.positive("image_width"));
-  c.height = static_cast<int>(y.positive("image_height"));
+  c.width = y.pixels("image_width");
+  c.height = y.pixels("image_height");
   const cv::FileNode proj = y.node("projection_parameters");
   if (proj.empty() || !proj.isMap()) y.fail("projection_parameters", "missing (fx, fy, cx, cy)");
   c.fx = y.number(proj["fx"], "projection_parameters.fx");

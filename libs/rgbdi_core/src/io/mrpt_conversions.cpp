@@ -4,6 +4,7 @@
 #include <mrpt/system/filesystem.h>
 #include <mrpt/system/string_utils.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -55,10 +56,25 @@ bool storedFlag(const bool& flag, const std::string& what) {
   return byte == 1;
 }
 
-cv::Mat colorToRgb(const mrpt::img::CImage& img, const std::string& label) {
+/// The protected flags MRPT reads from the file as bytes too (fuzzing finding 15: UBSan "load of
+/// value 8, which is not a valid value for type 'bool'" in rangeImage_isExternallyStored()),
+/// reached as members of a derived class so that storedFlag() reads their bytes.
+struct ScanFlags : mrpt::obs::CObservation3DRangeScan {
+  static bool mrpt::obs::CObservation3DRangeScan::*rangeExternal() {
+    return &ScanFlags::m_rangeImage_external_stored;
+  }
+  static bool mrpt::obs::CObservation3DRangeScan::*pointsExternal() {
+    return &ScanFlags::m_points3D_external_stored;
+  }
+};
+struct ImageFlags : mrpt::img::CImage {
+  static bool mrpt::img::CImage::*external() { return &ImageFlags::m_imgIsExternalStorage; }
+};
+
+cv::Mat colorToRgb(const mrpt::img::CImage& img, bool external, const std::string& label) {
   // External 8-bit PNGs (the usual layout) are decoded here straight to RGB; anything else, and
   // damaged files, take MRPT's lazy load (OpenCV), which also names the problem.
-  if (img.isExternallyStored()) {
+  if (external) {
     thread_local std::vector<std::uint8_t> bytes;
     const std::string file = img.getExternalStorageFileAbsolutePath();
     if (readWholeFile(file, bytes)) {
@@ -203,6 +219,15 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
   const bool has_range = storedFlag(obs.hasRangeImage, label + ": hasRangeImage");
   if (!has_intensity && !has_range)
     throw ConversionError(label + ": 3-D range scan has neither an intensity nor a range image");
+  // MRPT's load() reads these too (only checked bytes reach it).
+  const bool range_external =
+      storedFlag(obs.*ScanFlags::rangeExternal(), label + ": the range image's external flag") &&
+      has_range;
+  (void)storedFlag(obs.hasPoints3D, label + ": hasPoints3D");
+  (void)storedFlag(obs.*ScanFlags::pointsExternal(), label + ": the points' external flag");
+  const bool intensity_external =
+      has_intensity && storedFlag(obs.intensityImage.*ImageFlags::external(),
+                                  label + ": the intensity image's external flag");
 
   RgbdFrame f;
   f.t = toSeconds(obs.timestamp);
@@ -216,15 +241,18 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
                             " does not exist (external images folder " +
                             mrpt::img::CImage::getImagesPathBase() + ")");
   };
-  if (has_range && obs.rangeImage_isExternallyStored())
-    requireFile(obs.rangeImage_getExternalStorageFileAbsolutePath(""), "range image");
-  if (has_intensity && obs.intensityImage.isExternallyStored())
-    requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
   try {
+    // Inside the try: MRPT asserts on a stored external file name it cannot resolve (fuzzing
+    // finding 14: an empty name made lazy_load_absolute_path throw std::logic_error, which left
+    // RawlogSource as an exception other than its documented RawlogError).
+    if (range_external)
+      requireFile(obs.rangeImage_getExternalStorageFileAbsolutePath(""), "range image");
+    if (intensity_external)
+      requireFile(obs.intensityImage.getExternalStorageFileAbsolutePath(), "intensity image");
     // An external binary range file not loaded yet is read here (libdeflate, image_decode.h);
     // otherwise, or when that fails, load() reads it (images load lazily on access).
     std::optional<cv::Mat> range;
-    if (has_range && obs.rangeImage_isExternallyStored() && obs.rangeImage.rows() == 0) {
+    if (range_external && obs.rangeImage.rows() == 0) {
       const std::string file = obs.rangeImage_getExternalStorageFileAbsolutePath("");
       if (!mrpt::system::strCmpI(mrpt::system::extractFileExtension(file), "txt"))
         range = readMrptRangeFile(file);
@@ -236,8 +264,7 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
       if (!range) range = rangeMatrix(obs);
       // MRPT "auto-fixes" the depth intrinsics' size to the serialised matrix size, which is 0x0
       // for externally stored range images: restore it from the loaded matrix.
-      if (obs.rangeImage_isExternallyStored() && f.cam_depth.width == 0 &&
-          f.cam_depth.height == 0) {
+      if (range_external && f.cam_depth.width == 0 && f.cam_depth.height == 0) {
         f.cam_depth.width = range->cols;
         f.cam_depth.height = range->rows;
       }
@@ -249,12 +276,18 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
         throw ConversionError(os.str());
       }
     }
-    if (has_intensity) f.rgb = colorToRgb(obs.intensityImage, label);
+    if (has_intensity) f.rgb = colorToRgb(obs.intensityImage, intensity_external, label);
   } catch (const ConversionError&) {
     throw;
   } catch (const std::exception& e) {
-    // MRPT reports missing external files etc. with multi-line traces: keep the first line.
+    // MRPT reports missing external files etc. with multi-line traces ("==== MRPT exception
+    // ====", "Message: ...", a call stack): keep the message line.
     std::string what = e.what();
+    const auto message = what.find("Message:");
+    if (message != std::string::npos) {
+      what = what.substr(message + 8);
+      what.erase(0, std::min(what.find_first_not_of(" \t"), what.size()));
+    }
     const auto nl = what.find('\n');
     if (nl != std::string::npos) what.resize(nl);
     throw ConversionError(label + ": cannot load the observation's images: " + what);
