@@ -398,6 +398,18 @@ TEST_F(RawlogDamage, ImageVersion0WithMoreBytesThanPixelsIsACorruptRecord) {
   EXPECT_EQ(r.imu, 30u);
 }
 
+/// Reads the rawlog at `path` with the stored byte of its scan's "range image is external" flag
+/// set to `value` (after the sensor label "RGBD": points external (bool) + file (""), range
+/// external (bool) + file).
+ReadResult readWithRangeExternalFlag(const std::string& path, std::uint8_t value) {
+  Bytes b = readBytes(path);
+  const std::size_t at =
+      findOnce(b, {4, 0, 0, 0, 'R', 'G', 'B', 'D', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  b[at + 13] = value;
+  writeBytes(path, b);
+  return readAll(path);
+}
+
 // Finding 14 (2026-12-03, fuzz_rawlog after 5 326 runs): a range image marked as stored in an
 // external file with an empty file name made MRPT's lazy_load_absolute_path assert
 // (std::logic_error) while rgbdi looked the file up, outside the conversion's error handling: the
@@ -405,13 +417,7 @@ TEST_F(RawlogDamage, ImageVersion0WithMoreBytesThanPixelsIsACorruptRecord) {
 // fuzz target). The observation is reported as unusable and skipped, the rest is read.
 TEST_F(RawlogDamage, ExternalRangeImageWithoutAFileNameIsReportedAndSkipped) {
   const std::string path = writeFrameRawlog(dir_);
-  Bytes b = readBytes(path);
-  // sensorLabel "RGBD", then points external (bool) + file (""), range external (bool) + file.
-  const std::size_t at =
-      findOnce(b, {4, 0, 0, 0, 'R', 'G', 'B', 'D', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
-  b[at + 13] = 1;
-  writeBytes(path, b);
-  const ReadResult r = readAll(path);
+  const ReadResult r = readWithRangeExternalFlag(path, 1);
   EXPECT_EQ(r.error, "");
   EXPECT_EQ(r.imu, 50u);
   EXPECT_EQ(r.frames, 0u);
@@ -431,12 +437,7 @@ TEST_F(RawlogDamage, ExternalRangeImageWithoutAFileNameIsReportedAndSkipped) {
 // refused as damage of the observation.
 TEST_F(RawlogDamage, ExternalStorageFlagThatIsNoBoolIsRefusedAsDamage) {
   const std::string path = writeFrameRawlog(dir_);
-  Bytes b = readBytes(path);
-  const std::size_t at =
-      findOnce(b, {4, 0, 0, 0, 'R', 'G', 'B', 'D', 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
-  b[at + 13] = 8;
-  writeBytes(path, b);
-  const ReadResult r = readAll(path);
+  const ReadResult r = readWithRangeExternalFlag(path, 8);
   EXPECT_EQ(r.error, "");
   EXPECT_EQ(r.imu, 50u);
   EXPECT_EQ(r.frames, 0u);
