@@ -147,8 +147,11 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   // standard exceptions stays for what the line check lets through).
   expectMessage(damaged, " line 26: ':cosl 1' is not 'key: value'");
   // Finding 6: a top-level sequence made OpenCV assert in every key look-up.
+  // Finding 6's input (a top level that is a sequence) is now refused by the line check of
+  // finding 17, before OpenCV parses it.
   expectMessage("%YAML:1.0\n- model_type: PINHOLE\n- 1\n",
-                ": not a VINS yaml: the top level is not a mapping");
+                " line 2: '- model_type: PINHOLE' is not 'key: value' (a VINS yaml is a mapping of "
+                "keys)");
   // A value rgbdi does not accept is reported when the INI is generated.
   std::string low_g = text;
   low_g.replace(low_g.find("g_norm: 9.805"), 13, "g_norm: 1.0");
@@ -196,6 +199,18 @@ TEST(VinsYaml, LinesThatAreNoKeysAreRefusedBeforeOpenCvParses) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(std::string(e.what()),
               hang + " line 3: '9, -' is not 'key: value' (a VINS yaml is a mapping of keys)");
+  }
+  // Finding 17 (fuzz_vins_yaml, 2026-12-03 evening, after 387 471 runs): OpenCV's parser looped
+  // on block sequence items among the keys (the fuzzer's input shortened to its first lines,
+  // which still make cv::FileStorage loop); a VINS yaml has none.
+  const std::string items =
+      write(dir, "items.yaml", "%YAML:1.0\n  k1: fx.59\n .:\n-  \n-    fx.59o:\n");
+  try {
+    readVinsYaml(items);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              items + " line 4: '-  ' is not 'key: value' (a VINS yaml is a mapping of keys)");
   }
   const std::string nul = write(dir, "nul.yaml", std::string("%YAML:1.0\nacc_n: 0.1\0\n", 22));
   EXPECT_THROW(readVinsYaml(nul), ConfigError);

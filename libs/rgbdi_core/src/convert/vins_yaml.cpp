@@ -16,9 +16,10 @@ namespace {
 
 /// Refuses text that is no YAML mapping of keys before OpenCV parses it (fuzzing finding 16:
 /// OpenCV 4.6's YAML parser loops forever on "%YAML:1.0\n  t: f\n9, -\n", an indented key
-/// followed by a line that is no key). Every line outside a [...] or {...} flow collection must
-/// be blank, a comment, a directive or document marker, "key: value", "key:" or a "- " item; the
-/// text must hold no NUL byte.
+/// followed by a line that is no key; finding 17: it also loops on block sequence items "- ..."
+/// mixed into the keys). Every line outside a [...] or {...} flow collection must be blank, a
+/// comment, a directive or document marker, "key: value" or "key:" (a VINS yaml has no block
+/// sequences: its matrices hold their data in [...]); the text must hold no NUL byte.
 void checkYamlLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -30,7 +31,7 @@ void checkYamlLines(const std::string& path) {
     const std::size_t b = line.find_first_not_of(" \t");
     const std::string text = b == std::string::npos ? std::string() : line.substr(b);
     if (depth == 0 && !text.empty() && text[0] != '#' && text[0] != '%' && text != "---" &&
-        text != "..." && text.rfind("- ", 0) != 0 && text != "-") {
+        text != "...") {
       std::size_t k = 0;
       if (text[0] == '"' || text[0] == '\'') {
         k = text.find(text[0], 1);
