@@ -148,11 +148,8 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   cl.flag("--aliased-walls", &a.aliased_walls);
   cl.value("--blackout", [&](const std::string& v) {
     const Span span = parseSpan("--blackout", "KIND", v);
-    if (!span.extra.empty()) {
-      const auto& kinds = rgbdi::sim::blackoutKinds();
-      if (std::find(kinds.begin(), kinds.end(), span.extra) == kinds.end())
-        throw UsageError("--blackout: KIND must be black, bare or blur, got '" + span.extra + "'");
-    }
+    if (!span.extra.empty() && !rgbdi::sim::isBlackoutKind(span.extra))
+      throw UsageError("--blackout: KIND must be black, bare or blur, got '" + span.extra + "'");
     a.blackout_start = span.start;
     a.blackout_duration = span.duration;
     a.blackout_kind = span.extra;

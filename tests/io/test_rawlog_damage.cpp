@@ -199,6 +199,16 @@ Bytes serialised(const mrpt::serialization::CSerializable& o, const std::string&
   return readBytes(tmp);
 }
 
+/// 30 serialised IMU records at 200 Hz from kT0 (records 0-29 of a crafted rawlog).
+Bytes imuRecords(const std::string& dir) {
+  Bytes b;
+  for (int i = 0; i < 30; ++i) {
+    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir);
+    b.insert(b.end(), imu.begin(), imu.end());
+  }
+  return b;
+}
+
 // Finding 10 (2026-12-03): MRPT's CSensoryFrame::serializeFrom (version 0) sets the frame's
 // stamp through every element pointer, also an empty one or one of an object that is no
 // observation (SIGSEGV). rgbdi reads sensory frames itself; such elements are reported as damage
@@ -206,11 +216,7 @@ Bytes serialised(const mrpt::serialization::CSerializable& o, const std::string&
 TEST_F(RawlogDamage, SensoryFrameElementsThatAreNoObservationAreReportedAndSkipped) {
   for (const int version : {0, 1, 2}) {
     SCOPED_TRACE("CSensoryFrame version " + std::to_string(version));
-    Bytes b;
-    for (int i = 0; i < 30; ++i) {
-      const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
-      b.insert(b.end(), imu.begin(), imu.end());
-    }
+    Bytes b = imuRecords(dir_);
     putHeader(b, version == 1 ? "CSensoryFrame" : "mrpt::obs::CSensoryFrame", version);
     const std::size_t n_at = b.size() + (version == 0 ? 12 : version == 1 ? 4 : 0);
     b.resize(n_at + 4, 0);
@@ -254,11 +260,7 @@ TEST_F(RawlogDamage, SensoryFrameElementsThatAreNoObservationAreReportedAndSkipp
 // The same inside another object, where MRPT reads the frame: a version-0 frame nested in a
 // top-level one, with a null element (before: SIGSEGV).
 TEST_F(RawlogDamage, NestedSensoryFrameOfVersion0IsACorruptRecord) {
-  Bytes b;
-  for (int i = 0; i < 30; ++i) {
-    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
-    b.insert(b.end(), imu.begin(), imu.end());
-  }
+  Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::obs::CSensoryFrame", 2);
   b.resize(b.size() + 4, 0);
   putLe32(b, b.size() - 4, 1);
@@ -279,11 +281,7 @@ TEST_F(RawlogDamage, NestedSensoryFrameOfVersion0IsACorruptRecord) {
 }
 
 TEST_F(RawlogDamage, SensoryFrameWithoutItsEndFlagIsACorruptRecord) {
-  Bytes b;
-  for (int i = 0; i < 30; ++i) {
-    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
-    b.insert(b.end(), imu.begin(), imu.end());
-  }
+  Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::obs::CSensoryFrame", 2);
   b.resize(b.size() + 4, 0);
   putLe32(b, b.size() - 4, 1);
@@ -375,11 +373,7 @@ TEST_F(RawlogDamage, FileEndingInsideAnEmbeddedJpegIsACorruptRecordNotAnExit) {
 // CImage reads a stored byte count into the buffer it allocated from the stored width, height
 // and channels, without comparing them (a heap overflow by the difference). The count must match.
 TEST_F(RawlogDamage, ImageVersion0WithMoreBytesThanPixelsIsACorruptRecord) {
-  Bytes b;
-  for (int i = 0; i < 30; ++i) {
-    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
-    b.insert(b.end(), imu.begin(), imu.end());
-  }
+  Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::img::CImage", 0);
   const std::size_t at = b.size();
   b.resize(at + 17, 0);
@@ -454,11 +448,7 @@ TEST_F(RawlogDamage, ExternalStorageFlagThatIsNoBoolIsRefusedAsDamage) {
 // element count before reading any element (4 billion entries: gigabytes). rgbdi reads action
 // collections itself, element by element; a damaged count ends where the data does.
 TEST_F(RawlogDamage, ActionCollectionCountBeyondTheDataEndsAtTheData) {
-  Bytes b;
-  for (int i = 0; i < 30; ++i) {
-    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.005 * i), "IMU"), dir_);
-    b.insert(b.end(), imu.begin(), imu.end());
-  }
+  Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::obs::CActionCollection", 0);
   b.resize(b.size() + 4, 0);
   putLe32(b, b.size() - 4, 0xffffffffu);  // 4 294 967 295 actions, none stored

@@ -91,9 +91,10 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   // (Measured: predicting every feature moved the odometry ATE of single sequences by -24 to
   // +41 %, more often up; doc/frontend.md.) Translation is left to KLT.
   const double reach = 0.5 * options_.klt_window_px * std::pow(2.0, options_.klt_pyramid_levels);
-  auto rotated = [&](const cv::Point2f& from, const Eigen::Matrix3d& R_to_from) {
-    const Eigen::Vector3d bearing =
-        R_to_from * cam_.pixelToNormalized({from.x, from.y}).homogeneous();
+  // `xn_from`: from's undistorted normalised position (the tracks keep theirs).
+  auto rotated = [&](const cv::Point2f& from, const Eigen::Vector2d& xn_from,
+                     const Eigen::Matrix3d& R_to_from) {
+    const Eigen::Vector3d bearing = R_to_from * xn_from.homogeneous();
     Eigen::Vector2d uv;
     if (!cam_.project(bearing, uv)) return from;
     const cv::Point2f to(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
@@ -103,7 +104,8 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   if (predict) {
     const Eigen::Matrix3d R_current_previous = R_previous_current->transpose();
     current_uv.resize(n);
-    for (size_t i = 0; i < n; ++i) current_uv[i] = rotated(previous_uv[i], R_current_previous);
+    for (size_t i = 0; i < n; ++i)
+      current_uv[i] = rotated(previous_uv[i], previous_tracks_[i].xn, R_current_previous);
     flags = cv::OPTFLOW_USE_INITIAL_FLOW;
   }
   // No error output (cv::noArray()): OpenCV would interpolate every window once more to fill it,
@@ -143,7 +145,8 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   if (predict) {
     backward.resize(forward.size());
     for (size_t k = 0; k < forward.size(); ++k)
-      backward[k] = rotated(forward[k], *R_previous_current);
+      backward[k] = rotated(forward[k], cam_.pixelToNormalized({forward[k].x, forward[k].y}),
+                            *R_previous_current);
   }
   std::vector<std::uint8_t> back_status;
   if (!forward.empty())

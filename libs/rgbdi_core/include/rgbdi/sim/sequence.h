@@ -74,6 +74,8 @@ struct SimOptions {
 
 /// The values SimOptions::blackout_kind may take: black, bare, blur.
 const std::vector<std::string>& blackoutKinds();
+/// Whether `kind` is one of blackoutKinds().
+bool isBlackoutKind(const std::string& kind);
 
 /// Ground truth of the body (IMU) frame at one IMU-clock stamp.
 struct GroundTruthState {

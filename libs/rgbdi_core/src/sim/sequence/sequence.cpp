@@ -29,6 +29,11 @@ const std::vector<std::string>& blackoutKinds() {
   return kinds;
 }
 
+bool isBlackoutKind(const std::string& kind) {
+  const std::vector<std::string>& kinds = blackoutKinds();
+  return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+}
+
 SimOptions SimOptions::load(IniReader& ini) {
   SimOptions o;
   const std::string s = "sim";
@@ -65,8 +70,7 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   if (!(options.blackout_start_s >= 0.0) || !(options.blackout_duration_s >= 0.0) ||
       !std::isfinite(options.blackout_start_s + options.blackout_duration_s))
     throw std::invalid_argument("SimulatedSequence: blackout start and duration must be >= 0");
-  const std::vector<std::string>& kinds = blackoutKinds();
-  if (std::find(kinds.begin(), kinds.end(), options.blackout_kind) == kinds.end())
+  if (!isBlackoutKind(options.blackout_kind))
     throw std::invalid_argument(
         "SimulatedSequence: blackout kind must be black, bare or blur (got '" +
         options.blackout_kind + "')");
