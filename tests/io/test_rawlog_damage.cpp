@@ -275,8 +275,9 @@ TEST_F(RawlogDamage, NestedSensoryFrameOfVersion0IsACorruptRecord) {
   writeBytes(path, b);
   const ReadResult r = readAll(path);
   EXPECT_EQ(r.error, path +
-                         " record 30: corrupt record (a sensory frame of version 0 inside another "
-                         "object is not read (MRPT cannot check its elements))");
+                         " record 30: corrupt record (a sensory frame inside another object is "
+                         "not read (MRPT allocates its stored element count before reading any "
+                         "element))");
   EXPECT_EQ(r.imu, 30u);
 }
 
@@ -457,6 +458,42 @@ TEST_F(RawlogDamage, ActionCollectionCountBeyondTheDataEndsAtTheData) {
   const ReadResult r = readAll(path);
   EXPECT_EQ(r.error.rfind(path + " record 30: truncated", 0), 0u) << r.error;
   EXPECT_EQ(r.imu, 30u);
+}
+
+// Open finding 1, the nested case (fuzz_rawlog, 2026-12-03 evening: the seventh run's input had
+// its action collection inside another object, where MRPT reads it). Every container MRPT sizes
+// by its stored count, nested at any depth in a top-level frame or action collection, is
+// refused as damage of that record before MRPT allocates anything.
+TEST_F(RawlogDamage, NestedContainerWithACountBeyondTheDataIsRefusedBeforeMrptAllocatesIt) {
+  struct Case {
+    std::string outer, inner, what;
+    int inner_version;
+  };
+  for (const Case& c :
+       {Case{"mrpt::obs::CSensoryFrame", "mrpt::obs::CActionCollection", "an action collection", 0},
+        Case{"mrpt::obs::CActionCollection", "mrpt::obs::CActionCollection", "an action collection",
+             0},
+        Case{"mrpt::obs::CSensoryFrame", "mrpt::obs::CSensoryFrame", "a sensory frame", 2},
+        Case{"mrpt::obs::CActionCollection", "CSensoryFrame", "a sensory frame", 1}}) {
+    SCOPED_TRACE(c.inner + " in " + c.outer);
+    Bytes b = imuRecords(dir_);
+    putHeader(b, c.outer, c.outer == "mrpt::obs::CSensoryFrame" ? 2 : 0);
+    b.resize(b.size() + 4, 0);
+    putLe32(b, b.size() - 4, 1);
+    putHeader(b, c.inner, c.inner_version);
+    if (c.inner_version == 1) b.resize(b.size() + 4, 0);  // a frame's ID
+    b.resize(b.size() + 4, 0);
+    putLe32(b, b.size() - 4, 0xfffffff0u);  // 4 billion elements, none stored
+    const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.2), "IMU"), dir_);
+    b.insert(b.end(), imu.begin(), imu.end());
+    const std::string path = dir_ + "/nested.rawlog";
+    writeBytes(path, b);
+    const ReadResult r = readAll(path);
+    EXPECT_EQ(r.error, path + " record 30: corrupt record (" + c.what +
+                           " inside another object is not read (MRPT allocates its stored "
+                           "element count before reading any element))");
+    EXPECT_EQ(r.imu, 30u);
+  }
 }
 
 }  // namespace

@@ -62,15 +62,13 @@ void CImageGuard::beforeRead(std::size_t count) {
 
 void CImageGuard::startPayload(int version) {
   version_ = version;
-  if (nested_frame_) {
-    // A CSensoryFrame that MRPT reads itself (RawlogSource reads top-level ones): its version 0
-    // writes the frame's stamp through every element pointer, also null ones (finding 10).
-    if (version == 0)
-      refuse(
-          "a sensory frame of version 0 inside another object is not read (MRPT cannot "
-          "check its elements)");
-    step_ = Step::Idle;
-    return;
+  if (!nested_container_.empty()) {
+    // RawlogSource reads top-level sensory frames and action collections itself. Inside another
+    // object MRPT reads them: it resizes their element list to the stored count before it reads
+    // any element (a damaged count: gigabytes of empty entries, finding 1), and a version-0
+    // frame writes its stamp through every element pointer, also null ones (finding 10).
+    refuse(nested_container_ + " inside another object is not read (MRPT allocates " +
+           "its stored element count before reading any element)");
   }
   if (version == 0) {
     step_ = Step::V0Width;
@@ -87,8 +85,9 @@ void CImageGuard::watchHeader(const std::uint8_t* data, std::size_t n, std::size
   // MRPT 2 stores the class name with its namespace, MRPT 1 without.
   const bool image = n == count && storedClassIs(data, n, "CImage");
   const bool frame = n == count && storedClassIs(data, n, "CSensoryFrame");
-  if (image || frame) {
-    nested_frame_ = frame;
+  const bool actions = n == count && storedClassIs(data, n, "CActionCollection");
+  if (image || frame || actions) {
+    nested_container_ = frame ? "a sensory frame" : actions ? "an action collection" : "";
     if (last_count_ == 1 && last_bytes_ == (0x80u | count)) {
       step_ = Step::Version8;
     } else if (last_count_ == 3 && last_bytes_ == 0 && before_last_count_ == 1 &&

@@ -11,9 +11,10 @@
 //  - CImage version 0 reads a stored byte count into a buffer sized by the stored width, height
 //    and channels, without comparing them: a count above the buffer overflowed the heap. A
 //    count that does not match the pixels is refused here before the read.
-//  - A CSensoryFrame nested in another object (RawlogSource reads top-level ones itself) of
-//    version 0 is refused: MRPT writes its stamp through every element pointer, also null ones
-//    (finding 10).
+//  - A CSensoryFrame or CActionCollection nested in another object (RawlogSource reads
+//    top-level ones itself) is refused: MRPT resizes its element list to the stored count before
+//    reading any element (a damaged count takes gigabytes, finding 1), and a version-0 frame
+//    writes its stamp through every element pointer, also null ones (finding 10).
 // A CImage is recognised by the reads of its object header (CArchive reads the length byte of
 // the class name, then the name "CImage", then the version), wherever it is nested; the reads
 // that follow are matched against MRPT 2.5's CImage::serializeFrom, and anything else (another
@@ -67,7 +68,8 @@ class CImageGuard {
 
   Step step_ = Step::Idle;
   int version_ = 0;
-  bool nested_frame_ = false;  ///< the header read is a CSensoryFrame's, not a CImage's
+  /// "a sensory frame" or "an action collection" if the header read is one's, empty for a CImage
+  std::string nested_container_;
   std::int64_t width_ = 0, height_ = 0, channels_ = 0;
   std::uint64_t length_ = 0;
   // The last two reads (for the object header): their size and first byte(s).
