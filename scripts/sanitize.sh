@@ -19,8 +19,8 @@
 #   RGBDI_SAN_TIMEOUT (3600)   [s] limit per test executable (a hang counts as a failure)
 #   BUILD_DIR                  instead of build-asan/ or build-tsan/ (e.g. to time a cold build
 #                              with CCACHE_DISABLE=1)
-# Suppressions (third-party reports only, each with its reason): scripts/sanitize-lsan.supp,
-# scripts/sanitize-tsan.supp.
+# Suppressions (third-party reports only, each with its reason): fuzz/lsan.supp (the leaks of
+# MRPT's readers on damaged input, shared with scripts/fuzz.sh), scripts/sanitize-tsan.supp.
 # Exit status: 0 all passed, 1 a test failed or a sanitizer reported, 2 usage.
 # Prints the wall time of the build, of each executable and of the run (doc/robustness.md).
 set -euo pipefail
@@ -84,7 +84,7 @@ supp() { [ -f "scripts/sanitize-$1.supp" ] && echo ":suppressions=$PWD/scripts/s
 # (replay_main.cpp), and MRPT's allocation by a corrupt count (doc/robustness.md, finding 1) then
 # grew fuzz_replay_rawlog to 22 GB until the kernel killed it: stop at 4 GB with a report instead.
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=${RGBDI_ASAN_LEAKS:-1}:abort_on_error=0:hard_rss_limit_mb=${RGBDI_ASAN_RSS_MB:-4096}"
-export LSAN_OPTIONS="print_suppressions=0$(supp lsan || true)"
+export LSAN_OPTIONS="print_suppressions=0:suppressions=$PWD/fuzz/lsan.supp"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1$(supp tsan || true)"
 export RGBDI_BIN_DIR="$PWD/$dir/bin"

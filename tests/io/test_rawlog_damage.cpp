@@ -42,12 +42,18 @@ using Bytes = std::vector<std::uint8_t>;
 
 constexpr double kT0 = 1700000000.0;
 
-/// ASan aborts on allocation requests it cannot serve unless allocator_may_return_null=1: the
-/// tests of failing allocations need the heap's ordinary answer (nullptr from aligned_alloc).
+#ifdef RGBDI_TEST_ASAN
+/// ASan aborts on allocation requests it cannot serve unless allocator_may_return_null=1; the
+/// tests of failing allocations need the heap's ordinary answer (nullptr from aligned_alloc), so
+/// this executable asks for it (ASAN_OPTIONS from the environment still overrides it).
+extern "C" const char* __asan_default_options() { return "allocator_may_return_null=1"; }
+#endif
+
+/// False only under ASan told by ASAN_OPTIONS not to return null (it would abort on the request).
 bool allocationFailuresAreReported() {
 #ifdef RGBDI_TEST_ASAN
   const char* o = std::getenv("ASAN_OPTIONS");
-  return o != nullptr && std::string(o).find("allocator_may_return_null=1") != std::string::npos;
+  return o == nullptr || std::string(o).find("allocator_may_return_null=0") == std::string::npos;
 #else
   return true;
 #endif
@@ -154,7 +160,7 @@ class RawlogDamage : public ::testing::Test {
 // also checks that the definition is the one MRPT's libraries use.
 TEST(MrptAlignedMalloc, AFailedAllocationThrowsInsteadOfReturningNull) {
   if (!allocationFailuresAreReported())
-    GTEST_SKIP() << "ASan without allocator_may_return_null=1 aborts on the request itself";
+    GTEST_SKIP() << "ASan with allocator_may_return_null=0 aborts on the request itself";
   EXPECT_THROW((void)mrpt::aligned_calloc(std::size_t{1} << 62, 16), std::bad_alloc);
   EXPECT_THROW((void)mrpt::aligned_malloc(std::size_t{1} << 62, 16), std::bad_alloc);
   void* p = mrpt::aligned_malloc(100, 32);  // rounded up to 128 bytes, aligned: as MRPT's own
@@ -166,7 +172,7 @@ TEST(MrptAlignedMalloc, AFailedAllocationThrowsInsteadOfReturningNull) {
 
 TEST_F(RawlogDamage, RangeImageSizeBeyondMemoryIsRefusedNamingTheRecord) {
   if (!allocationFailuresAreReported())
-    GTEST_SKIP() << "ASan without allocator_may_return_null=1 aborts on the request itself";
+    GTEST_SKIP() << "ASan with allocator_may_return_null=0 aborts on the request itself";
   const std::string path = writeFrameRawlog(dir_);
   Bytes b = readBytes(path);
   // The range image is stored as rows, cols (uint32) and the values: 2^30 x 2^30 values ask
