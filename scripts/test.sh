@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds rgbdi (Release) and runs the whole test suite with ctest, then the
 # sanitizer runs that fit CI's time (issue 14 point 4): AddressSanitizer + UndefinedBehaviorSanitizer
-# on the unit tests of the readers of outside data (tests/io, tests/common, tests/eval) and two
+# on the unit tests of the readers of outside data (tests/io, tests/common, tests/eval) and three
 # fuzz replays, ThreadSanitizer on the stage worker that joins the pipeline's threads. The full
 # sanitizer runs: scripts/sanitize.sh asan|tsan (doc/robustness.md "Sanitizers").
 # Environment: BUILD_DIR (build), JOBS (nproc), RGBDI_TEST_SANITIZERS=0 skips the sanitizer runs.
@@ -18,6 +18,7 @@ if [ "${RGBDI_TEST_SANITIZERS:-1}" != 0 ]; then
   for f in tests/io/test_*.cpp tests/common/test_*.cpp tests/eval/test_*.cpp; do
     asan+=("$(basename "$f" .cpp)")
   done
-  JOBS=$JOBS bash scripts/sanitize.sh asan "${asan[@]}" fuzz_replay_tum fuzz_replay_image_decode
+  JOBS=$JOBS bash scripts/sanitize.sh asan "${asan[@]}" fuzz_replay_rawlog fuzz_replay_tum \
+    fuzz_replay_image_decode
   JOBS=$JOBS bash scripts/sanitize.sh tsan test_stage_worker
 fi
