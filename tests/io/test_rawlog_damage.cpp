@@ -502,5 +502,40 @@ TEST_F(RawlogDamage, NestedContainerWithACountBeyondTheDataIsRefusedBeforeMrptAl
   }
 }
 
+// Finding 1 once more (fuzz_rawlog, 2026-12-03 night, out of memory after 2 129 runs): MRPT takes
+// a stored class name as a C string, so "=rpt::obs::CActionCollection" followed by NUL bytes is
+// an action collection to MRPT, and was none to rgbdi's checks, which compared every stored
+// byte. Top level (rgbdi reads it) and nested (refused) with NUL-padded names.
+TEST_F(RawlogDamage, ClassNamesEndAtTheirFirstNulByteAsForMrpt) {
+  {
+    Bytes b = imuRecords(dir_);
+    putHeader(b, std::string("=rpt::obs::CActionCollection\0\0\0", 31), 0);
+    b.resize(b.size() + 4, 0);
+    putLe32(b, b.size() - 4, 0xfffffff0u);
+    const std::string path = dir_ + "/nul_top.rawlog";
+    writeBytes(path, b);
+    const ReadResult r = readAll(path);
+    EXPECT_EQ(r.error.rfind(path + " record 30: truncated", 0), 0u) << r.error;
+    EXPECT_EQ(r.imu, 30u);
+  }
+  {
+    Bytes b = imuRecords(dir_);
+    putHeader(b, "mrpt::obs::CSensoryFrame", 2);
+    b.resize(b.size() + 4, 0);
+    putLe32(b, b.size() - 4, 1);
+    putHeader(b, std::string("mrpt::obs::CActionCollection\0x", 30), 0);
+    b.resize(b.size() + 4, 0);
+    putLe32(b, b.size() - 4, 0xfffffff0u);
+    const std::string path = dir_ + "/nul_nested.rawlog";
+    writeBytes(path, b);
+    const ReadResult r = readAll(path);
+    EXPECT_EQ(r.error, path +
+                           " record 30: corrupt record (an action collection inside another "
+                           "object is not read (MRPT allocates its stored element count "
+                           "before reading any element))");
+    EXPECT_EQ(r.imu, 30u);
+  }
+}
+
 }  // namespace
 }  // namespace rgbdi::io

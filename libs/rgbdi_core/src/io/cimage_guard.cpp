@@ -1,5 +1,6 @@
 #include "io/cimage_guard.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <opencv2/core.hpp>
@@ -34,7 +35,11 @@ bool storedClassIs(const std::uint8_t* name, std::size_t size, const std::string
   // MRPT 2 stores "mrpt::img::CImage", MRPT 1 "CImage"; MRPT finds the class by the part after
   // the namespace, whatever precedes it (fuzz_rawlog, 2026-12-03: "mr\x90\x8b\xc5\xbcimg::CImage"
   // was read as a CImage), so this compares that part only.
-  const std::string n(reinterpret_cast<const char*>(name), size);
+  // MRPT also takes the stored name as a C string: it ends at the first NUL byte (fuzz_rawlog,
+  // 2026-12-03 night: "=rpt::obs::CActionCollection\0\0\0" was read as a CActionCollection).
+  const auto* chars = reinterpret_cast<const char*>(name);
+  const std::string n(chars,
+                      static_cast<std::size_t>(std::find(chars, chars + size, '\0') - chars));
   return n == cls ||
          (n.size() > cls.size() + 1 && n.compare(n.size() - cls.size(), cls.size(), cls) == 0 &&
           n.compare(n.size() - cls.size() - 2, 2, "::") == 0);
