@@ -195,6 +195,30 @@ void putHeader(Bytes& b, const std::string& class_name, int version) {
   if (version >= 0) b.push_back(static_cast<std::uint8_t>(version));
 }
 
+void appendLe32(Bytes& b, std::uint32_t v) {
+  b.resize(b.size() + 4, 0);
+  putLe32(b, b.size() - 4, v);
+}
+
+/// A top-level container (a sensory frame of version 2 or an action collection) whose one
+/// element is the container `inner` of `inner_version` claiming 4 billion elements, none stored.
+void putNestedContainer(Bytes& b, const std::string& outer, const std::string& inner,
+                        int inner_version) {
+  putHeader(b, outer, outer == "mrpt::obs::CSensoryFrame" ? 2 : 0);
+  appendLe32(b, 1);
+  putHeader(b, inner, inner_version);
+  if (inner_version == 1) appendLe32(b, 0);  // a frame's ID
+  appendLe32(b, 0xfffffff0u);
+}
+
+/// The refusal of a container (`what`: "a sensory frame", "an action collection") that MRPT
+/// would read inside another object, record 30 of `path`.
+std::string nestedContainerRefusal(const std::string& path, const std::string& what) {
+  return path + " record 30: corrupt record (" + what +
+         " inside another object is not read (MRPT allocates its stored element count before "
+         "reading any element))";
+}
+
 Bytes serialised(const mrpt::serialization::CSerializable& o, const std::string& dir) {
   const std::string tmp = dir + "/object.bin";
   {
@@ -268,8 +292,7 @@ TEST_F(RawlogDamage, SensoryFrameElementsThatAreNoObservationAreReportedAndSkipp
 TEST_F(RawlogDamage, NestedSensoryFrameOfVersion0IsACorruptRecord) {
   Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::obs::CSensoryFrame", 2);
-  b.resize(b.size() + 4, 0);
-  putLe32(b, b.size() - 4, 1);
+  appendLe32(b, 1);
   putHeader(b, "mrpt::obs::CSensoryFrame", 0);  // ID, stamp, 1 element: null
   b.resize(b.size() + 16, 0);
   putLe32(b, b.size() - 4, 1);
@@ -280,18 +303,14 @@ TEST_F(RawlogDamage, NestedSensoryFrameOfVersion0IsACorruptRecord) {
   const std::string path = dir_ + "/sf_nested.rawlog";
   writeBytes(path, b);
   const ReadResult r = readAll(path);
-  EXPECT_EQ(r.error, path +
-                         " record 30: corrupt record (a sensory frame inside another object is "
-                         "not read (MRPT allocates its stored element count before reading any "
-                         "element))");
+  EXPECT_EQ(r.error, nestedContainerRefusal(path, "a sensory frame"));
   EXPECT_EQ(r.imu, 30u);
 }
 
 TEST_F(RawlogDamage, SensoryFrameWithoutItsEndFlagIsACorruptRecord) {
   Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::obs::CSensoryFrame", 2);
-  b.resize(b.size() + 4, 0);
-  putLe32(b, b.size() - 4, 1);
+  appendLe32(b, 1);
   const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.2), "IMU"), dir_);
   b.insert(b.end(), imu.begin(), imu.end());
   b.push_back(0x77);  // not the end flag
@@ -457,8 +476,7 @@ TEST_F(RawlogDamage, ExternalStorageFlagThatIsNoBoolIsRefusedAsDamage) {
 TEST_F(RawlogDamage, ActionCollectionCountBeyondTheDataEndsAtTheData) {
   Bytes b = imuRecords(dir_);
   putHeader(b, "mrpt::obs::CActionCollection", 0);
-  b.resize(b.size() + 4, 0);
-  putLe32(b, b.size() - 4, 0xffffffffu);  // 4 294 967 295 actions, none stored
+  appendLe32(b, 0xffffffffu);  // 4 294 967 295 actions, none stored
   const std::string path = dir_ + "/actions.rawlog";
   writeBytes(path, b);
   const ReadResult r = readAll(path);
@@ -483,21 +501,13 @@ TEST_F(RawlogDamage, NestedContainerWithACountBeyondTheDataIsRefusedBeforeMrptAl
         Case{"mrpt::obs::CActionCollection", "CSensoryFrame", "a sensory frame", 1}}) {
     SCOPED_TRACE(c.inner + " in " + c.outer);
     Bytes b = imuRecords(dir_);
-    putHeader(b, c.outer, c.outer == "mrpt::obs::CSensoryFrame" ? 2 : 0);
-    b.resize(b.size() + 4, 0);
-    putLe32(b, b.size() - 4, 1);
-    putHeader(b, c.inner, c.inner_version);
-    if (c.inner_version == 1) b.resize(b.size() + 4, 0);  // a frame's ID
-    b.resize(b.size() + 4, 0);
-    putLe32(b, b.size() - 4, 0xfffffff0u);  // 4 billion elements, none stored
+    putNestedContainer(b, c.outer, c.inner, c.inner_version);
     const Bytes imu = serialised(*toMrpt(imuAt(kT0 + 0.2), "IMU"), dir_);
     b.insert(b.end(), imu.begin(), imu.end());
     const std::string path = dir_ + "/nested.rawlog";
     writeBytes(path, b);
     const ReadResult r = readAll(path);
-    EXPECT_EQ(r.error, path + " record 30: corrupt record (" + c.what +
-                           " inside another object is not read (MRPT allocates its stored "
-                           "element count before reading any element))");
+    EXPECT_EQ(r.error, nestedContainerRefusal(path, c.what));
     EXPECT_EQ(r.imu, 30u);
   }
 }
@@ -510,8 +520,7 @@ TEST_F(RawlogDamage, ClassNamesEndAtTheirFirstNulByteAsForMrpt) {
   {
     Bytes b = imuRecords(dir_);
     putHeader(b, std::string("=rpt::obs::CActionCollection\0\0\0", 31), 0);
-    b.resize(b.size() + 4, 0);
-    putLe32(b, b.size() - 4, 0xfffffff0u);
+    appendLe32(b, 0xfffffff0u);
     const std::string path = dir_ + "/nul_top.rawlog";
     writeBytes(path, b);
     const ReadResult r = readAll(path);
@@ -520,19 +529,12 @@ TEST_F(RawlogDamage, ClassNamesEndAtTheirFirstNulByteAsForMrpt) {
   }
   {
     Bytes b = imuRecords(dir_);
-    putHeader(b, "mrpt::obs::CSensoryFrame", 2);
-    b.resize(b.size() + 4, 0);
-    putLe32(b, b.size() - 4, 1);
-    putHeader(b, std::string("mrpt::obs::CActionCollection\0x", 30), 0);
-    b.resize(b.size() + 4, 0);
-    putLe32(b, b.size() - 4, 0xfffffff0u);
+    putNestedContainer(b, "mrpt::obs::CSensoryFrame",
+                       std::string("mrpt::obs::CActionCollection\0x", 30), 0);
     const std::string path = dir_ + "/nul_nested.rawlog";
     writeBytes(path, b);
     const ReadResult r = readAll(path);
-    EXPECT_EQ(r.error, path +
-                           " record 30: corrupt record (an action collection inside another "
-                           "object is not read (MRPT allocates its stored element count "
-                           "before reading any element))");
+    EXPECT_EQ(r.error, nestedContainerRefusal(path, "an action collection"));
     EXPECT_EQ(r.imu, 30u);
   }
 }
