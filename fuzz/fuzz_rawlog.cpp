@@ -17,14 +17,25 @@
 // only covers malloc), and libFuzzer stops at the first such input, so nothing behind it was
 // fuzzed. In THIS binary only (the libFuzzer target and its replay), operator new / new[]
 // refuse requests above kAllocationCap with std::bad_alloc, the way an exhausted heap does, so
-// the reader's refusal path runs and fuzzing goes on. malloc/free serve them, so every
-// new/delete pair stays consistent; the aligned forms are left to the runtime (their own pair).
+// the reader's refusal path runs and fuzzing goes on. malloc/aligned_alloc and free serve
+// them, so every new/delete pair stays consistent. The aligned forms are capped too (fuzz_rawlog,
+// 2026-12-03 night: MRPT's vector of CPose2D asked for 206 GB through `operator new(size_t,
+// align_val_t)`, and ASan aborted).
 namespace {
 constexpr std::size_t kAllocationCap = std::size_t{256} << 20;  // 256 MiB: 20x a 1280x720 frame
 
 void* cappedNew(std::size_t size) {
   if (size > kAllocationCap) throw std::bad_alloc();
   void* p = std::malloc(size == 0 ? 1 : size);
+  if (p == nullptr) throw std::bad_alloc();
+  return p;
+}
+
+void* cappedAlignedNew(std::size_t size, std::align_val_t alignment) {
+  const auto a = static_cast<std::size_t>(alignment);
+  if (size > kAllocationCap) throw std::bad_alloc();
+  // aligned_alloc wants a size that is a multiple of the alignment.
+  void* p = std::aligned_alloc(a, size == 0 ? a : (size + a - 1) / a * a);
   if (p == nullptr) throw std::bad_alloc();
   return p;
 }
@@ -44,6 +55,24 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
 void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void* operator new(std::size_t size, std::align_val_t a) { return cappedAlignedNew(size, a); }
+void* operator new[](std::size_t size, std::align_val_t a) { return cappedAlignedNew(size, a); }
+void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
+  try {
+    return cappedAlignedNew(size, a);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t& t) noexcept {
+  return operator new(size, a, t);
+}
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rgbdi::io;
