@@ -22,7 +22,7 @@
 // 2026-12-03 night: MRPT's vector of CPose2D asked for 206 GB through `operator new(size_t,
 // align_val_t)`, and ASan aborted).
 namespace {
-constexpr std::size_t kAllocationCap = std::size_t{256} << 20;  // 256 MiB: 20x a 1280x720 frame
+constexpr std::size_t kAllocationCap = std::size_t{64} << 20;  // 64 MiB: 2.5x a 3840x2160 RGB image
 
 void* cappedNew(std::size_t size) {
   if (size > kAllocationCap) throw std::bad_alloc();
