@@ -212,6 +212,18 @@ TEST(VinsYaml, LinesThatAreNoKeysAreRefusedBeforeOpenCvParses) {
     EXPECT_EQ(std::string(e.what()),
               items + " line 4: '-  ' is not 'key: value' (a VINS yaml is a mapping of keys)");
   }
+  // Finding 18 (fuzz_vins_yaml, 2026-12-03 night): a directive line with a bracket opened a flow
+  // collection for the line check, so the lines after it were not checked; OpenCV looped on
+  // them (the fuzzer's input shortened by hand; it still makes cv::FileStorage loop).
+  const std::string directive = write(dir, "directive.yaml", "%YAML:1.![:\n   a:6\n  : 2\n-\n");
+  try {
+    readVinsYaml(directive);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), directive +
+                                         " line 1: '%YAML:1.![:' is not a YAML version "
+                                         "directive (%YAML:1.0)");
+  }
   const std::string nul = write(dir, "nul.yaml", std::string("%YAML:1.0\nacc_n: 0.1\0\n", 22));
   EXPECT_THROW(readVinsYaml(nul), ConfigError);
   // Flow sequences over several lines, comments, quoted keys and CRLF line ends are YAML a VINS

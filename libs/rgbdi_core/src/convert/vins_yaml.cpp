@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <opencv2/core.hpp>
+#include <regex>
 #include <sstream>
 
 #include "rgbdi/common/ini_reader.h"
@@ -19,7 +20,8 @@ namespace {
 /// followed by a line that is no key; finding 17: it also loops on block sequence items "- ..."
 /// mixed into the keys). Every line outside a [...] or {...} flow collection must be blank, a
 /// comment, a directive or document marker, "key: value" or "key:" (a VINS yaml has no block
-/// sequences: its matrices hold their data in [...]); the text must hold no NUL byte.
+/// sequences: its matrices hold their data in [...]); the text must hold no NUL byte; a
+/// directive must be the YAML version (finding 18).
 void checkYamlLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -30,8 +32,17 @@ void checkYamlLines(const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::size_t b = line.find_first_not_of(" \t");
     const std::string text = b == std::string::npos ? std::string() : line.substr(b);
-    if (depth == 0 && !text.empty() && text[0] != '#' && text[0] != '%' && text != "---" &&
-        text != "...") {
+    if (depth == 0 && !text.empty() && text[0] == '%') {
+      // Only the YAML version directive OpenCV writes, and none of its characters opens a flow
+      // collection (finding 18: "%YAML:1.![:" opened one, and the lines after it went
+      // unchecked into a parser loop).
+      if (!std::regex_match(text, std::regex(R"(%YAML[: ]1\.[0-9]+)")))
+        throw ConfigError(path + " line " + std::to_string(number) + ": '" +
+                          (text.size() > 40 ? text.substr(0, 40) + "..." : text) +
+                          "' is not a YAML version directive (%YAML:1.0)");
+      continue;
+    }
+    if (depth == 0 && !text.empty() && text[0] != '#' && text != "---" && text != "...") {
       std::size_t k = 0;
       if (text[0] == '"' || text[0] == '\'') {
         k = text.find(text[0], 1);
