@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <ros/serialization.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -202,6 +203,38 @@ TEST(BagStructureCheck, ACorruptRecordHeaderInTheIndexIsReadInRecoveryModeWithIt
   }
   EXPECT_EQ(n, messages);
   EXPECT_FALSE(r.next(m));
+}
+
+// Fuzz finding of 2026-12-03 night (fuzz_bag, heap-buffer-overflow in ros::Header::parse from
+// Bag::readConnectionRecord): a connection record's data is the connection header, whose field
+// lengths rosbag copies unchecked. A field length beyond it sends the bag to recovery mode.
+TEST(BagStructureCheck, AConnectionHeaderFieldBeyondItsHeaderIsCaughtBeforeRosbagReadsIt) {
+  const std::string dir = test::makeTempDir("bag_check_connection");
+  const std::string path = writeBag(dir, Compression::None);
+  std::size_t messages = 0;
+  {
+    BagReader clean(path);
+    ASSERT_TRUE(clean.indexed());
+    messages = countMessages(clean);
+  }
+  auto b = readBytes(path);
+  const auto recs = records(b);
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, &b[recs.front().value_at.at("index_pos")], 8);
+  const auto connection = std::find_if(recs.begin(), recs.end(), [&](const RecordAt& r) {
+    return r.op == 0x07 && r.pos >= index_pos;
+  });
+  ASSERT_NE(connection, recs.end());
+  const std::size_t data_at = connection->pos + 4 + getU32(b, connection->pos) + 4;
+  putU32(b, data_at, 0x7fffu);  // the first field of the connection header: 32 KB
+  writeBytes(path, b);
+  BagReader r(path);
+  EXPECT_FALSE(r.indexed());
+  EXPECT_NE(r.recoveryReason().find(path + ": byte " + std::to_string(connection->pos) +
+                                    ": corrupt connection header field"),
+            std::string::npos)
+      << r.recoveryReason();
+  EXPECT_EQ(countMessages(r), messages);  // recovery mode finds the connections in the chunks
 }
 
 TEST(BagStructureCheck, AChunkSizeAboveTheLimitIsABagErrorNamingFileAndOffset) {

@@ -89,6 +89,24 @@ class StructureWalk {
     return u32(b);
   }
 
+  /// The fields (u32 length, "name=value") of a header of `len` bytes at `h`, each inside it.
+  Fields headerFields(const std::uint8_t* h, std::uint32_t len, std::uint64_t pos,
+                      const std::string& what) {
+    Fields fields;
+    for (std::uint32_t off = 0; off < len;) {
+      const std::uint32_t n = len - off >= kRecordLengthBytes ? u32(h + off) : 0;
+      off += kRecordLengthBytes;
+      if (off > len || n > len - off) fail(pos, "corrupt " + what + " field");
+      const char* s = reinterpret_cast<const char*>(h + off);
+      const void* eq = std::memchr(s, '=', n);
+      if (!eq) fail(pos, what + " field without '='");
+      const std::size_t name_len = static_cast<std::size_t>(static_cast<const char*>(eq) - s);
+      fields[std::string(s, name_len)] = std::string(s + name_len + 1, n - name_len - 1);
+      off += n;
+    }
+    return fields;
+  }
+
   Record readRecord(std::uint64_t pos) {
     Record r;
     r.pos = pos;
@@ -104,17 +122,7 @@ class StructureWalk {
                     " bytes)");
     std::vector<std::uint8_t> h(header_len + kRecordLengthBytes);
     read(pos + kRecordLengthBytes, h.data(), h.size());
-    for (std::uint32_t off = 0; off < header_len;) {
-      const std::uint32_t len = header_len - off >= kRecordLengthBytes ? u32(h.data() + off) : 0;
-      off += kRecordLengthBytes;
-      if (off > header_len || len > header_len - off) fail(pos, "corrupt record header field");
-      const char* s = reinterpret_cast<const char*>(h.data() + off);
-      const void* eq = std::memchr(s, '=', len);
-      if (!eq) fail(pos, "record header field without '='");
-      const std::size_t name_len = static_cast<std::size_t>(static_cast<const char*>(eq) - s);
-      r.header[std::string(s, name_len)] = std::string(s + name_len + 1, len - name_len - 1);
-      off += len;
-    }
+    r.header = headerFields(h.data(), header_len, pos, "record header");
     if (!field(r.header, "op", r.op)) fail(pos, "record without an op field");
     r.data_len = u32(h.data() + header_len);
     r.data_pos = pos + 2ull * kRecordLengthBytes + header_len;
@@ -153,8 +161,22 @@ class StructureWalk {
         chunk_info_targets_.emplace_back(r.pos, chunk_pos);
         break;
       }
+      case kOpConnection: {
+        // Its data is the connection header (topic, type, md5sum, definition), which rosbag
+        // parses with ros::Header::parse: that copies each field by its stored length without
+        // checking it against the header (fuzz_bag 2026-12-03 night: heap-buffer-overflow in
+        // Bag::readConnectionRecord). Every field must lie inside the data.
+        if (r.data_len > limits_.max_record_header_bytes)
+          fail(r.pos, "connection header of " + std::to_string(r.data_len) + " bytes (limit " +
+                          std::to_string(limits_.max_record_header_bytes) + ")");
+        std::vector<std::uint8_t> data(r.data_len);
+        read(r.data_pos, data.data(), data.size());
+        headerFields(data.data(), static_cast<std::uint32_t>(r.data_len), r.pos,
+                     "connection header");
+        break;
+      }
       default:
-        break;  // connections and messages: sizes checked by readRecord is all rosbag needs
+        break;  // messages: sizes checked by readRecord is all rosbag needs
     }
   }
 
