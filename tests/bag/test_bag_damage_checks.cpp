@@ -115,6 +115,27 @@ std::size_t countMessages(BagReader& r) {
 
 }  // namespace
 
+/// A bag written by writeBag, its messages counted by an indexed read, its bytes and records
+/// for patching, and its index_pos.
+struct BagToDamage {
+  std::string path;
+  std::size_t messages = 0;
+  std::vector<std::uint8_t> bytes;
+  std::vector<RecordAt> records;
+  std::uint64_t index_pos = 0;
+};
+BagToDamage bagToDamage(const std::string& name, Compression c) {
+  BagToDamage d;
+  d.path = writeBag(test::makeTempDir(name), c);
+  BagReader clean(d.path);
+  EXPECT_TRUE(clean.indexed());
+  d.messages = countMessages(clean);
+  d.bytes = readBytes(d.path);
+  d.records = records(d.bytes);
+  std::memcpy(&d.index_pos, &d.bytes[d.records.front().value_at.at("index_pos")], 8);
+  return d;
+}
+
 TEST(RosWire, ACleanImageMessageDeserialisesAsRos) {
   const auto bytes = serialized(smallImage());
   sensor_msgs::Image m;
@@ -168,20 +189,12 @@ TEST(RosWire, ACorruptStringLengthOrATruncatedMessageIsRefused) {
 }
 
 TEST(BagStructureCheck, ACorruptRecordHeaderInTheIndexIsReadInRecoveryModeWithItsOffset) {
-  const std::string dir = test::makeTempDir("bag_check_index");
-  const std::string path = writeBag(dir, Compression::Bz2);
-  std::size_t messages = 0;
-  {
-    BagReader clean(path);
-    ASSERT_TRUE(clean.indexed());
-    messages = countMessages(clean);
-  }
-  auto b = readBytes(path);
-  const auto recs = records(b);
+  BagToDamage d = bagToDamage("bag_check_index", Compression::Bz2);
+  const std::string& path = d.path;
+  const std::size_t messages = d.messages, index_pos = d.index_pos;
+  auto& b = d.bytes;
   // Fuzz finding 3 (replay input 158): a burst over the index section; rosbag reallocated by
   // the header length of the record at index_pos and aborted.
-  std::uint64_t index_pos = 0;
-  std::memcpy(&index_pos, &b[recs.front().value_at.at("index_pos")], 8);
   putU32(b, index_pos, 0xf0000000u);
   writeBytes(path, b);
   BagReader r(path);
@@ -209,18 +222,11 @@ TEST(BagStructureCheck, ACorruptRecordHeaderInTheIndexIsReadInRecoveryModeWithIt
 // Bag::readConnectionRecord): a connection record's data is the connection header, whose field
 // lengths rosbag copies unchecked. A field length beyond it sends the bag to recovery mode.
 TEST(BagStructureCheck, AConnectionHeaderFieldBeyondItsHeaderIsCaughtBeforeRosbagReadsIt) {
-  const std::string dir = test::makeTempDir("bag_check_connection");
-  const std::string path = writeBag(dir, Compression::None);
-  std::size_t messages = 0;
-  {
-    BagReader clean(path);
-    ASSERT_TRUE(clean.indexed());
-    messages = countMessages(clean);
-  }
-  auto b = readBytes(path);
-  const auto recs = records(b);
-  std::uint64_t index_pos = 0;
-  std::memcpy(&index_pos, &b[recs.front().value_at.at("index_pos")], 8);
+  BagToDamage d = bagToDamage("bag_check_connection", Compression::None);
+  const std::string& path = d.path;
+  const std::size_t messages = d.messages, index_pos = d.index_pos;
+  auto& b = d.bytes;
+  const auto& recs = d.records;
   const auto connection = std::find_if(recs.begin(), recs.end(), [&](const RecordAt& r) {
     return r.op == 0x07 && r.pos >= index_pos;
   });
