@@ -32,14 +32,16 @@ void checkYamlLines(const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::size_t b = line.find_first_not_of(" \t");
     const std::string text = b == std::string::npos ? std::string() : line.substr(b);
+    const auto refuse = [&](const std::string& why) {
+      const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+      throw ConfigError(path + " line " + std::to_string(number) + ": '" + shown + "' " + why);
+    };
     if (depth == 0 && !text.empty() && text[0] == '%') {
       // Only the YAML version directive OpenCV writes, and none of its characters opens a flow
       // collection (finding 18: "%YAML:1.![:" opened one, and the lines after it went
       // unchecked into a parser loop).
-      if (!std::regex_match(text, std::regex(R"(%YAML[: ]1\.[0-9]+)")))
-        throw ConfigError(path + " line " + std::to_string(number) + ": '" +
-                          (text.size() > 40 ? text.substr(0, 40) + "..." : text) +
-                          "' is not a YAML version directive (%YAML:1.0)");
+      static const std::regex version(R"(%YAML[: ]1\.[0-9]+)");
+      if (!std::regex_match(text, version)) refuse("is not a YAML version directive (%YAML:1.0)");
       continue;
     }
     if (depth == 0 && !text.empty() && text[0] != '#' && text != "---" && text != "...") {
@@ -55,11 +57,7 @@ void checkYamlLines(const std::string& path) {
       while (k < text.size() && text[k] == ' ') ++k;
       const bool key = k > 0 && k < text.size() && text[k] == ':' &&
                        (k + 1 == text.size() || text[k + 1] == ' ' || text[k + 1] == '\t');
-      if (!key) {
-        const std::string shown = text.size() > 40 ? text.substr(0, 40) + "..." : text;
-        throw ConfigError(path + " line " + std::to_string(number) + ": '" + shown +
-                          "' is not 'key: value' (a VINS yaml is a mapping of keys)");
-      }
+      if (!key) refuse("is not 'key: value' (a VINS yaml is a mapping of keys)");
     }
     // Brackets of flow collections (outside quotes and comments) carry over to the next lines.
     char quote = 0;
