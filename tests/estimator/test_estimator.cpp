@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <memory>
 #include <unordered_map>
 
 #include "rgbdi/common/sensor_options.h"
@@ -100,7 +101,8 @@ struct RunSetup {
   double pixel_sigma = 0.0;  ///< [px] tracking noise
   double time_offset = 0.0;  ///< [s] true camera-IMU offset: images stamped t_imu - offset
   std::uint64_t noise_seed = 1;
-  bool with_depth = true;  ///< false: no feature has a depth (the --no-depth mode)
+  bool with_depth = true;      ///< false: no feature has a depth (the --no-depth mode)
+  double cam_dt = 1.0 / 30.0;  ///< [s] between images
   /// Optional corruption of the IMU stream (fault injection).
   std::function<void(ImuSample&)> imu_fault;
 };
@@ -122,7 +124,7 @@ RunResult runSynthetic(const RunSetup& setup,
   SlidingWindowEstimator est(opt, imu_opt, ext);
   std::mt19937_64 rng(setup.noise_seed);
   RunResult r;
-  const double imu_dt = 1.0 / 200.0, cam_dt = 1.0 / 30.0;
+  const double imu_dt = 1.0 / 200.0, cam_dt = setup.cam_dt;
   double t_imu = start_t;
   bool anchored = false;
   Eigen::Isometry3d T_align = Eigen::Isometry3d::Identity();
@@ -200,6 +202,49 @@ TEST(SlidingWindowEstimator, MovingStartInitialisesWithinOneSecond) {
   EXPECT_GE(r.first_pose_t, 0.0);
   EXPECT_LT(r.first_pose_t, 1.0);
   EXPECT_LT(r.max_pos_err, 0.02) << "final " << r.final_pos_err;
+}
+
+TEST(SlidingWindowEstimator, ImagesFarApartStillStartAtRestAndInMotion) {
+  // Images 0.3 s apart (a 3 Hz camera, or a live run dropping two of every three images): the
+  // stillness test must judge the time since the previous image (no two images lie within its
+  // 0.2 s window), and the moving start must accept the alignment residual that the unknown
+  // accelerometer bias leaves over 0.3 s (0.006-0.010 on clean data, gate 0.005 at 0.1 s).
+  RunSetup at_rest{8.0, 0.0, 0.0, 0.0};
+  at_rest.cam_dt = 0.3;
+  const RunResult r = runSynthetic(at_rest);
+  EXPECT_EQ(r.stats.static_initialisations, 1);
+  EXPECT_EQ(r.resets, 0);
+  EXPECT_GE(r.first_pose_t, 0.0);
+  EXPECT_LT(r.first_pose_t, 0.5);  // the second image
+  EXPECT_LT(r.max_pos_err, 0.02) << "final " << r.final_pos_err;
+
+  // Moving: an accelerometer bias at the edge of rgbdi-sim's range (0.1 m/s^2 per axis), white
+  // noise at its default levels (0.02 m/s^2 and 0.002 rad/s per sqrt(Hz) at 200 Hz), depth and
+  // pixel noise.
+  RunSetup moving{10.0, 0.004, 6.0, 0.5};
+  moving.cam_dt = 0.3;
+  const Eigen::Vector3d acc_bias(0.1, -0.1, 0.1);  // [m/s^2], within the simulator's range
+  auto rng = std::make_shared<std::mt19937_64>(5);
+  moving.imu_fault = [acc_bias, rng](ImuSample& m) {
+    std::normal_distribution<double> n01(0.0, 1.0);
+    const double sqrt_rate = std::sqrt(200.0);
+    for (int i = 0; i < 3; ++i) {
+      m.acc[i] += acc_bias[i] + 0.02 * sqrt_rate * n01(*rng);
+      m.gyr[i] += 0.002 * sqrt_rate * n01(*rng);
+    }
+  };
+  // A full window (3 s) before the first attempt, as after the wheeled robot's slow start in
+  // the live run where this was seen: alignment residual 0.007 here.
+  const RunResult m =
+      runSynthetic(moving, [](EstimatorOptions& o) { o.init_min_parallax_px = 1e4; });
+  EXPECT_EQ(m.stats.moving_initialisations, 1);
+  EXPECT_EQ(m.resets, 0);
+  EXPECT_GE(m.first_pose_t, 0.0);
+  EXPECT_LT(m.first_pose_t, 3.0);  // window_size = 10 images: 2.8 s
+  EXPECT_LT(m.max_pos_err, 0.05) << "final " << m.final_pos_err;
+  std::cout << "at rest: first pose " << r.first_pose_t << " s, max error " << r.max_pos_err
+            << " m; moving: first pose " << m.first_pose_t << " s, max error " << m.max_pos_err
+            << " m\n";
 }
 
 TEST(SlidingWindowEstimator, MovingStartWithoutDepthInitialisesByVisualSfm) {

@@ -75,6 +75,8 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
       ini.getDouble(s, "init_max_scale_rel_sigma", o.init_max_scale_rel_sigma, 1e-4, 1.0);
   o.init_max_alignment_rms =
       ini.getDouble(s, "init_max_alignment_rms", o.init_max_alignment_rms, 1e-6, 10.0);
+  o.init_alignment_interval_s =
+      ini.getDouble(s, "init_alignment_interval_s", o.init_alignment_interval_s, 1e-3, 10.0);
   o.fail_max_speed_m_s = ini.getDouble(s, "fail_max_speed_m_s", o.fail_max_speed_m_s, 0.1, 1000);
   o.fail_max_jump_m = ini.getDouble(s, "fail_max_jump_m", o.fail_max_jump_m, 0.01, 1000);
   o.fail_max_vertical_jump_m =

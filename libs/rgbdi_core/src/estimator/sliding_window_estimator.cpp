@@ -237,13 +237,36 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
   // in (they would only ever be seen in its two newest slots, one of them always dropped).
   newest_but_one_keyframe_ = window_.size() < 3 || links.n_tracked < opt_.keyframe_min_tracked ||
                              links.n_parallax == 0 || links.parallax >= min_parallax;
-  // Keep what the window needs, and enough history for the stillness test of initialisation.
-  imu_->popOlderThan(std::min(window_.front().t, t - 2.0 * opt_.init_static_window_s));
+  // Keep what the window needs, and enough history for the stillness test of initialisation:
+  // while initialising, back to the oldest stillness frame (the test may judge stillness since
+  // the previous frame, however long ago that was).
+  double keep_from = std::min(window_.front().t, t - 2.0 * opt_.init_static_window_s);
+  if (status_ != EstimatorStatus::kTracking && !stillness_frames_.empty())
+    keep_from = std::min(keep_from, stillness_frames_.front().t);
+  imu_->popOlderThan(keep_from);
   stats_.sum_ms_preintegration += last_preintegration_ms_;
 }
 
 bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, double t) {
-  const double t_start = t - opt_.init_static_window_s;
+  // The frame the features are compared with: the oldest recent one inside the stillness window
+  // that is at least half the window old. Images further apart than that (a slow camera, a live
+  // run dropping images) have none: then the previous frame, and stillness is judged over the
+  // whole time since it (more data: the same thresholds are only stricter).
+  const StillnessFrame* oldest = nullptr;
+  double t_start = t - opt_.init_static_window_s;
+  for (const auto& s : stillness_frames_)
+    if (s.t >= t_start - 1e-9) {
+      oldest = &s;
+      break;
+    }
+  if ((!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s) &&
+      stillness_frames_.size() >= 2) {
+    const StillnessFrame& prev = stillness_frames_[stillness_frames_.size() - 2];
+    if (prev.t < t_start) {
+      oldest = &prev;
+      t_start = prev.t;
+    }
+  }
   if (imu_->empty() || imu_->oldestTime() > t_start || imu_->newestTime() < t)
     return initFail("not enough IMU history for the stillness test");
   // IMU: mean gyro small, |mean acc| close to g, and little spread of 50 ms means.
@@ -277,15 +300,8 @@ bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, 
   for (const auto& b : bins) var += (b - mean_acc).squaredNorm();
   if (std::sqrt(var / static_cast<double>(bins.size())) > opt_.init_static_max_acc_std_m_s2)
     return initFail("accelerometer spread above init_static_max_acc_std_m_s2");
-  // Vision: the features of the oldest recent frame within the window must not have moved.
-  // (Recent frames are kept apart from the initialisation window, which restarts whenever PnP
-  // fails, e.g. always without depth.)
-  const StillnessFrame* oldest = nullptr;
-  for (const auto& s : stillness_frames_)
-    if (s.t >= t_start - 1e-9) {
-      oldest = &s;
-      break;
-    }
+  // Vision: the features of that frame must not have moved. (Recent frames are kept apart from
+  // the initialisation window, which restarts whenever PnP fails, e.g. always without depth.)
   if (!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s)
     return initFail("not enough frames in the stillness window");
   std::unordered_map<std::uint64_t, Eigen::Vector2d> old_pos;
@@ -422,9 +438,14 @@ bool SlidingWindowEstimator::tryMovingInit() {
   if (!align) return initFail("velocity/gravity alignment failed or inconsistent");
   // IMU data that disagree with the visual motion (a shock, or the tail of the failure that
   // caused this re-initialisation) leave a large residual: wait for clean data instead.
-  if (align->residual_rms > opt_.init_max_alignment_rms)
+  const double mean_interval_s =
+      (window_.back().t - window_.front().t) / static_cast<double>(window_.size() - 1);
+  const double gate =
+      opt_.init_max_alignment_rms * std::max(1.0, mean_interval_s / opt_.init_alignment_interval_s);
+  if (align->residual_rms > gate)
     return initFail(
-        "IMU and visual motion disagree (alignment residual above init_max_alignment_rms)");
+        "IMU and visual motion disagree (alignment residual above init_max_alignment_rms, scaled "
+        "by the mean image interval over init_alignment_interval_s)");
 
   adoptInitialisation(T_ref_body, align->v_ref, align->g_ref, bg);
   return true;
@@ -518,7 +539,8 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
 
   if (status_ != EstimatorStatus::kTracking) {
     stillness_frames_.push_back({t, frame.features});
-    while (!stillness_frames_.empty() &&
+    // Two stillness windows of frames, and always the previous frame (see tryStaticInit).
+    while (stillness_frames_.size() > 2 &&
            stillness_frames_.front().t < t - 2.0 * opt_.init_static_window_s)
       stillness_frames_.pop_front();
     bool ok = opt_.init_allow_static && tryStaticInit(frame, t);

@@ -55,6 +55,11 @@ struct EstimatorOptions {
   /// [m and m/s] RMS residual of the velocity/gravity alignment above which the IMU and the
   /// visual motion are judged inconsistent (clean data: < 0.002; an IMU shock: 0.01)
   double init_max_alignment_rms = 0.005;
+  /// [s] image interval that init_max_alignment_rms is set for; with longer intervals between the
+  /// images of the initialisation window (a slow camera, images dropped by an overloaded live run)
+  /// the gate grows in proportion to the mean interval: the accelerometer bias, unknown at this
+  /// point, makes the residual grow with the interval (0.006-0.010 with 0.3 s on clean data)
+  double init_alignment_interval_s = 0.1;
   /// Start while still (gravity from the accelerometer); false waits for motion, as VINS-Mono does
   bool init_allow_static = true;
   /// [unitless] without depth: largest predicted relative error of the SfM scale to accept
