@@ -209,14 +209,26 @@ TEST(VinsYaml, LinesThatAreNoKeysAreRefusedBeforeOpenCvParses) {
   // which still make cv::FileStorage loop); a VINS yaml has none.
   const std::string items =
       write(dir, "items.yaml", "%YAML:1.0\n  k1: fx.59\n .:\n-  \n-    fx.59o:\n");
+  // (Since finding 21 its key ".", which starts with no letter, digit or '_', is refused first.)
   EXPECT_EQ(refusal(items),
-            items + " line 4: '-  ' is not 'key: value' (a VINS yaml is a mapping of keys)");
+            items + " line 3: '.:' is not 'key: value' (a VINS yaml is a mapping of keys)");
+  const std::string items_only = write(dir, "items_only.yaml", "%YAML:1.0\n  k1: fx.59\n-  \n");
+  EXPECT_EQ(refusal(items_only),
+            items_only + " line 3: '-  ' is not 'key: value' (a VINS yaml is a mapping of keys)");
   // Finding 18 (fuzz_vins_yaml, 2026-12-03 night): a directive line with a bracket opened a flow
   // collection for the line check, so the lines after it were not checked; OpenCV looped on
   // them (the fuzzer's input shortened by hand; it still makes cv::FileStorage loop).
   const std::string directive = write(dir, "directive.yaml", "%YAML:1.![:\n   a:6\n  : 2\n-\n");
   EXPECT_EQ(refusal(directive),
             directive + " line 1: '%YAML:1.![:' is not a YAML version directive (%YAML:1.0)");
+  // Finding 21 (fuzz_vins_yaml, 2026-12-04, after 342 k runs): OpenCV looped on keys that
+  // begin like a document marker (the fuzzer's input as found; it makes cv::FileStorage loop).
+  const std::string marker = write(dir, "marker.yaml",
+                                   "%YAML:1.0\n ---k2: gtop\n   k---2: \x03.0\n\n   ---k2:\n\n\n"
+                                   "r-dth: 640\n   ---k2: came\n   ---k2: cameQ");
+  EXPECT_EQ(
+      refusal(marker),
+      marker + " line 2: '---k2: gtop' is not 'key: value' (a VINS yaml is a mapping of keys)");
   const std::string nul = write(dir, "nul.yaml", std::string("%YAML:1.0\nacc_n: 0.1\0\n", 22));
   EXPECT_THROW(readVinsYaml(nul), ConfigError);
   // Flow sequences over several lines, comments, quoted keys and CRLF line ends are YAML a VINS

@@ -99,10 +99,21 @@ bool startsWithPng(const std::uint8_t* p, std::size_t n) {
   return n >= sizeof kPngSignature && std::memcmp(p, kPngSignature, sizeof kPngSignature) == 0;
 }
 
+bool startsWithJpeg(const std::uint8_t* p, std::size_t n) {
+  return n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF;
+}
+
 cv::Mat imdecodeOrThrow(const std::uint8_t* p, std::size_t n, int flags, const std::string& label,
                         const std::string& format) {
   if (n == 0)
     throw ImageDecodeError(label + ": compressed image (format '" + format + "') has no data");
+  // ROS compressed images are JPEG or PNG. Anything else never reaches cv::imdecode, which tries
+  // every codec OpenCV was built with (fuzzing finding 20: data starting with OpenEXR's magic
+  // made OpenEXR allocate 1.1 GB for an attribute of a 300-byte message).
+  if (!startsWithJpeg(p, n) && !startsWithPng(p, n))
+    throw ImageDecodeError(label + ": compressed image (format '" + format +
+                           "') is neither JPEG nor PNG (its data do not start with either's "
+                           "signature)");
   const cv::Mat buf(1, static_cast<int>(n), CV_8UC1, const_cast<std::uint8_t*>(p));
   cv::Mat img;
   try {

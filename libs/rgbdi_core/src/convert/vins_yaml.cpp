@@ -49,7 +49,9 @@ void checkYamlLines(const std::string& path) {
       if (text[0] == '"' || text[0] == '\'') {
         k = text.find(text[0], 1);
         k = k == std::string::npos ? text.size() : k + 1;
-      } else {
+      } else if (std::isalnum(static_cast<unsigned char>(text[0])) || text[0] == '_') {
+        // A key starts with a letter, digit or '_' (finding 21: OpenCV looped on keys like
+        // "---k2", which begin as a document marker).
         while (k < text.size() && (std::isalnum(static_cast<unsigned char>(text[k])) ||
                                    text[k] == '_' || text[k] == '-' || text[k] == '.'))
           ++k;
