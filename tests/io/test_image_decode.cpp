@@ -132,6 +132,28 @@ std::string tempDir(const std::string& name) {
 
 }  // namespace
 
+TEST(ImageSignature, PngAndJpegAreRecognisedByTheirFirstBytesAsOpenCvWritesThem) {
+  std::vector<std::uint8_t> png, jpg;
+  const cv::Mat img(4, 4, CV_8UC3, cv::Scalar(10, 20, 30));
+  ASSERT_TRUE(cv::imencode(".png", img, png));
+  ASSERT_TRUE(cv::imencode(".jpg", img, jpg));
+  EXPECT_TRUE(isPngData(png.data(), png.size()));
+  EXPECT_FALSE(isJpegData(png.data(), png.size()));
+  EXPECT_TRUE(isJpegData(jpg.data(), jpg.size()));
+  EXPECT_FALSE(isPngData(jpg.data(), jpg.size()));
+  // Shorter than the signature, or one byte off: neither.
+  EXPECT_FALSE(isPngData(png.data(), 7));
+  EXPECT_FALSE(isJpegData(jpg.data(), 2));
+  png[7] ^= 1;
+  jpg[2] = 0x00;
+  EXPECT_FALSE(isPngData(png.data(), png.size()));
+  EXPECT_FALSE(isJpegData(jpg.data(), jpg.size()));
+  // OpenEXR's magic (fuzzing finding 20).
+  const std::uint8_t exr[] = {0x76, 0x2f, 0x31, 0x01, 0x02, 0x00, 0x00, 0x00};
+  EXPECT_FALSE(isPngData(exr, sizeof exr));
+  EXPECT_FALSE(isJpegData(exr, sizeof exr));
+}
+
 TEST(DecodePng, EveryFilterAndColourTypeEqualsOpenCvsDecoding) {
   const std::vector<std::vector<int>> filter_sets = {{0}, {1}, {2}, {3}, {4}, {0, 1, 2, 3, 4}};
   const std::pair<int, int> kinds[] = {{0, 1}, {2, 3}, {6, 4}};  // colour type, channels

@@ -8,10 +8,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "rgbdi/io/image_decode.h"
+
 namespace rgbdi::bag {
 namespace {
 
-const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 // image_transport's compressedDepth prefix: int32 format, float depthQuantA, float depthQuantB.
 constexpr std::size_t kCompressedDepthHeaderBytes = 12;
 
@@ -95,14 +96,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool startsWithPng(const std::uint8_t* p, std::size_t n) {
-  return n >= sizeof kPngSignature && std::memcmp(p, kPngSignature, sizeof kPngSignature) == 0;
-}
-
-bool startsWithJpeg(const std::uint8_t* p, std::size_t n) {
-  return n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF;
-}
-
 cv::Mat imdecodeOrThrow(const std::uint8_t* p, std::size_t n, int flags, const std::string& label,
                         const std::string& format) {
   if (n == 0)
@@ -110,7 +103,7 @@ cv::Mat imdecodeOrThrow(const std::uint8_t* p, std::size_t n, int flags, const s
   // ROS compressed images are JPEG or PNG. Anything else never reaches cv::imdecode, which tries
   // every codec OpenCV was built with (fuzzing finding 20: data starting with OpenEXR's magic
   // made OpenEXR allocate 1.1 GB for an attribute of a 300-byte message).
-  if (!startsWithJpeg(p, n) && !startsWithPng(p, n))
+  if (!io::isJpegData(p, n) && !io::isPngData(p, n))
     throw ImageDecodeError(label + ": compressed image (format '" + format +
                            "') is neither JPEG nor PNG (its data do not start with either's "
                            "signature)");
@@ -220,9 +213,9 @@ DepthImage decodeDepthImage(const sensor_msgs::CompressedImage& m, double intege
       throw ImageDecodeError(label + ": unsupported compressed depth format '" + m.format +
                              "' (expected 16UC1 or 32FC1 compressedDepth)");
     float quant_a = 0.0f, quant_b = 0.0f;
-    if (!startsWithPng(p, n)) {
+    if (!io::isPngData(p, n)) {
       if (n < kCompressedDepthHeaderBytes ||
-          !startsWithPng(p + kCompressedDepthHeaderBytes, n - kCompressedDepthHeaderBytes))
+          !io::isPngData(p + kCompressedDepthHeaderBytes, n - kCompressedDepthHeaderBytes))
         throw ImageDecodeError(label + ": compressed depth (format '" + m.format +
                                "') holds no PNG image");
       std::memcpy(&quant_a, p + 4, 4);

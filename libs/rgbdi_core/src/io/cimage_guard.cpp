@@ -7,6 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
+#include "rgbdi/io/image_decode.h"
+
 namespace rgbdi::io {
 namespace {
 
@@ -20,8 +22,7 @@ std::string jpegProblem(const std::uint8_t* data, std::size_t n) {
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max())) return "too large";
   // Only JPEG data go to cv::imdecode, which would try every codec OpenCV has (fuzzing finding
   // 20: OpenEXR allocating what a damaged attribute size says).
-  if (n < 3 || data[0] != 0xFF || data[1] != 0xD8 || data[2] != 0xFF)
-    return "it is no JPEG (no start-of-image marker)";
+  if (!isJpegData(data, n)) return "it is no JPEG (no start-of-image marker)";
   try {
     const cv::Mat bytes(1, static_cast<int>(n), CV_8UC1, const_cast<std::uint8_t*>(data));
     if (cv::imdecode(bytes, cv::IMREAD_UNCHANGED).empty()) return "it does not decode";

@@ -88,9 +88,17 @@ bool readWholeFile(const std::string& path, std::vector<std::uint8_t>& out) {
   return ok;
 }
 
-std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size) {
+bool isPngData(const std::uint8_t* data, std::size_t size) {
   static const std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  if (size < 8 || std::memcmp(data, kSignature, 8) != 0) return std::nullopt;
+  return size >= sizeof kSignature && std::memcmp(data, kSignature, sizeof kSignature) == 0;
+}
+
+bool isJpegData(const std::uint8_t* data, std::size_t size) {
+  return size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF;
+}
+
+std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size) {
+  if (!isPngData(data, size)) return std::nullopt;
   std::uint32_t width = 0, height = 0;
   int channels = 0;
   thread_local std::vector<std::uint8_t> compressed;

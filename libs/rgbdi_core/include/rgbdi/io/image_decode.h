@@ -26,6 +26,11 @@ struct ImageDecodeError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// True if the data start with the PNG file signature (8 bytes).
+bool isPngData(const std::uint8_t* data, std::size_t size);
+/// True if the data start with a JPEG start-of-image marker followed by a marker (FF D8 FF).
+bool isJpegData(const std::uint8_t* data, std::size_t size);
+
 /// An 8-bit, non-interlaced PNG of colour type grey, RGB or RGBA without a transparency (tRNS)
 /// or palette chunk, decoded to CV_8UC3 R,G,B (grey replicated, alpha dropped: what OpenCV's
 /// decoder followed by a conversion to RGB gives). nullopt for other PNG kinds and non-PNG data.
