@@ -92,6 +92,14 @@ int main(int argc, char** argv) {
 
   system::VioSystem vio(cfg, !no_depth);
   if (verbose) vio.estimator().setMinLoggingLevel(mrpt::system::LVL_DEBUG);
+  double used = 0, verified = 0;  // features per estimator update
+  int updates = 0;
+  vio.setFrameCallback([&](const estimator::FrameEstimate& e, const RgbdFrame&) {
+    if (e.n_features_used <= 0) return;
+    used += e.n_features_used;
+    verified += e.n_depth_verified;
+    ++updates;
+  });
   const auto t0 = std::chrono::steady_clock::now();
   seq.pump(vio);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -121,14 +129,6 @@ int main(int argc, char** argv) {
             << (st.optimisations > 0 ? double(st.solver_iterations) / st.optimisations : 0.0)
             << ", stopped at their iteration limit " << st.solver_iterations_capped
             << ", single-step updates (non_keyframe_update) " << st.single_step_updates << "\n";
-  double used = 0, verified = 0;
-  int updates = 0;
-  for (const auto& e : vio.estimates())
-    if (e.n_features_used > 0) {
-      used += e.n_features_used;
-      verified += e.n_depth_verified;
-      ++updates;
-    }
   if (updates > 0)
     std::cout << "features per update: " << used / updates << " used, " << verified / updates
               << " depth-verified\n";

@@ -176,6 +176,23 @@ TEST(MrptConversions, RgbdRoundTripAlignedAndNotAligned) {
   }
 }
 
+// SlamSystem queues such frames without copying their images (RgbdFrame::images_exclusive):
+// nothing else may hold or write the buffers, the observation's own images included.
+TEST(MrptConversions, ConvertedImagesBelongToTheFrameAlone) {
+  EXPECT_FALSE(RgbdFrame().images_exclusive);  // other sources copy unless they say so
+  for (const bool aligned : {true, false}) {
+    const RgbdFrame f = makeFrame(aligned);
+    const auto obs = toMrpt(f, Eigen::Isometry3d::Identity(), "RGBD");
+    const RgbdFrame g = fromMrpt(*obs, "own");
+    EXPECT_TRUE(g.images_exclusive);
+    for (const cv::Mat* m : {&g.rgb, &g.depth}) {
+      ASSERT_NE(m->u, nullptr);
+      EXPECT_EQ(m->u->refcount, 1);
+    }
+    EXPECT_NE(g.rgb.data, obs->intensityImage.asCvMatRef().data);
+  }
+}
+
 TEST(MrptConversions, AlignedFlagWithNonIdentityExtrinsicIsRejected) {
   RgbdFrame f = makeFrame(true);
   f.T_color_depth.translation().x() = 0.02;

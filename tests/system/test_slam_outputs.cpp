@@ -4,6 +4,7 @@
 // only files that were written (a run without keyframes writes no pose graph).
 #include <gtest/gtest.h>
 
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -26,8 +27,8 @@ bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-std::vector<system::FrameRecord> threeFrames() {
-  std::vector<system::FrameRecord> frames(3);
+std::deque<system::FrameRecord> threeFrames() {
+  std::deque<system::FrameRecord> frames(3);
   for (int i = 0; i < 3; ++i) {
     frames[i].t_image = 10.0 + 0.1 * i;
     frames[i].t_imu = frames[i].t_image + 0.004 + 0.001 * i;  // the offset is estimated online

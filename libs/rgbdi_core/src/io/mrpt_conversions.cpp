@@ -232,6 +232,7 @@ RgbdFrame fromMrpt(const mrpt::obs::CObservation3DRangeScan& obs, const std::str
   RgbdFrame f;
   f.t = toSeconds(obs.timestamp);
   f.source_label = label;
+  f.images_exclusive = true;  // every image below is decoded or converted into a new buffer
   // MRPT's own error for a missing external file is a bare "==== MRPT exception ====" banner:
   // name the file and the folder it was looked up in.
   auto requireFile = [&](const std::string& file, const char* what) {

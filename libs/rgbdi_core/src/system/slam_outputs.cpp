@@ -102,7 +102,7 @@ std::string tumFrameAndClock(TumOutput what, const TumFrames& f) {
   return pose + "\n" + in + "\n" + stamps + "\n" + kind;
 }
 
-Trajectory cameraTwin(const Trajectory& body, const std::vector<FrameRecord>& frames,
+Trajectory cameraTwin(const Trajectory& body, const std::deque<FrameRecord>& frames,
                       const Eigen::Isometry3d& T_body_cam) {
   // Both are in stamp order: one pass pairs each pose with the frame of the same IMU time.
   Trajectory out;

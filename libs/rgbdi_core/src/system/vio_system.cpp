@@ -110,7 +110,6 @@ void VioSystem::processReady(bool flush) {
       traj_cam_.push_back(
           StampedPose::fromIsometry(est.t_image, est.T_world_body * cfg_.extrinsic.T_body_cam));
     }
-    estimates_.push_back(est);
     if (frame_cb_) frame_cb_(est, p.frame);
     recent_frames_.push_back(std::move(p));
     pending_.pop_front();

@@ -40,6 +40,11 @@ struct RgbdFrame {
   bool has_source_T_body_cam = false;
   Eigen::Isometry3d source_T_body_cam = Eigen::Isometry3d::Identity();
   std::string source_label;  ///< e.g. "sequence.rawlog record 123", for messages
+  /// True when `rgb` and `depth` were allocated for this frame alone and nothing writes into
+  /// them again (a decoder's new images): a consumer that keeps the frame beyond the call may
+  /// share the buffers instead of copying them. False (the default) when a source may reuse
+  /// them for a later frame (a grabber's buffers, images wrapping memory the caller owns).
+  bool images_exclusive = false;
 
   bool hasColor() const { return !rgb.empty(); }
   bool hasDepth() const { return !depth.empty(); }

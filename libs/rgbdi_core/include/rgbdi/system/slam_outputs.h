@@ -5,6 +5,7 @@
 // its header lines.
 #pragma once
 
+#include <deque>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -34,7 +35,7 @@ std::string tumFrameAndClock(TumOutput what, const TumFrames& frames);
 /// of them, as a run in a loaded map keeps only its frames placed in the map) as poses of the
 /// colour camera, T_world_cam = T_world_body * T_body_cam, with the image stamps of the same
 /// frames. Throws std::logic_error for a stamp that is no frame's.
-Trajectory cameraTwin(const Trajectory& body, const std::vector<FrameRecord>& frames,
+Trajectory cameraTwin(const Trajectory& body, const std::deque<FrameRecord>& frames,
                       const Eigen::Isometry3d& T_body_cam);
 
 /// The text under trajectory.png: how the ground truth drawn beside the estimate was aligned.

@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -96,9 +97,9 @@ class SlamSystem : public MeasurementSink {
   SlamProgress progress() const;
 
   // --- results (complete after endOfStream) ---------------------------------------------------
-  const std::vector<FrameRecord>& frames() const { return frames_; }
+  const std::deque<FrameRecord>& frames() const { return frames_; }
   /// Keyframes as the odometry handed them out (body poses, segments), in id order.
-  const std::vector<KeyframePacket>& keyframeStates() const { return keyframe_states_; }
+  const std::deque<KeyframePacket>& keyframeStates() const { return keyframe_states_; }
   const mapping::Mapper& mapper() const { return *mapper_; }
   /// nullptr when loop closure is off ([loop] enable = false) or no keyframe was made.
   const loop::LoopCloser* loopCloser() const { return closer_.get(); }
@@ -184,8 +185,10 @@ class SlamSystem : public MeasurementSink {
   void computeFinalKeyframePoses();
 
   // Odometry-thread state.
-  std::vector<FrameRecord> frames_;
-  std::vector<KeyframePacket> keyframe_states_;  ///< without images (kept for the outputs)
+  // Deques: one record per image of a run of any length; a vector would double its block and
+  // copy (3x the records for a moment, 30 MB at 18,000 frames).
+  std::deque<FrameRecord> frames_;
+  std::deque<KeyframePacket> keyframe_states_;  ///< without images (kept for the outputs)
   std::vector<mrpt::obs::CObservation::Ptr> observations_;
   int frame_segment_ = 0;
   /// Whether the odometry thread knows frame_segment_ to be placed in the origin's frame (from

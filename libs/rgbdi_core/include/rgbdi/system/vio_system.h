@@ -61,7 +61,6 @@ class VioSystem : public MeasurementSink {
   const Trajectory& trajectoryBody() const { return traj_body_; }
   /// The same poses in the colour-camera frame, stamped with the image stamps (camera clock).
   const Trajectory& trajectoryCamera() const { return traj_cam_; }
-  const std::vector<estimator::FrameEstimate>& estimates() const { return estimates_; }
   const estimator::EstimatorStats& estimatorStats() const { return estimator_->stats(); }
   estimator::EstimatorStatus status() const { return estimator_->status(); }
   const VioTimings& timings() const { return timings_; }
@@ -96,7 +95,6 @@ class VioSystem : public MeasurementSink {
   double last_tracked_t_ = 0.0;
   bool has_tracked_ = false;
   Trajectory traj_body_, traj_cam_;
-  std::vector<estimator::FrameEstimate> estimates_;
   VioTimings timings_;
   std::size_t frames_received_ = 0, frames_dropped_ = 0;
   std::function<void(const estimator::FrameEstimate&, const RgbdFrame&)> frame_cb_;
