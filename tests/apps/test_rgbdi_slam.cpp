@@ -157,6 +157,31 @@ TEST(RgbdiSlam, ClearOneLineErrors) {
   EXPECT_EQ(runCommand(binDir() + "/rgbdi-slam --bogus", &log), 2);
 }
 
+TEST(RgbdiSlam, ARunThatNeverInitialisesSaysWhyOnTheConsoleAndInTheSummary) {
+  // No static start and an alignment gate no real data passes: the odometry never starts. The
+  // console must give the reasons it waited, most frequent first, with their frame counts.
+  const std::string out = makeTempDir("rgbdi_slam_noinit");
+  const std::string cfg = out + "/never.ini";
+  std::ofstream(cfg) << "[estimator]\ninit_allow_static = false\ninit_max_alignment_rms = 1e-6\n";
+  std::string log;
+  EXPECT_EQ(runCommand(binDir() + "/rgbdi-slam --quiet --input " + sequenceDir() +
+                           "/sequence.rawlog --config " + cfg + " --out " + out + "/run",
+                       &log),
+            0);
+  const std::string said =
+      "no pose was estimated: the odometry never initialised; it waited for: moving start: IMU "
+      "and visual motion disagree (alignment residual above init_max_alignment_rms";
+  EXPECT_NE(log.find(said), std::string::npos) << log;
+  const auto summary = readJson(out + "/run/summary.json");
+  EXPECT_EQ(summary["poses"].get<int>(), 0);
+  int waits = 0;
+  for (const auto& [reason, n] : summary["initialisation_waits"].items()) {
+    EXPECT_EQ(reason.rfind("moving start: ", 0), 0u) << reason;  // the static start is off
+    waits += n.get<int>();
+  }
+  EXPECT_EQ(waits, summary["frames"].get<int>());
+}
+
 TEST(RgbdiSlam, VersionPrintsTheVersionLineAndExitsZero) {
   std::string log;
   ASSERT_EQ(runCommand(binDir() + "/rgbdi-slam --version", &log), 0) << log;

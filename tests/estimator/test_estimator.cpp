@@ -272,6 +272,43 @@ TEST(SlidingWindowEstimator, WithoutDepthAtConstantSpeedTheScaleIsNotGuessed) {
   EXPECT_EQ(r.stats.moving_initialisations, 0);
 }
 
+TEST(SlidingWindowEstimator, EveryFrameWaitingForAStartCountsTheReasonOfEachStart) {
+  // The no-depth constant-speed run above never starts: each frame tries the static start (the
+  // sensor turns: no stillness) and the moving start (no depth: visual SfM, whose scale is not
+  // observable). Both reasons are counted on every frame, so a run that ends without a pose
+  // can say why.
+  RunSetup setup{4.0, 0.0, 3.0, 0.5};
+  setup.with_depth = false;
+  const RunResult r = runSynthetic(setup);
+  ASSERT_EQ(r.poses, 0);
+  for (const auto& [reason, n] : r.stats.init_waits) std::cout << n << "  " << reason << "\n";
+  int static_waits = 0, moving_waits = 0;
+  for (const auto& [reason, n] : r.stats.init_waits) {
+    if (reason.rfind("static start: ", 0) == 0) static_waits += n;
+    if (reason.rfind("moving start: ", 0) == 0) moving_waits += n;
+  }
+  EXPECT_EQ(static_waits, r.stats.frames);
+  EXPECT_EQ(moving_waits, r.stats.frames);
+  // The window fills first (window_size 10 keyframes: at least 9 frames collect), then every
+  // SfM + alignment fails on the scale; nothing else.
+  const auto waits = [&r](const std::string& reason) {
+    const auto it = r.stats.init_waits.find(reason);
+    return it == r.stats.init_waits.end() ? 0 : it->second;
+  };
+  const int collecting = waits("moving start: collecting frames for a visual (SfM) initialisation");
+  EXPECT_GE(collecting, 9);
+  EXPECT_EQ(collecting + waits("moving start: scale/gravity alignment failed or the scale is not "
+                               "observable yet"),
+            r.stats.frames);
+  EXPECT_EQ(waits("static start: gyro mean above init_static_max_gyro_rad_s") +
+                waits("static start: not enough IMU history for the stillness test"),
+            r.stats.frames);
+  EXPECT_EQ(describeInitWaits({{"b", 2}, {"a", 2}, {"c", 5}, {"d", 1}}, 3),
+            "c (5 frames); a (2 frames); b (2 frames)");
+  EXPECT_EQ(describeInitWaits({{"x", 1}}, 3), "x (1 frame)");
+  EXPECT_EQ(describeInitWaits({}, 3), "");
+}
+
 TEST(SlidingWindowEstimator, NoisyDepthAndPixelsStayAccurateInBothDepthModes) {
   // D435-like depth noise (0.004 z^2) and 0.5 px tracking noise; 12 s, about 4 m travelled.
   for (const char* mode : {"constant", "prior"}) {

@@ -12,6 +12,7 @@
 #include "rgbdi/eval/tum_reader.h"
 #include "rgbdi/output/tum_writer.h"
 #include "rgbdi/system/slam_outputs.h"
+#include "rgbdi/system/slam_summary.h"
 #include "rgbdi/system/slam_system.h"
 #include "rgbdi/system/system_config.h"
 #include "testing/fixtures.h"
@@ -154,4 +155,27 @@ TEST(SlamOutputs, ARunWithoutKeyframesListsOnlyTheFilesItWrote) {
     for (std::string l; std::getline(in, l); ++lines) EXPECT_EQ(l.rfind("# ", 0), 0u) << l;
     EXPECT_EQ(lines, 5u) << name;
   }
+}
+
+TEST(SlamOutputs, ReportExplainsALateFirstPoseByTheReasonsTheOdometryWaited) {
+  const system::SystemConfig cfg = system::SystemConfig::load("");
+  system::SlamSystemOptions so;
+  so.threaded = false;
+  system::SlamSystem sys(cfg, so);
+  sys.endOfStream();
+  nlohmann::json s = system::slamSummary(sys, system::RunInfo{}, system::RunEvaluation{}, {});
+  s["initialisation_waits"] = {{"moving start: not enough parallax yet", 40},
+                               {"static start: gyro mean above init_static_max_gyro_rad_s", 45},
+                               {"moving start: too few frames", 4},
+                               {"static start: not enough IMU history", 1}};
+  s["first_pose_time_s"] = 3.25;
+  const std::string late = system::formatRunReport(s, {}, "");
+  EXPECT_TRUE(has(late,
+                  "First pose 3.25 s after the first image; the odometry waited for: static "
+                  "start: gyro mean above init_static_max_gyro_rad_s (45 frames); moving start: "
+                  "not enough parallax yet (40 frames); moving start: too few frames (4 frames)\n"))
+      << late;
+  s["first_pose_time_s"] = 0.3;  // a normal start: nothing to explain
+  EXPECT_FALSE(has(system::formatRunReport(s, {}, ""), "First pose")) << late;
+  EXPECT_EQ(system::initWaitsLine(nlohmann::json::object()), "nothing: no frame reached a start");
 }

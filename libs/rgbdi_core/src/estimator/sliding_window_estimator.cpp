@@ -157,7 +157,22 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, cons
 
 SlidingWindowEstimator::~SlidingWindowEstimator() = default;
 
+std::string describeInitWaits(const std::map<std::string, int>& waits, std::size_t max_reasons) {
+  std::vector<std::pair<std::string, int>> sorted(waits.begin(), waits.end());
+  // Stable: equal counts keep the map's text order.
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string out;
+  for (std::size_t i = 0; i < sorted.size() && i < max_reasons; ++i) {
+    if (!out.empty()) out += "; ";
+    out += sorted[i].first + " (" + std::to_string(sorted[i].second) +
+           (sorted[i].second == 1 ? " frame)" : " frames)");
+  }
+  return out;
+}
+
 bool SlidingWindowEstimator::initFail(const char* why) {
+  init_fail_reason_ = why;
   logFmt(mrpt::system::LVL_DEBUG, "initialisation not yet possible: %s\n", why);
   return false;
 }
@@ -532,6 +547,8 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
       ++stats_.resets;
       reset(true);
       out.reset = true;
+    } else {
+      ++stats_.init_waits["no IMU data up to the image"];
     }
     out.status = status_;
     return out;
@@ -544,9 +561,12 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
            stillness_frames_.front().t < t - 2.0 * opt_.init_static_window_s)
       stillness_frames_.pop_front();
     bool ok = opt_.init_allow_static && tryStaticInit(frame, t);
+    if (!ok && opt_.init_allow_static)
+      ++stats_.init_waits[std::string("static start: ") + init_fail_reason_];
     if (!ok) {
       addSlot(frame, t, false);
       ok = tryMovingInit();
+      if (!ok) ++stats_.init_waits[std::string("moving start: ") + init_fail_reason_];
       if (!ok && visual_init_mode_ && window_.size() >= 3 && !newest_but_one_keyframe_) {
         // The SfM window holds keyframes (enough parallax between them), as the sliding window
         // does, so that it spans enough time for the scale to be observable.

@@ -150,8 +150,10 @@ nlohmann::json finishRun(const SlamSystem& system, RunInfo run,
   if (system.frames().empty())
     log << "rgbdi-slam: no pose was estimated: "
         << (run.frames == 0 ? "the input has no colour image"
-                            : "the odometry never initialised (summary.json: resets, "
-                              "stream_diagnostics)")
+                            : "the odometry never initialised; it waited for: " +
+                                  initWaitsLine(summary["initialisation_waits"]) +
+                                  " (summary.json: initialisation_waits, resets, "
+                                  "stream_diagnostics)")
         << "\n";
   return summary;
 }

@@ -8,6 +8,12 @@
 namespace rgbdi::system {
 
 namespace {
+/// [s] a first pose later than this after the first image is explained in the run report (a
+/// static start takes the first two images, a moving start about init_min_frames).
+constexpr double kReportInitWaitsAfter_s = 1.0;
+/// Reasons of the wait listed on the console (summary.json has them all).
+constexpr std::size_t kReportedInitWaitReasons = 3;
+
 eval::EvalResult evaluateThrough(const Trajectory& gt, const Trajectory& est,
                                  const Eigen::Isometry3d& T_gt_world) {
   Trajectory moved;
@@ -154,6 +160,7 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
   s["resets"] = st.resets;
   s["static_initialisations"] = st.static_initialisations;
   s["moving_initialisations"] = st.moving_initialisations;
+  s["initialisation_waits"] = st.init_waits;
   s["time_offset_s"] = vio.timeOffset();
   s["wall_time_s"] = run.wall_s;
   s["frames_per_s"] = run.wall_s > 0 ? run.frames / run.wall_s : 0.0;
@@ -204,6 +211,12 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
   return s;
 }
 
+std::string initWaitsLine(const nlohmann::json& waits) {
+  if (waits.empty()) return "nothing: no frame reached a start";
+  return estimator::describeInitWaits(waits.get<std::map<std::string, int>>(),
+                                      kReportedInitWaitReasons);
+}
+
 std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
                             const std::string& gt_path) {
   std::ostringstream os;
@@ -229,6 +242,11 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
      << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets, "
      << (s["loop"].contains("active_loops") ? s["loop"]["active_loops"].get<std::uint64_t>() : 0)
      << " loops" << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
+  if (s["first_pose_time_s"].is_number() &&
+      s["first_pose_time_s"].get<double>() > kReportInitWaitsAfter_s)
+    os << "First pose " << std::setprecision(3) << s["first_pose_time_s"].get<double>()
+       << " s after the first image; the odometry waited for: "
+       << initWaitsLine(s["initialisation_waits"]) << "\n";
   const nlohmann::json& ms = s["map_session"];
   if (!ms["loaded_from"].is_null()) {
     os << "Map " << ms["loaded_from"].get<std::string>() << " (" << ms["mode"].get<std::string>()

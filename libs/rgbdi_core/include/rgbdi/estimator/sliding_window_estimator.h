@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -83,7 +84,16 @@ struct EstimatorStats {
   int solver_iterations = 0;         ///< Ceres iterations summed over those runs
   int solver_iterations_capped = 0;  ///< runs that stopped at max_iterations
   int single_step_updates = 0;       ///< of the runs: limited to one step (non_keyframe_update)
+  /// Why the odometry waited for a pose: frames on which a start was tried and failed, by reason
+  /// ("static start: ...", "moving start: ...": each such frame tries both that are enabled; "no
+  /// IMU data up to the image" when it could try neither), over every start of the run (the
+  /// first and those after resets). Ordered by the reason's text.
+  std::map<std::string, int> init_waits;
 };
+
+/// The `max_reasons` most frequent reasons of `waits` as "reason (N frames)", joined by "; "
+/// (most frequent first, ties in text order), for console reports.
+std::string describeInitWaits(const std::map<std::string, int>& waits, std::size_t max_reasons);
 
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {
  public:
@@ -129,6 +139,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
   bool failureDetected() const;
   std::string failureReason() const;
+  /// Records `why` as the reason of the start being tried (counted in stats_.init_waits by
+  /// processFrame) and returns false.
   bool initFail(const char* why);
   void reset(bool keep_anchor);
   SlotPoses slotPoses() const;
@@ -159,7 +171,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();
   Eigen::Matrix<double, 9, 1> init_prior_sigma_ = Eigen::Matrix<double, 9, 1>::Ones();
   bool newest_but_one_keyframe_ = true;
-  bool visual_init_mode_ = false;  ///< initialising from images alone (frames lack depth)
+  bool visual_init_mode_ = false;      ///< initialising from images alone (frames lack depth)
+  const char* init_fail_reason_ = "";  ///< of the last initFail (a string literal)
 
   EstimatorStatus status_ = EstimatorStatus::kInitializing;
   // Anchor for re-initialisation after a failure: the trajectory continues from the last pose.

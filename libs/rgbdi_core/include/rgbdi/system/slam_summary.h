@@ -49,6 +49,9 @@ nlohmann::json mapSessionSummary(const SlamSystem& system, const RunInfo& run);
 nlohmann::json slamSummary(const SlamSystem& system, const RunInfo& run,
                            const RunEvaluation& evaluation, const nlohmann::json& outputs);
 
+/// The most frequent reasons of summary.json's "initialisation_waits" for the console.
+std::string initWaitsLine(const nlohmann::json& waits);
+
 /// Accuracy lines (the three trajectories side by side) and the closing lines of the report.
 std::string formatRunReport(const nlohmann::json& summary, const RunEvaluation& evaluation,
                             const std::string& gt_path);
