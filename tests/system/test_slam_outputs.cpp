@@ -7,6 +7,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 
 #include "rgbdi/eval/tum_reader.h"
@@ -35,6 +36,15 @@ std::deque<system::FrameRecord> threeFrames() {
     frames[i].t_imu = frames[i].t_image + 0.004 + 0.001 * i;  // the offset is estimated online
   }
   return frames;
+}
+
+/// A sequential system that has seen nothing but the end of its stream.
+std::unique_ptr<system::SlamSystem> emptyRun() {
+  system::SlamSystemOptions so;
+  so.threaded = false;
+  auto sys = std::make_unique<system::SlamSystem>(system::SystemConfig::load(""), so);
+  sys->endOfStream();
+  return sys;
 }
 
 }  // namespace
@@ -127,11 +137,8 @@ TEST(SlamOutputs, PlotSaysHowTheGroundTruthWasAligned) {
 }
 
 TEST(SlamOutputs, ARunWithoutKeyframesListsOnlyTheFilesItWrote) {
-  const system::SystemConfig cfg = system::SystemConfig::load("");
-  system::SlamSystemOptions so;
-  so.threaded = false;
-  system::SlamSystem sys(cfg, so);
-  sys.endOfStream();
+  const std::unique_ptr<system::SlamSystem> run = emptyRun();
+  const system::SlamSystem& sys = *run;
   ASSERT_TRUE(sys.keyframeStates().empty());
   const std::string dir = test::makeTempDir("slam_outputs_empty");
   const nlohmann::json out = system::writeSlamOutputs(sys, dir, nullptr, false);
@@ -158,12 +165,7 @@ TEST(SlamOutputs, ARunWithoutKeyframesListsOnlyTheFilesItWrote) {
 }
 
 TEST(SlamOutputs, ReportExplainsALateFirstPoseByTheReasonsTheOdometryWaited) {
-  const system::SystemConfig cfg = system::SystemConfig::load("");
-  system::SlamSystemOptions so;
-  so.threaded = false;
-  system::SlamSystem sys(cfg, so);
-  sys.endOfStream();
-  nlohmann::json s = system::slamSummary(sys, system::RunInfo{}, system::RunEvaluation{}, {});
+  nlohmann::json s = system::slamSummary(*emptyRun(), system::RunInfo{}, system::RunEvaluation{}, {});
   s["initialisation_waits"] = {{"moving start: not enough parallax yet", 40},
                                {"static start: gyro mean above init_static_max_gyro_rad_s", 45},
                                {"moving start: too few frames", 4},
