@@ -165,7 +165,8 @@ TEST(SlamOutputs, ARunWithoutKeyframesListsOnlyTheFilesItWrote) {
 }
 
 TEST(SlamOutputs, ReportExplainsALateFirstPoseByTheReasonsTheOdometryWaited) {
-  nlohmann::json s = system::slamSummary(*emptyRun(), system::RunInfo{}, system::RunEvaluation{}, {});
+  nlohmann::json s =
+      system::slamSummary(*emptyRun(), system::RunInfo{}, system::RunEvaluation{}, {});
   s["initialisation_waits"] = {{"moving start: not enough parallax yet", 40},
                                {"static start: gyro mean above init_static_max_gyro_rad_s", 45},
                                {"moving start: too few frames", 4},
