@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target for SECONDS each (default 60), one after the other.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]     targets: rawlog bag ros_messages tum ini vins_yaml
-#                                            keyframe_store image_decode (default: all)
+#                                            keyframe_store map_files image_decode (default: all)
 # Builds build-fuzz/ with clang (-DRGBDI_FUZZ=ON) and the seed writers (fuzz_replay_*) in build/,
 # keeps the growing corpora in build-fuzz/corpus/<target>/ (not in git) and crashes in
 # build-fuzz/findings/<target>/. A finding is replayed with build/bin/fuzz_replay_<target> FILE.
@@ -20,7 +20,7 @@ seconds="${1:-60}"
 shift || true
 case "$seconds" in ''|*[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS] [TARGET...]" >&2; exit 2;; esac
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(rawlog bag ros_messages tum ini vins_yaml keyframe_store image_decode)
+[ ${#targets[@]} -gt 0 ] || targets=(rawlog bag ros_messages tum ini vins_yaml keyframe_store map_files image_decode)
 jobs="${JOBS:-2}"
 fuzzer_lib() { clang++ -print-file-name=libclang_rt.fuzzer-x86_64.a 2>/dev/null || true; }
 if ! command -v clang++ >/dev/null || [ ! -f "$(fuzzer_lib)" ] || ! command -v ccache >/dev/null; then
