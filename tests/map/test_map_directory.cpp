@@ -417,6 +417,37 @@ TEST(MapDirectory, RefusesAnotherFormatVersionNamingTheManifest) {
       << e;
 }
 
+TEST(MapDirectory, RefusesManifestNumbersBeyondTheirTypeNamingTheKey) {
+  // doc/robustness.md finding 22 (fuzz_map_files): a number beyond double's range made the JSON
+  // parser throw out_of_range, which escaped loadMap (the process ended in std::terminate).
+  const std::string dir = test::makeTempDir("rgbdi_map") + "/map";
+  saveMap(dir, syntheticMap(7));
+  const std::vector<char> original = readBytes(dir + "/manifest.json");
+  std::string text(original.begin(), original.end());
+  const std::string width = "\"width\": 640";
+  ASSERT_NE(text.find(width), std::string::npos) << text;
+  text.replace(text.find(width), width.size(), "\"width\": 1.0e2815");
+  writeBytes(dir + "/manifest.json", std::vector<char>(text.begin(), text.end()));
+  std::string e = loadError(dir);
+  EXPECT_TRUE(contains(e, "manifest.json: not valid JSON (")) << e;
+  EXPECT_TRUE(contains(e, "number overflow parsing '1.0e2815'")) << e;
+
+  // Found beside it: an integer beyond the key's type was converted silently (4294967936 read as
+  // an int is 640, the saved width).
+  nlohmann::json j = nlohmann::json::parse(std::string(original.begin(), original.end()));
+  j["camera"]["width"] = 4294967936ULL;
+  writeManifest(dir, j);
+  e = loadError(dir);
+  EXPECT_TRUE(contains(e, "manifest.json: camera key \"width\": 4294967936 is out of range "
+                          "(-2147483648 to 2147483647)"))
+      << e;
+  j["camera"]["width"] = -7;  // in range: refused later, by what checks camera sizes (if any)
+  j["format_version"] = -4294967296LL;
+  writeManifest(dir, j);
+  e = loadError(dir);
+  EXPECT_TRUE(contains(e, "key \"format_version\": -4294967296 is out of range")) << e;
+}
+
 TEST(MapDirectory, RefusesAMissingManifest) {
   const std::string dir = test::makeTempDir("rgbdi_map") + "/map";
   saveMap(dir, syntheticMap(5));

@@ -1,5 +1,6 @@
 #include "map/manifest_json.h"
 
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "rgbdi/map/map_directory.h"
@@ -43,8 +44,15 @@ class Fields {
         if (!v.is_number()) throw std::runtime_error("not a number");
       } else if constexpr (std::is_unsigned_v<T>) {
         if (!v.is_number_unsigned()) throw std::runtime_error("not a non-negative integer");
+        if (v.get<std::uint64_t>() > std::numeric_limits<T>::max()) throw outOfRange<T>(v);
       } else {
         if (!v.is_number_integer()) throw std::runtime_error("not an integer");
+        // json converts integers to a narrower type silently (4294967936 read as an int is 640).
+        const bool fits = v.is_number_unsigned()
+                              ? v.get<std::uint64_t>() <= std::uint64_t{std::numeric_limits<T>::max()}
+                              : v.get<std::int64_t>() >= std::numeric_limits<T>::min() &&
+                                    v.get<std::int64_t>() <= std::numeric_limits<T>::max();
+        if (!fits) throw outOfRange<T>(v);
       }
       return v.get<T>();
     } catch (const std::exception& e) {
@@ -56,6 +64,13 @@ class Fields {
   }
 
  private:
+  template <typename T>
+  static std::runtime_error outOfRange(const json& v) {
+    return std::runtime_error(v.dump() + " is out of range (" +
+                              std::to_string(std::numeric_limits<T>::min()) + " to " +
+                              std::to_string(std::numeric_limits<T>::max()) + ")");
+  }
+
   const json& j_;
   std::string where_;
   const std::string& path_;
@@ -121,7 +136,9 @@ ManifestContent parseManifest(const std::string& text, const std::string& path) 
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double's range ("1.0e2815"; fuzzing,
+    // doc/robustness.md finding 22), which escaped as an uncaught exception before.
     throw MapError(path + ": not valid JSON (" + e.what() + ")");
   }
   const Fields top(j, "manifest", path);
