@@ -438,8 +438,9 @@ TEST(MapDirectory, RefusesManifestNumbersBeyondTheirTypeNamingTheKey) {
   j["camera"]["width"] = 4294967936ULL;
   writeManifest(dir, j);
   e = loadError(dir);
-  EXPECT_TRUE(contains(e, "manifest.json: camera key \"width\": 4294967936 is out of range "
-                          "(-2147483648 to 2147483647)"))
+  EXPECT_TRUE(contains(e,
+                       "manifest.json: camera key \"width\": 4294967936 is out of range "
+                       "(-2147483648 to 2147483647)"))
       << e;
   j["camera"]["width"] = -7;  // in range: refused later, by what checks camera sizes (if any)
   j["format_version"] = -4294967296LL;

@@ -48,10 +48,11 @@ class Fields {
       } else {
         if (!v.is_number_integer()) throw std::runtime_error("not an integer");
         // json converts integers to a narrower type silently (4294967936 read as an int is 640).
-        const bool fits = v.is_number_unsigned()
-                              ? v.get<std::uint64_t>() <= std::uint64_t{std::numeric_limits<T>::max()}
-                              : v.get<std::int64_t>() >= std::numeric_limits<T>::min() &&
-                                    v.get<std::int64_t>() <= std::numeric_limits<T>::max();
+        const bool fits =
+            v.is_number_unsigned()
+                ? v.get<std::uint64_t>() <= std::uint64_t{std::numeric_limits<T>::max()}
+                : v.get<std::int64_t>() >= std::numeric_limits<T>::min() &&
+                      v.get<std::int64_t>() <= std::numeric_limits<T>::max();
         if (!fits) throw outOfRange<T>(v);
       }
       return v.get<T>();
