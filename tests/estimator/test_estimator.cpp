@@ -303,10 +303,6 @@ TEST(SlidingWindowEstimator, EveryFrameWaitingForAStartCountsTheReasonOfEachStar
   EXPECT_EQ(waits("static start: gyro mean above init_static_max_gyro_rad_s") +
                 waits("static start: not enough IMU history for the stillness test"),
             r.stats.frames);
-  EXPECT_EQ(describeInitWaits({{"b", 2}, {"a", 2}, {"c", 5}, {"d", 1}}, 3),
-            "c (5 frames); a (2 frames); b (2 frames)");
-  EXPECT_EQ(describeInitWaits({{"x", 1}}, 3), "x (1 frame)");
-  EXPECT_EQ(describeInitWaits({}, 3), "");
 }
 
 TEST(SlidingWindowEstimator, NoisyDepthAndPixelsStayAccurateInBothDepthModes) {

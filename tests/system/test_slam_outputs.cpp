@@ -181,4 +181,7 @@ TEST(SlamOutputs, ReportExplainsALateFirstPoseByTheReasonsTheOdometryWaited) {
   s["first_pose_time_s"] = 0.3;  // a normal start: nothing to explain
   EXPECT_FALSE(has(system::formatRunReport(s, {}, ""), "First pose")) << late;
   EXPECT_EQ(system::initWaitsLine(nlohmann::json::object()), "nothing: no frame reached a start");
+  EXPECT_EQ(system::initWaitsLine({{"b", 2}, {"a", 2}, {"c", 5}, {"d", 1}}),
+            "c (5 frames); a (2 frames); b (2 frames)");
+  EXPECT_EQ(system::initWaitsLine({{"x", 1}}), "x (1 frame)");
 }

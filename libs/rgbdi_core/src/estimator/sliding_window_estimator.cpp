@@ -157,20 +157,6 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, cons
 
 SlidingWindowEstimator::~SlidingWindowEstimator() = default;
 
-std::string describeInitWaits(const std::map<std::string, int>& waits, std::size_t max_reasons) {
-  std::vector<std::pair<std::string, int>> sorted(waits.begin(), waits.end());
-  // Stable: equal counts keep the map's text order.
-  std::stable_sort(sorted.begin(), sorted.end(),
-                   [](const auto& a, const auto& b) { return a.second > b.second; });
-  std::string out;
-  for (std::size_t i = 0; i < sorted.size() && i < max_reasons; ++i) {
-    if (!out.empty()) out += "; ";
-    out += sorted[i].first + " (" + std::to_string(sorted[i].second) +
-           (sorted[i].second == 1 ? " frame)" : " frames)");
-  }
-  return out;
-}
-
 bool SlidingWindowEstimator::initFail(const char* why) {
   init_fail_reason_ = why;
   logFmt(mrpt::system::LVL_DEBUG, "initialisation not yet possible: %s\n", why);

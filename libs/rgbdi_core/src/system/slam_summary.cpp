@@ -1,9 +1,12 @@
 #include "rgbdi/system/slam_summary.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <set>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace rgbdi::system {
 
@@ -213,8 +216,18 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
 
 std::string initWaitsLine(const nlohmann::json& waits) {
   if (waits.empty()) return "nothing: no frame reached a start";
-  return estimator::describeInitWaits(waits.get<std::map<std::string, int>>(),
-                                      kReportedInitWaitReasons);
+  // JSON objects iterate in key order; the stable sort keeps it among equal counts.
+  std::vector<std::pair<std::string, int>> sorted;
+  for (const auto& [reason, n] : waits.items()) sorted.emplace_back(reason, n.get<int>());
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string out;
+  for (std::size_t i = 0; i < sorted.size() && i < kReportedInitWaitReasons; ++i) {
+    if (!out.empty()) out += "; ";
+    out += sorted[i].first + " (" + std::to_string(sorted[i].second) +
+           (sorted[i].second == 1 ? " frame)" : " frames)");
+  }
+  return out;
 }
 
 std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,

@@ -91,10 +91,6 @@ struct EstimatorStats {
   std::map<std::string, int> init_waits;
 };
 
-/// The `max_reasons` most frequent reasons of `waits` as "reason (N frames)", joined by "; "
-/// (most frequent first, ties in text order), for console reports.
-std::string describeInitWaits(const std::map<std::string, int>& waits, std::size_t max_reasons);
-
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {
  public:
   SlidingWindowEstimator(const EstimatorOptions& opt, const ImuOptions& imu,

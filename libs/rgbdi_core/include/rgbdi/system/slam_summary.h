@@ -49,7 +49,8 @@ nlohmann::json mapSessionSummary(const SlamSystem& system, const RunInfo& run);
 nlohmann::json slamSummary(const SlamSystem& system, const RunInfo& run,
                            const RunEvaluation& evaluation, const nlohmann::json& outputs);
 
-/// The most frequent reasons of summary.json's "initialisation_waits" for the console.
+/// The three most frequent reasons of summary.json's "initialisation_waits" for the console, as
+/// "reason (N frames)" joined by "; " (most frequent first, equal counts in text order).
 std::string initWaitsLine(const nlohmann::json& waits);
 
 /// Accuracy lines (the three trajectories side by side) and the closing lines of the report.
