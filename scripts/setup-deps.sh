@@ -9,7 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libmrpt-obs-dev libmrpt-maps-dev libmrpt-graphs-dev libmrpt-opengl-dev
   libmrpt-config-dev libmrpt-io-dev libmrpt-poses-dev libmrpt-img-dev libmrpt-system-dev
-  libmrpt-hwdrivers-dev
+  libmrpt-hwdrivers-dev libmrpt-tclap-dev
   mrpt-apps
   librosbag-storage-dev libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
   pluginlib-dev librcpputils-dev libament-index-cpp-dev libroslz4-dev

@@ -113,13 +113,13 @@ double number(const std::string& option, const std::string& text) {
 /// Throws rgbdi::UsageError with a message for the user.
 rgbdi::CommandLine::Outcome parse(int argc, char** argv, Args& a) {
   rgbdi::CommandLine cl;
-  std::vector<std::string> inputs;
+  std::string input_option;
   cl.value("--info", [&](const std::string& v) { a.info = v; });
   cl.value("--config", &a.config);
   cl.flag("--json", &a.json);
   cl.flag("--verbose", &a.verbose);
   cl.value("-o,--out", &a.output);
-  cl.value("-i,--input", [&](const std::string& v) { inputs.push_back(v); });
+  cl.value("-i,--input", &input_option);
   cl.value("--camera-yaml", &a.camera_yaml);
   cl.flag("--external-images", &a.external_images);
   cl.flag("--require-colour,--require-color", &a.require_colour);
@@ -147,9 +147,9 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Args& a) {
   cl.flag("--quiet", &a.quiet);
   const auto outcome = cl.parse(argc, argv);
   if (outcome != rgbdi::CommandLine::Outcome::Run) return outcome;
-  // -i values and positionals in command-line order are the same thing.
-  std::vector<std::string> positional = inputs;
-  positional.insert(positional.end(), cl.positional().begin(), cl.positional().end());
+  // -i INPUT and a positional INPUT are the same thing.
+  std::vector<std::string> positional = cl.positional();
+  if (!input_option.empty()) positional.insert(positional.begin(), input_option);
   if (positional.size() > 1)
     throw rgbdi::UsageError("more than one input given ('" + positional[1] + "')");
   if (!positional.empty()) a.input = positional.front();
@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
   try {
     outcome = parse(argc, argv, a);
   } catch (const rgbdi::UsageError& e) {
-    std::cerr << "rawlog-convert: " << e.what() << "\n\n" << kUsage;
+    std::cerr << rgbdi::usageErrorLine("rawlog-convert", e.what());
     return kUsageError;
   }
   if (outcome == rgbdi::CommandLine::Outcome::Help) {

@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   try {
     outcome = parse(argc, argv, args);
   } catch (const rgbdi::UsageError& e) {
-    std::cerr << "rgbdi-eval: " << e.what() << " (see rgbdi-eval --help)\n";
+    std::cerr << rgbdi::usageErrorLine("rgbdi-eval", e.what());
     return rgbdi::kExitUsage;
   }
   if (outcome == rgbdi::CommandLine::Outcome::Help) {

@@ -233,7 +233,7 @@ int main(int argc, char** argv) {
     }
     opt = options(args);
   } catch (const UsageError& e) {
-    std::cerr << "rgbdi-sim: " << e.what() << "\n" << kUsage;
+    std::cerr << rgbdi::usageErrorLine("rgbdi-sim", e.what());
     return kExitUsage;
   } catch (const rgbdi::ConfigError& e) {
     std::cerr << "rgbdi-sim: " << e.what() << "\n";

@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
   try {
     outcome = parse(argc, argv, args);
   } catch (const rgbdi::UsageError& e) {
-    std::cerr << "rgbdi-slam: " << e.what() << " (see rgbdi-slam --help)\n";
+    std::cerr << rgbdi::usageErrorLine("rgbdi-slam", e.what());
     return rgbdi::kExitUsage;
   }
   if (outcome == rgbdi::CommandLine::Outcome::Help) {

@@ -1,10 +1,11 @@
-// The one option parser of rgbdi's command-line tools (MRPT 2.5 on Debian does not install TCLAP,
-// so this small one is shared instead of one hand-written loop per app).
+// The one option parser of rgbdi's command-line tools: TCLAP as MRPT ships it (Debian package
+// libmrpt-tclap-dev, CMake target mrpt::tclap) reads the line; this class declares the options
+// on it and adds what TCLAP 1.2 lacks for our tools. TCLAP is not seen outside command_line.cpp.
 //
 // Accepted forms: "--name value", "--name=value", "-n value", flags "--name" / "-n", "--" (the
 // rest is positional). Every tool gets --help/-h and --version. Errors (unknown option, missing
-// or unexpected value, a value the option's setter rejects) throw UsageError with a message for
-// the user; tools print it with their usage text and exit with kExitUsage.
+// or unexpected value, an option given twice, a value the option's setter rejects) throw UsageError
+// with a message for the user; tools print it with their usage text and exit with kExitUsage.
 #pragma once
 
 #include <functional>
@@ -28,6 +29,8 @@ std::string exitStatusHelp();
 const char* rgbdiVersion();
 /// "TOOL (rgbdi) VERSION" for --version.
 std::string versionLine(const std::string& tool);
+/// What every tool prints for a UsageError: one line, "TOOL: MESSAGE (see TOOL --help)\n".
+std::string usageErrorLine(const std::string& tool, const std::string& message);
 
 class UsageError : public std::runtime_error {
  public:
@@ -38,7 +41,8 @@ class CommandLine {
  public:
   enum class Outcome { Run, Help, Version };
 
-  /// `names`: comma-separated spellings, e.g. "-o,--out". A flag sets *out to true.
+  /// `names`: comma-separated spellings, e.g. "-o,--out" (at least one long name; short names
+  /// are one letter). A flag sets *out to true.
   void flag(const std::string& names, bool* out);
   /// An option with a value; `set` may throw UsageError (or std::invalid_argument) to reject it.
   void value(const std::string& names, std::function<void(const std::string&)> set);
@@ -46,17 +50,21 @@ class CommandLine {
   void value(const std::string& names, std::string* out);
 
   /// Parses argv[1..]; positional arguments are collected in positional(). --help and --version
-  /// win over everything else. Throws UsageError.
+  /// win over everything else. Setters run after the whole line was read, in declaration order.
+  /// Throws UsageError.
   Outcome parse(int argc, const char* const* argv);
   const std::vector<std::string>& positional() const { return positional_; }
 
  private:
+  enum class Kind { Flag, Value };
   struct Option {
-    std::vector<std::string> names;
-    bool takes_value = false;
+    std::vector<std::string> names;  // as spelled on the line: "-o", "--out"
+    Kind kind = Kind::Flag;
     bool* flag = nullptr;
     std::function<void(const std::string&)> set;
   };
+  void declare(const std::string& names, Kind kind, bool* flag,
+               std::function<void(const std::string&)> set);
   const Option* find(const std::string& name) const;
 
   std::vector<Option> options_;
