@@ -80,9 +80,11 @@ TEST(RgbdiSlam, RunWritesEveryOutputAndMeetsAccuracy) {
     EXPECT_NE(log.find("  " + path.get<std::string>() + "\n"), std::string::npos) << name;
     listed.insert(fs::path(path.get<std::string>()).filename().string());
   }
-  for (const auto& e : fs::directory_iterator(out))
-    if (e.is_regular_file())
+  for (const auto& e : fs::directory_iterator(out)) {
+    if (e.is_regular_file()) {
       EXPECT_TRUE(listed.count(e.path().filename().string())) << e.path() << " not listed";
+    }
+  }
   // Each TUM file says its frame and clock before the columns.
   std::ifstream head(out + "/trajectory_cam.tum");
   std::string first;
