@@ -5,7 +5,7 @@
 // Accepted forms: "--name value", "--name=value", "-n value", flags "--name" / "-n", "--" (the
 // rest is positional). Every tool gets --help/-h and --version. Errors (unknown option, missing
 // or unexpected value, an option given twice, a value the option's setter rejects) throw UsageError
-// with a message for the user; tools print it with their usage text and exit with kExitUsage.
+// with a message for the user; tools print it with usageErrorLine() and exit with kExitUsage.
 #pragma once
 
 #include <functional>
