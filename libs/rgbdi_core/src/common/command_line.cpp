@@ -44,20 +44,19 @@ std::vector<std::string> splitNames(const std::string& names) {
 bool isLongName(const std::string& n) { return n.size() > 2 && n.rfind("--", 0) == 0; }
 bool isShortName(const std::string& n) { return n.size() == 2 && n[0] == '-' && n[1] != '-'; }
 
+constexpr const char* kEmptyValue = "empty value";
+
 // "--name=value" is read by splitting at the first '=' where TCLAP 1.2 takes one delimiter for
 // the whole process (a static); our tools accept both spellings. TCLAP calls trimFlag on every
 // argument it tries, so the split applies to this option's own long name only.
-constexpr const char* kEmptyValue = "empty value";
-
-bool splitInline(const std::string& long_name, const std::string& arg_id, std::string& flag,
+void splitInline(const std::string& long_name, const std::string& arg_id, std::string& flag,
                  std::string& value) {
   const auto eq = flag.find('=');
-  if (eq == std::string::npos || flag.compare(0, eq, "--" + long_name) != 0) return false;
+  if (eq == std::string::npos || flag.compare(0, eq, "--" + long_name) != 0) return;
   value = flag.substr(eq + 1);
   flag.resize(eq);
   // An empty inline value would make TCLAP take the next argument instead.
   if (value.empty()) throw TCLAP::ArgParseException(kEmptyValue, arg_id);
-  return true;
 }
 
 class InlineValueArg : public TCLAP::ValueArg<std::string> {
