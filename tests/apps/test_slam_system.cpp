@@ -1,6 +1,7 @@
 // The SLAM system object on generated sequences: threaded and sequential runs give identical
-// results, loop closures included; an odometry reset starts a new segment without losing the
-// window's keyframes and without an invented odometry edge between the segments.
+// results, loop closures included (threaded runs prepare the images for tracking on the feeding
+// thread, sequential ones in the tracker); an odometry reset starts a new segment without losing
+// the window's keyframes and without an invented odometry edge between the segments.
 #include <gtest/gtest.h>
 
 #include "rgbdi/common/fan_out_sink.h"
@@ -73,6 +74,8 @@ TEST(SlamSystem, ThreadedAndSequentialRunsGiveIdenticalResults) {
   FanOutSink both({&a, &b});
   seq.pump(both);
   ASSERT_GT(a.frames().size(), 100u);
+  EXPECT_GE(a.imagesPreparedAhead(), a.frames().size());  // every image, posed or not
+  EXPECT_EQ(b.imagesPreparedAhead(), 0u);
   ASSERT_NE(a.loopCloser(), nullptr);
   ASSERT_NE(b.loopCloser(), nullptr);
   EXPECT_GT(a.loopCloser()->stats().accepted, 0u);

@@ -1,23 +1,56 @@
 #include "frontend/corner_detector.h"
 
 #include <algorithm>
+#include <cstring>
 #include <opencv2/core/hal/hal.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 #include "frontend/feature_spacing.h"
 
 namespace rgbdi::frontend {
 
-void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size) {
+float CornerResponse::compute(const cv::Mat& derivatives, int block_size, cv::Mat& response) {
   if (derivatives.type() != CV_16SC2)
     throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives");
+  return computeRows(
+      derivatives.cols, derivatives.rows, block_size,
+      [&](int v, float* __restrict ix, float* __restrict iy) {
+        const short* __restrict d = derivatives.ptr<short>(v);
+        for (int u = 0; u < derivatives.cols; ++u) {
+          ix[u] = d[2 * u];
+          iy[u] = d[2 * u + 1];
+        }
+      },
+      response);
+}
+
+float CornerResponse::compute(const cv::Mat& dx, const cv::Mat& dy, int block_size,
+                              cv::Mat& response) {
+  if (dx.type() != CV_16SC1 || dy.type() != CV_16SC1 || dx.size() != dy.size())
+    throw std::invalid_argument("CornerDetector: need two CV_16SC1 derivative planes of one size");
+  return computeRows(
+      dx.cols, dx.rows, block_size,
+      [&](int v, float* __restrict ix, float* __restrict iy) {
+        const short* __restrict x = dx.ptr<short>(v);
+        const short* __restrict y = dy.ptr<short>(v);
+        for (int u = 0; u < dx.cols; ++u) {
+          ix[u] = x[u];
+          iy[u] = y[u];
+        }
+      },
+      response);
+}
+
+template <typename RowDerivatives>
+float CornerResponse::computeRows(int w, int h, int block_size, RowDerivatives derivative,
+                                  cv::Mat& response) {
   if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
-  block_size_ = block_size;
-  const int w = derivatives.cols, h = derivatives.rows, half = block_size / 2;
+  const int half = block_size / 2;
   // Pixels closer than half a block to the border have no complete window: response 0 there.
-  response_.create(h, w, CV_32FC1);
-  response_.setTo(0.0f);
-  if (w < block_size || h < block_size) return;
+  response.create(h, w, CV_32FC1);
+  response.setTo(0.0f);
+  if (w < block_size || h < block_size) return 0.0f;
 
   // One pass over the image: per row the three structure-tensor products are summed along the
   // row, kept in a ring of `block_size` rows, and the rows of the ring are summed into the
@@ -34,13 +67,18 @@ void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size)
   float* __restrict c = b + row_len;
   float* __restrict root = c + row_len;
 
+  ix_.resize(row_len);
+  iy_.resize(row_len);
+  column_max_.assign(row_len, 0.0f);  // the border's zeros count, as in the response image
+  float* __restrict column_max = column_max_.data();
+  float* __restrict ix = ix_.data();
+  float* __restrict iy = iy_.data();
   for (int v = 0; v < h; ++v) {
-    const short* __restrict d = derivatives.ptr<short>(v);
+    derivative(v, ix, iy);
     for (int u = 0; u < w; ++u) {
-      const float ix = d[2 * u], iy = d[2 * u + 1];
-      pxx[u] = ix * ix;
-      pxy[u] = ix * iy;
-      pyy[u] = iy * iy;
+      pxx[u] = ix[u] * ix[u];
+      pxy[u] = ix[u] * iy[u];
+      pyy[u] = iy[u] * iy[u];
     }
     float* __restrict slot = ring_.data() + static_cast<size_t>(v % block_size) * 3 * row_len;
     for (int plane = 0; plane < 3; ++plane) {
@@ -66,9 +104,66 @@ void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size)
       root[u] = half_diff * half_diff + b[u] * b[u];
     }
     cv::hal::sqrt32f(root, root, w);
-    float* __restrict r = response_.ptr<float>(v - half);
-    for (int u = half; u < w - half; ++u) r[u] = 0.5f * (a[u] + c[u]) - root[u];
+    float* __restrict r = response.ptr<float>(v - half);
+    for (int u = half; u < w - half; ++u) {
+      r[u] = 0.5f * (a[u] + c[u]) - root[u];
+      // Per column (an element-wise max vectorises, a running maximum would not).
+      column_max[u] = std::max(column_max[u], r[u]);
+    }
   }
+  return *std::max_element(column_max_.begin(), column_max_.end());
+}
+
+void CornerCandidates::collect(const cv::Mat& response, float min_response, const cv::Mat* mask,
+                               std::vector<CornerCandidate>& out) {
+  const int w = response.cols, h = response.rows;
+  if (w < 3 || h < 3) return;
+  // A pixel at least as strong as its 8 neighbours equals the maximum of its 3x3 neighbourhood
+  // (cv::dilate, vectorised): the test becomes three comparisons per pixel, which vectorise too,
+  // and the rows are then skimmed eight pixels at a time for the few candidates.
+  cv::dilate(response, neighbourhood_max_, cv::Mat());
+  keep_.assign(static_cast<size_t>(w) + 8, 0);  // padded: the skim reads whole 8-byte words
+  std::uint8_t* __restrict keep = keep_.data();
+  for (int v = 1; v + 1 < h; ++v) {
+    const float* __restrict r = response.ptr<float>(v);
+    const float* __restrict m = neighbourhood_max_.ptr<float>(v);
+    for (int u = 1; u + 1 < w; ++u)
+      keep[u] = static_cast<std::uint8_t>((r[u] >= min_response) & (r[u] >= m[u]));
+    if (mask) {
+      const std::uint8_t* __restrict allowed = mask->ptr<std::uint8_t>(v);
+      for (int u = 1; u + 1 < w; ++u) keep[u] &= static_cast<std::uint8_t>(allowed[u] != 0);
+    }
+    for (int u = 1; u + 1 < w; u += 8) {
+      std::uint64_t word;
+      std::memcpy(&word, keep + u, sizeof word);
+      if (!word) continue;
+      for (int k = u; k < std::min(u + 8, w - 1); ++k)
+        if (keep[k]) out.push_back({r[k], k, v});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const CornerCandidate& p, const CornerCandidate& q) {
+    if (p.response != q.response) return p.response > q.response;
+    return p.v != q.v ? p.v < q.v : p.u < q.u;
+  });
+}
+
+void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size) {
+  strongest_ = computer_.compute(derivatives, block_size, own_response_);
+  response_ = own_response_;
+  block_size_ = block_size;
+  has_prepared_ = false;
+}
+
+void CornerDetector::useResponse(const PreparedImage& prepared, int block_size) {
+  if (prepared.corner_response.type() != CV_32FC1)
+    throw std::invalid_argument("CornerDetector: a response must be CV_32FC1");
+  if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
+  response_ = prepared.corner_response;
+  block_size_ = block_size;
+  strongest_ = prepared.strongest_response;
+  prepared_candidates_ = prepared.corner_candidates;  // a copy: the image may go away first
+  has_prepared_ = true;
+  prepared_min_ = prepared.candidate_min_response;
 }
 
 double CornerDetector::responseFloor(int block_size, double min_gradient) {
@@ -77,9 +172,7 @@ double CornerDetector::responseFloor(int block_size, double min_gradient) {
 }
 
 bool CornerDetector::hasCorner(double min_gradient) const {
-  double strongest = 0.0;
-  cv::minMaxLoc(response_, nullptr, &strongest);
-  return strongest >= responseFloor(block_size_, min_gradient);
+  return strongest_ >= responseFloor(block_size_, min_gradient);
 }
 
 std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_corners,
@@ -93,39 +186,39 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_cor
   next_candidate_ = 0;
   if (max_corners <= 0) return corners;
 
-  double strongest = 0.0;
-  cv::minMaxLoc(response_, nullptr, &strongest, nullptr, nullptr, mask);
+  // Strongest allowed response: per column first (an element-wise max vectorises; cv::minMaxLoc
+  // with a mask tests pixel by pixel). A mask allowing nothing, or only responses <= 0, gives 0.
+  const int w = response_.cols, h = response_.rows;
+  column_max_.assign(static_cast<size_t>(w), 0.0f);
+  float* __restrict column_max = column_max_.data();
+  for (int v = 0; v < h; ++v) {
+    const float* __restrict r = response_.ptr<float>(v);
+    const std::uint8_t* __restrict allowed = mask.ptr<std::uint8_t>(v);
+    for (int u = 0; u < w; ++u) column_max[u] = std::max(column_max[u], allowed[u] ? r[u] : 0.0f);
+  }
+  const double strongest = *std::max_element(column_max_.begin(), column_max_.end());
   const double floor = responseFloor(block_size_, min_gradient);
   if (!(strongest > 0.0) || strongest < floor) return corners;  // flat, bare, or nothing allowed
   const float threshold = static_cast<float>(std::max(quality * strongest, floor));
 
-  // Candidates: allowed 3x3 local maxima at or above the threshold.
-  const int w = response_.cols, h = response_.rows;
-  for (int v = 1; v + 1 < h; ++v) {
-    const float* up = response_.ptr<float>(v - 1);
-    const float* r = response_.ptr<float>(v);
-    const float* down = response_.ptr<float>(v + 1);
-    const std::uint8_t* allowed = mask.ptr<std::uint8_t>(v);
-    for (int u = 1; u + 1 < w; ++u) {
-      const float x = r[u];
-      if (x < threshold || !allowed[u]) continue;
-      if (x < r[u - 1] || x < r[u + 1] || x < up[u - 1] || x < up[u] || x < up[u + 1] ||
-          x < down[u - 1] || x < down[u] || x < down[u + 1])
-        continue;
-      candidates_.push_back({x, u, v});
+  // Candidates: allowed 3x3 local maxima at or above the threshold. A prepared list holds every
+  // local maximum above a lower bound, strongest first: those that pass are the same, in the
+  // same order, as a scan would find.
+  if (has_prepared_ && threshold >= prepared_min_) {
+    for (const CornerCandidate& c : prepared_candidates_) {
+      if (c.response < threshold) break;
+      if (mask.at<std::uint8_t>(c.v, c.u)) candidates_.push_back(c);
     }
+  } else {
+    collector_.collect(response_, threshold, &mask, candidates_);
   }
-  std::sort(candidates_.begin(), candidates_.end(), [](const Candidate& p, const Candidate& q) {
-    if (p.response != q.response) return p.response > q.response;
-    return p.v != q.v ? p.v < q.v : p.u < q.u;
-  });
   return detectMore(max_corners, spacing);
 }
 
 std::vector<cv::Point2f> CornerDetector::detectMore(int max_corners, FeatureSpacing& spacing) {
   std::vector<cv::Point2f> corners;
   while (static_cast<int>(corners.size()) < max_corners && next_candidate_ < candidates_.size()) {
-    const Candidate& cand = candidates_[next_candidate_++];
+    const CornerCandidate& cand = candidates_[next_candidate_++];
     const cv::Point2f p(static_cast<float>(cand.u), static_cast<float>(cand.v));
     if (!spacing.isFree(p)) continue;
     spacing.accept(p);

@@ -24,24 +24,20 @@ namespace {
   throw std::invalid_argument("FeatureTracker: " + where + ": " + what);
 }
 
-// CLAHE tiles: the usual 8x8 grid, only used when clahe_clip_limit enables equalisation.
-const cv::Size kClaheTiles(8, 8);
-
 }  // namespace
 
 FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCamera& cam_color)
     : options_(options),
       cam_(cam_color),
       registrar_(options),
-      detector_(std::make_unique<CornerDetector>()) {
+      detector_(std::make_unique<CornerDetector>()),
+      preparer_(options) {
   options_.validate();
   if (!cam_.valid())
     throw std::invalid_argument("FeatureTracker: colour camera intrinsics are not valid (size " +
                                 std::to_string(cam_.width) + "x" + std::to_string(cam_.height) +
                                 ", fx " + std::to_string(cam_.fx) + ", fy " +
                                 std::to_string(cam_.fy) + ")");
-  if (options_.clahe_clip_limit > 0.0)
-    clahe_ = cv::createCLAHE(options_.clahe_clip_limit, kClaheTiles);
   // Results do not depend on it (the parallel loops split work over independent pixels/points).
   if (options_.opencv_threads > 0) cv::setNumThreads(options_.opencv_threads);
 }
@@ -54,20 +50,6 @@ void FeatureTracker::reset() {
   has_previous_ = false;
   previous_pyramid_.clear();
   previous_tracks_.clear();
-}
-
-cv::Mat FeatureTracker::toGrey(const RgbdFrame& frame) {
-  // Written into member buffers: fresh 300 kB images every frame cost page faults.
-  cv::Mat grey = frame.rgb;  // already grey when CV_8UC1 (checked by the caller)
-  if (frame.rgb.type() == CV_8UC3) {
-    cv::cvtColor(frame.rgb, grey_, cv::COLOR_RGB2GRAY);
-    grey = grey_;
-  }
-  if (clahe_) {
-    clahe_->apply(grey, equalised_);
-    return equalised_;
-  }
-  return grey;
 }
 
 std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
@@ -186,7 +168,7 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   return kept;
 }
 
-FeatureSpacing FeatureTracker::distribute(const cv::Mat& grey, std::vector<Track>& tracks,
+FeatureSpacing FeatureTracker::distribute(const cv::Size& image, std::vector<Track>& tracks,
                                           FeatureFrame& out) {
   // Longest-tracked features claim their neighbourhood first: they carry the most constraints
   // for the estimator. Ties go to the older (smaller) id, which keeps the result deterministic.
@@ -196,7 +178,7 @@ FeatureSpacing FeatureTracker::distribute(const cv::Mat& grey, std::vector<Track
     if (tracks[a].length != tracks[b].length) return tracks[a].length > tracks[b].length;
     return tracks[a].id < tracks[b].id;
   });
-  FeatureSpacing spacing(grey.cols, grey.rows, options_.min_distance_px);
+  FeatureSpacing spacing(image.width, image.height, options_.min_distance_px);
   std::vector<bool> keep(tracks.size(), false);
   for (size_t i : order) {
     if (spacing.isFree(tracks[i].uv)) {
@@ -234,9 +216,9 @@ void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Po
   tracks.swap(kept);
 }
 
-void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
-                               std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
-                               FeatureSpacing& spacing, FeatureFrame& out) {
+void FeatureTracker::detectNew(const RgbdFrame& frame, std::vector<Track>& tracks,
+                               std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing,
+                               FeatureFrame& out) {
   int missing = options_.max_features - static_cast<int>(tracks.size());
   if (missing <= 0) return;
   // The mask keeps the detector away from the border band and from existing features (which
@@ -244,11 +226,11 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
   // its circles are one pixel wider than min_distance_px because they are drawn around rounded
   // centres. The exact distance test in the detector has the last word.
   cv::Mat& mask = detection_mask_;
-  mask.create(grey.size(), CV_8UC1);
+  mask.create(frame.rgb.size(), CV_8UC1);
   mask.setTo(0);
   const int b = options_.border_px;
-  if (grey.cols > 2 * b && grey.rows > 2 * b)
-    mask(cv::Rect(b, b, grey.cols - 2 * b, grey.rows - 2 * b)).setTo(255);
+  if (mask.cols > 2 * b && mask.rows > 2 * b)
+    mask(cv::Rect(b, b, mask.cols - 2 * b, mask.rows - 2 * b)).setTo(255);
   const int radius = static_cast<int>(std::ceil(options_.min_distance_px)) + 1;
   for (const Track& t : tracks)
     cv::circle(mask, cv::Point(cvRound(t.uv.x), cvRound(t.uv.y)), radius, cv::Scalar(0),
@@ -284,7 +266,8 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& grey,
 }
 
 FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
-                                   const std::optional<Eigen::Matrix3d>& R_previous_current) {
+                                   const std::optional<Eigen::Matrix3d>& R_previous_current,
+                                   const PreparedImage* prepared) {
   Stopwatch total, step;
   if (!frame.hasColor()) failFrame(frame, "no colour image (the front end tracks colour images)");
   if (frame.rgb.type() != CV_8UC3 && frame.rgb.type() != CV_8UC1)
@@ -306,8 +289,19 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   out.t = frame.t;
   out.frame_index = frame.index;
 
-  const cv::Mat grey = toGrey(frame);
-  out.timings.grey_ms = step.lapMs();
+  // Grey image and corner response: prepared ahead by the caller, or here.
+  cv::Mat grey;
+  if (prepared) {
+    if (!prepared->matches(frame, preparer_.recipe()))
+      failFrame(frame,
+                "the prepared image given with it was made from another frame or with "
+                "other front-end options");
+    grey = prepared->grey;
+    out.timings.grey_ms = prepared->grey_ms;
+  } else {
+    grey = preparer_.grey(frame);
+    out.timings.grey_ms = step.lapMs();
+  }
   // Two pyramids alternate: the one of the image before last is rebuilt in place (no new
   // allocations). Derivatives are stored with the pyramid: this image is the source of the
   // backward check now and of the forward pass next time, so they are computed once, not twice.
@@ -315,15 +309,20 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   cv::buildOpticalFlowPyramid(grey, pyramid, window, options_.klt_pyramid_levels, true);
   out.timings.pyramid_ms = step.lapMs();
-  // Corner response from pyramid[1], the Scharr derivatives of the full-resolution image (stored
-  // after each level): tracked features are checked against it, new corners taken from it.
-  detector_->computeResponse(pyramid[1], options_.shi_tomasi_block_size);
-  out.timings.detect_ms = step.lapMs();
+  // Tracked features are checked against the corner response (texture floor), new corners taken
+  // from it. Unless prepared, computed from pyramid[1] (the base image's Scharr derivatives).
+  if (prepared) {
+    detector_->useResponse(*prepared, options_.shi_tomasi_block_size);
+    out.timings.detect_ms = prepared->response_ms;
+  } else {
+    detector_->computeResponse(pyramid[1], options_.shi_tomasi_block_size);
+    out.timings.detect_ms = step.lapMs();
+  }
 
   std::vector<Track> tracks;
   if (has_previous_) tracks = trackPrevious(pyramid, R_previous_current, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
-  FeatureSpacing spacing = distribute(grey, tracks, out);
+  FeatureSpacing spacing = distribute(frame.rgb.size(), tracks, out);
   out.timings.detect_ms += step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
@@ -341,7 +340,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   }
   out.n_tracked = static_cast<int>(tracks.size());
   out.timings.depth_ms = step.lapMs();
-  detectNew(frame, grey, tracks, occupied, spacing, out);
+  detectNew(frame, tracks, occupied, spacing, out);
   out.timings.detect_ms += step.lapMs();
   // tracks: the tracked ones in id order, then the new ones with larger ids.
 
@@ -363,7 +362,8 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   previous_tracks_ = std::move(tracks);
   previous_t_ = frame.t;
   has_previous_ = true;
-  out.timings.total_ms = total.lapMs();
+  // The preparation counts wherever it ran (this thread's CPU has it only when it ran here).
+  out.timings.total_ms = total.lapMs() + (prepared ? prepared->cpuMs() : 0.0);
   return out;
 }
 

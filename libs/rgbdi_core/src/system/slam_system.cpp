@@ -55,16 +55,32 @@ SlamSystem::SlamSystem(const SystemConfig& cfg, const SlamSystemOptions& options
       "mapping", [this](MapPacket& p) { handleMap(p); }, t, cap);
   loop_stage_ = std::make_unique<StageWorker<KeyframePacket>>(
       "loop closing", [this](KeyframePacket& p) { handleKeyframe(p); }, t, cap);
-  odometry_stage_ = std::make_unique<StageWorker<io::Measurement>>(
-      "odometry", [this](io::Measurement& m) { handleMeasurement(m); }, t, cap);
+  odometry_stage_ = std::make_unique<StageWorker<OdometryInput>>(
+      "odometry", [this](OdometryInput& in) { handleMeasurement(in); }, t, cap);
+  if (t && options.images_prepared_ahead > 0)
+    preparer_ = std::make_unique<frontend::ImagePreparer>(cfg.frontend);
 }
 
 SlamSystem::~SlamSystem() = default;
 
-void SlamSystem::feedImu(const ImuSample& imu) { odometry_stage_->submit(imu); }
+void SlamSystem::feedImu(const ImuSample& imu) { odometry_stage_->submit({imu, std::nullopt}); }
 
 void SlamSystem::feedRgbd(const RgbdFrame& frame) {
-  odometry_stage_->submit(options_.threaded ? ownedCopy(frame) : frame);
+  OdometryInput in{options_.threaded ? ownedCopy(frame) : frame, std::nullopt};
+  // The image is prepared here, on the feeding thread, while the odometry thread tracks the
+  // images before it: at 30 Hz the odometry thread is the critical path. Waiting for the
+  // odometry stage to track an older prepared image bounds the memory they hold.
+  const bool prepare = preparer_ && frontend::ImagePreparer::accepts(frame);
+  if (prepare) {
+    if (prepared_handled_at_.size() >= options_.images_prepared_ahead) {
+      odometry_stage_->waitHandled(prepared_handled_at_.front());
+      prepared_handled_at_.pop_front();
+    }
+    in.prepared = preparer_->prepare(std::get<RgbdFrame>(in.measurement));
+    ++images_prepared_ahead_;
+  }
+  odometry_stage_->submit(std::move(in));
+  if (prepare) prepared_handled_at_.push_back(odometry_stage_->submitted());
 }
 
 void SlamSystem::endOfStream() {
@@ -148,11 +164,16 @@ bool SlamSystem::joinsLoopClosing(const KeyframePacket& p) {
   return joins;
 }
 
-void SlamSystem::handleMeasurement(io::Measurement& m) {
-  if (auto* imu = std::get_if<ImuSample>(&m)) {
+void SlamSystem::handleMeasurement(OdometryInput& in) {
+  if (auto* imu = std::get_if<ImuSample>(&in.measurement)) {
     vio_.feedImu(*imu);
   } else {
-    vio_.feedRgbd(std::get<RgbdFrame>(m));
+    const RgbdFrame& frame = std::get<RgbdFrame>(in.measurement);
+    if (in.prepared)
+      vio_.feedRgbd(frame, *in.prepared);
+    else
+      vio_.feedRgbd(frame);
+    in.prepared.reset();
     progress_frames_.store(vio_.framesReceived());
     progress_status_.store(static_cast<int>(vio_.status()));
   }

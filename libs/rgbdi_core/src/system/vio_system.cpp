@@ -40,7 +40,13 @@ void VioSystem::feedImu(const ImuSample& imu) {
   processReady(false);
 }
 
-void VioSystem::feedRgbd(const RgbdFrame& in) {
+void VioSystem::feedRgbd(const RgbdFrame& frame) { track(frame, nullptr); }
+
+void VioSystem::feedRgbd(const RgbdFrame& frame, const frontend::PreparedImage& prepared) {
+  track(frame, &prepared);
+}
+
+void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepared) {
   ++frames_received_;
   if (!in.hasColor()) {  // depth-only frames cannot be tracked
     ++frames_dropped_;
@@ -53,11 +59,12 @@ void VioSystem::feedRgbd(const RgbdFrame& in) {
   if (!use_depth_) p.frame.depth.release();
   // Thread CPU time, like the estimator's stages: on a shared machine wall time mostly measures
   // the other processes.
-  const double t0 = threadCpuSeconds();
+  // An image prepared ahead was prepared on another thread: its CPU counts as tracking too.
+  const double t0 = threadCpuSeconds() - (prepared ? 1e-3 * prepared->cpuMs() : 0.0);
   std::optional<Eigen::Matrix3d> R_previous_current;
   if (has_tracked_ && cfg_.frontend.klt_predict_rotation)
     R_previous_current = cameraRotation(last_tracked_t_, in.t);
-  p.features = tracker_->track(p.frame, R_previous_current);
+  p.features = tracker_->track(p.frame, R_previous_current, prepared);
   last_tracked_t_ = in.t;
   has_tracked_ = true;
   // The next prediction starts at this image.

@@ -13,6 +13,7 @@
 #include "rgbdi/frontend/depth_registration.h"
 #include "rgbdi/frontend/feature_frame.h"
 #include "rgbdi/frontend/frontend_options.h"
+#include "rgbdi/frontend/prepared_image.h"
 
 namespace rgbdi::frontend {
 
@@ -48,8 +49,13 @@ class FeatureTracker {
   /// image's camera frame (e.g. from the gyroscope); when given and klt_predict_rotation is on,
   /// KLT starts a feature that the rotation moves beyond the pyramid's reach where the rotation
   /// puts it (a fast turn), otherwise at its previous position.
+  /// `prepared`: the frame's image prepared ahead (ImagePreparer with these options, e.g. on the
+  /// thread that feeds the tracker; its buffers are shared until the next image). Without it
+  /// the tracker prepares the image itself; the result is the same. Throws
+  /// std::invalid_argument when `prepared` was made from another frame or with other options.
   FeatureFrame track(const RgbdFrame& frame,
-                     const std::optional<Eigen::Matrix3d>& R_previous_current = std::nullopt);
+                     const std::optional<Eigen::Matrix3d>& R_previous_current = std::nullopt,
+                     const PreparedImage* prepared = nullptr);
 
   /// Forgets all tracks (e.g. after the estimator resets); ids keep increasing.
   void reset();
@@ -67,7 +73,6 @@ class FeatureTracker {
     Eigen::Vector2d xn_velocity_from;  ///< xn in the previous image (for the velocity)
   };
 
-  cv::Mat toGrey(const RgbdFrame& frame);
   /// Forward/backward KLT, border and RANSAC checks; returns the surviving tracks moved to the
   /// current image (positions updated, lengths incremented).
   std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid,
@@ -75,14 +80,14 @@ class FeatureTracker {
                                    FeatureFrame& out);
   /// Keeps features min_distance_px apart (longest-tracked first); returns the spacing of those
   /// kept.
-  FeatureSpacing distribute(const cv::Mat& grey, std::vector<Track>& tracks, FeatureFrame& out);
+  FeatureSpacing distribute(const cv::Size& image, std::vector<Track>& tracks, FeatureFrame& out);
   /// Drops the tracks whose window straddles an occlusion boundary in depth_m_ (their places stay
   /// taken in `spacing` and in `occupied`, so no corner on the same edge replaces them at once).
   void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
                     int& dropped) const;
   /// Tops `tracks` up to max_features with new corners away from `occupied`; with depth, corners
   /// on occlusion boundaries are refused and the next candidates taken instead.
-  void detectNew(const RgbdFrame& frame, const cv::Mat& grey, std::vector<Track>& tracks,
+  void detectNew(const RgbdFrame& frame, std::vector<Track>& tracks,
                  std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing, FeatureFrame& out);
   /// Half-size of the depth windows registered around features.
   int depthWindowRadius() const;
@@ -91,14 +96,14 @@ class FeatureTracker {
   PinholeCamera cam_;
   DepthRegistrar registrar_;
   std::unique_ptr<CornerDetector> detector_;  ///< keeps its work buffers between images
-  cv::Mat depth_m_;           ///< registered depth around the current features (reused buffer)
-  cv::Ptr<cv::CLAHE> clahe_;  ///< only when clahe_clip_limit > 0
+  ImagePreparer preparer_;  ///< grey images of frames that come without a prepared one
+  cv::Mat depth_m_;         ///< registered depth around the current features (reused buffer)
+  cv::Mat detection_mask_;  ///< per-image work buffer, reused
 
   bool has_previous_ = false;
   double previous_t_ = 0.0;
   std::vector<cv::Mat> previous_pyramid_;
-  std::vector<cv::Mat> spare_pyramid_;         ///< rebuilt for each new image (keeps its memory)
-  cv::Mat grey_, equalised_, detection_mask_;  ///< per-image work buffers, reused
+  std::vector<cv::Mat> spare_pyramid_;  ///< rebuilt for each new image (keeps its memory)
   std::vector<Track> previous_tracks_;
   std::uint64_t next_id_ = 0;
 };

@@ -26,10 +26,12 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "rgbdi/common/measurement_sink.h"
 #include "rgbdi/common/stage_worker.h"
+#include "rgbdi/frontend/prepared_image.h"
 #include "rgbdi/io/measurement_source.h"
 #include "rgbdi/loop/loop_closer.h"
 #include "rgbdi/loop/loop_features.h"
@@ -49,6 +51,11 @@ struct SlamSystemOptions {
   bool live = false;      ///< live input: drift corrections taken when ready (wall time)
   bool keep_observations = false;   ///< keep each keyframe's MRPT observation (keyframes.simplemap)
   std::size_t queue_capacity = 64;  ///< [packets] bound of each stage queue
+  /// [images] threaded: each image is prepared for tracking (grey image and corner response:
+  /// frontend::ImagePreparer) on the feeding thread, which takes that work off the odometry
+  /// thread; at most this many prepared images wait untracked (1.5 MB each at 640x480). 0: the
+  /// odometry thread prepares them. Same result either way.
+  std::size_t images_prepared_ahead = 4;
   /// A saved map to start in (nullptr: a new map). Needs loop closure ([loop] enable).
   std::shared_ptr<const map::MapData> map;
   bool localize_only = false;  ///< with a map: the map stays as loaded (it does not grow)
@@ -149,9 +156,17 @@ class SlamSystem : public MeasurementSink {
   const SystemConfig& config() const { return cfg_; }
   const SlamSystemOptions& options() const { return options_; }
   std::size_t mapQueueHighWater() const { return map_stage_->queueHighWater(); }
+  /// Images prepared for tracking on the feeding thread (SlamSystemOptions::
+  /// images_prepared_ahead); read it from the feeding thread or after endOfStream().
+  std::uint64_t imagesPreparedAhead() const { return images_prepared_ahead_; }
 
  private:
-  void handleMeasurement(io::Measurement& m);
+  /// A measurement for the odometry stage, with its image prepared when the feeding thread did.
+  struct OdometryInput {
+    io::Measurement measurement;
+    std::optional<frontend::PreparedImage> prepared;
+  };
+  void handleMeasurement(OdometryInput& in);
   void onFrame(const estimator::FrameEstimate& est, const RgbdFrame& frame);
   void onKeyframe(const estimator::KeyframeState& kf, const RgbdFrame& frame,
                   const frontend::FeatureFrame& features);
@@ -211,13 +226,19 @@ class SlamSystem : public MeasurementSink {
   std::atomic<int> progress_status_{0};
   std::atomic<int> progress_map_state_{0};
 
+  // Feeding thread only: the preparer (threaded with images_prepared_ahead > 0) and, for each
+  // prepared image not known to be tracked, the odometry stage's packet count once it is handled.
+  std::unique_ptr<frontend::ImagePreparer> preparer_;
+  std::deque<std::uint64_t> prepared_handled_at_;
+  std::uint64_t images_prepared_ahead_ = 0;
+
   std::uint64_t id_offset_ = 0;  ///< keyframe id = id_offset_ + slot
   int segment_offset_ = 0;       ///< frame/keyframe segment = estimator segment + this
 
   // Declared last: destroyed (threads joined) before the state above.
   std::unique_ptr<StageWorker<MapPacket>> map_stage_;
   std::unique_ptr<StageWorker<KeyframePacket>> loop_stage_;
-  std::unique_ptr<StageWorker<io::Measurement>> odometry_stage_;
+  std::unique_ptr<StageWorker<OdometryInput>> odometry_stage_;
   bool ended_ = false;
 };
 

@@ -33,6 +33,9 @@ class VioSystem : public MeasurementSink {
 
   void feedImu(const ImuSample& imu) override;
   void feedRgbd(const RgbdFrame& frame) override;
+  /// The same with the frame's image prepared ahead (frontend::ImagePreparer with this system's
+  /// [frontend] options, e.g. on the feeding thread). Same result as without it.
+  void feedRgbd(const RgbdFrame& frame, const frontend::PreparedImage& prepared);
   void endOfStream() override;
 
   /// Called for every processed frame (after the estimator ran on it).
@@ -73,6 +76,7 @@ class VioSystem : public MeasurementSink {
   PinholeCamera cameraFor(const RgbdFrame& frame) const;
 
  private:
+  void track(const RgbdFrame& frame, const frontend::PreparedImage* prepared);
   struct Pending {
     frontend::FeatureFrame features;
     RgbdFrame frame;

@@ -1,0 +1,95 @@
+#include "rgbdi/frontend/prepared_image.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "frontend/corner_detector.h"
+#include "frontend/stopwatch.h"
+
+namespace rgbdi::frontend {
+namespace {
+// CLAHE tiles: the usual 8x8 grid, only used when clahe_clip_limit enables equalisation.
+const cv::Size kClaheTiles(8, 8);
+}  // namespace
+
+PreparationRecipe PreparationRecipe::of(const FrontendOptions& options) {
+  PreparationRecipe r;
+  r.block_size = options.shi_tomasi_block_size;
+  r.min_gradient_grey_per_px = options.min_gradient_grey_per_px;
+  r.clahe_clip_limit = options.clahe_clip_limit;
+  return r;
+}
+
+bool PreparedImage::matches(const RgbdFrame& frame, const PreparationRecipe& r) const {
+  return recipe == r && frame_index == frame.index && t == frame.t && size == frame.rgb.size();
+}
+
+ImagePreparer::ImagePreparer(const FrontendOptions& options)
+    : recipe_(PreparationRecipe::of(options)),
+      response_(std::make_unique<CornerResponse>()),
+      candidates_(std::make_unique<CornerCandidates>()) {
+  options.validate();
+  if (options.clahe_clip_limit > 0.0)
+    clahe_ = cv::createCLAHE(options.clahe_clip_limit, kClaheTiles);
+}
+
+ImagePreparer::~ImagePreparer() = default;
+ImagePreparer::ImagePreparer(ImagePreparer&&) noexcept = default;
+ImagePreparer& ImagePreparer::operator=(ImagePreparer&&) noexcept = default;
+
+bool ImagePreparer::accepts(const RgbdFrame& frame) {
+  return frame.hasColor() && (frame.rgb.type() == CV_8UC3 || frame.rgb.type() == CV_8UC1);
+}
+
+void ImagePreparer::toGrey(const RgbdFrame& frame, cv::Mat& converted, cv::Mat& equalised,
+                           cv::Mat& grey) const {
+  if (!accepts(frame))
+    throw std::invalid_argument("ImagePreparer: frame " + std::to_string(frame.index) +
+                                " has no CV_8UC3 or CV_8UC1 colour image");
+  grey = frame.rgb;  // already grey when CV_8UC1
+  if (frame.rgb.type() == CV_8UC3) {
+    cv::cvtColor(frame.rgb, converted, cv::COLOR_RGB2GRAY);
+    grey = converted;
+  }
+  if (clahe_) {
+    clahe_->apply(grey, equalised);
+    grey = equalised;
+  }
+}
+
+cv::Mat ImagePreparer::grey(const RgbdFrame& frame) {
+  // Written into member buffers: fresh 300 kB images every frame cost page faults.
+  cv::Mat grey;
+  toGrey(frame, grey_, equalised_, grey);
+  return grey;
+}
+
+PreparedImage ImagePreparer::prepare(const RgbdFrame& frame) {
+  Stopwatch step;
+  PreparedImage out;
+  out.t = frame.t;
+  out.frame_index = frame.index;
+  out.size = frame.rgb.size();
+  out.recipe = recipe_;
+  cv::Mat converted, equalised;  // new buffers: the result travels to another thread
+  toGrey(frame, converted, equalised, out.grey);
+  out.grey_ms = step.lapMs();
+  // cv::Scharr with its default border (reflect 101) gives the derivatives KLT's pyramid stores
+  // for its base image, value for value (test_prepared_image).
+  cv::Scharr(out.grey, dx_, CV_16S, 1, 0);
+  cv::Scharr(out.grey, dy_, CV_16S, 0, 1);
+  out.strongest_response = response_->compute(dx_, dy_, recipe_.block_size, out.corner_response);
+  // The candidates every detection would scan the image for (it filters them by its mask and
+  // threshold, which is never below the texture floor and always positive).
+  out.candidate_min_response = std::max(static_cast<float>(CornerDetector::responseFloor(
+                                            recipe_.block_size, recipe_.min_gradient_grey_per_px)),
+                                        std::numeric_limits<float>::min());
+  candidates_->collect(out.corner_response, out.candidate_min_response, nullptr,
+                       out.corner_candidates);
+  out.response_ms = step.lapMs();
+  return out;
+}
+
+}  // namespace rgbdi::frontend
