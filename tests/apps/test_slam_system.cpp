@@ -4,6 +4,8 @@
 // the window's keyframes and without an invented odometry edge between the segments.
 #include <gtest/gtest.h>
 
+#include <opencv2/core/utility.hpp>
+
 #include "rgbdi/common/fan_out_sink.h"
 #include "rgbdi/loop/loop_closer.h"
 #include "rgbdi/sim/sequence.h"
@@ -87,6 +89,26 @@ TEST(SlamSystem, ThreadedAndSequentialRunsGiveIdenticalResults) {
   EXPECT_GT(a.keyframeStates().size(), 10u);
   EXPECT_EQ(a.mapper().pointMap().pointCount(), b.mapper().pointMap().pointCount());
   EXPECT_EQ(a.mapper().store().size(), a.keyframeStates().size());
+}
+
+TEST(SlamSystem, AppliesOpenCvsThreadCountBeforeItsThreadsStart) {
+  // OpenCV's thread count is process-wide; changing it while the feeding thread prepares an
+  // image (cv::cvtColor in a parallel loop) left both threads spinning in TBB forever. The
+  // system sets it when it is built, so the tracker built later on the odometry thread finds it
+  // set and leaves it.
+  sim::SimulatedSequence seq(shortSequence("wheeled_circle", 9.0));
+  system::SystemConfig cfg = configOf(seq);
+  ASSERT_EQ(cfg.frontend.opencv_threads, 1);
+  cv::setNumThreads(2);
+  ASSERT_EQ(cv::getNumThreads(), 2);
+  {
+    system::SlamSystem threaded(cfg, system::SlamSystemOptions());
+    EXPECT_EQ(cv::getNumThreads(), 1);
+    seq.pump(threaded);
+    EXPECT_EQ(cv::getNumThreads(), 1);
+    EXPECT_GT(threaded.imagesPreparedAhead(), 20u);
+  }
+  cv::setNumThreads(-1);  // OpenCV's default for the other tests
 }
 
 TEST(SlamSystem, AResetStartsANewSegmentWithoutLosingTheWindowOrJoiningTheSegments) {

@@ -39,7 +39,7 @@ FeatureTracker::FeatureTracker(const FrontendOptions& options, const PinholeCame
                                 ", fx " + std::to_string(cam_.fx) + ", fy " +
                                 std::to_string(cam_.fy) + ")");
   // Results do not depend on it (the parallel loops split work over independent pixels/points).
-  if (options_.opencv_threads > 0) cv::setNumThreads(options_.opencv_threads);
+  applyOpenCvThreads(options_);
 }
 
 FeatureTracker::~FeatureTracker() = default;

@@ -1,5 +1,6 @@
 #include "rgbdi/frontend/frontend_options.h"
 
+#include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <string>
 
@@ -100,6 +101,11 @@ FrontendOptions FrontendOptions::load(IniReader& ini) {
     ini.fail(kSection, key, what);
   });
   return o;
+}
+
+void applyOpenCvThreads(const FrontendOptions& options) {
+  if (options.opencv_threads > 0 && cv::getNumThreads() != options.opencv_threads)
+    cv::setNumThreads(options.opencv_threads);
 }
 
 }  // namespace rgbdi::frontend

@@ -49,6 +49,10 @@ SlamSystem::SlamSystem(const SystemConfig& cfg, const SlamSystemOptions& options
     vio_.setEarlyKeyframes([this](int estimator_segment) {
       return estimator_segment + segment_offset_ == frame_segment_ && !frame_segment_placed_;
     });
+  // OpenCV's thread count is process-wide and must not change while another thread runs an
+  // OpenCV operation: set it now, before the stages (and the feeding thread's image preparation)
+  // use OpenCV; the tracker built later on the odometry thread then finds it set.
+  frontend::applyOpenCvThreads(cfg.frontend);
   const bool t = options.threaded;
   const std::size_t cap = options.queue_capacity;
   map_stage_ = std::make_unique<StageWorker<MapPacket>>(

@@ -65,9 +65,10 @@ struct FrontendOptions {
   double registration_fill_max_relative_diff = 0.02;
 
   /// [count] threads OpenCV may use for the image operations (a process-wide OpenCV setting,
-  /// applied when a FeatureTracker is built). 1 = on the calling thread: OpenCV's worker pool
-  /// spins between the short calls of each frame and burns a second core for no gain
-  /// (doc/performance.md); 0 = leave OpenCV's default (one thread per core).
+  /// applied by applyOpenCvThreads: when a FeatureTracker is built, and by the SLAM system before
+  /// its threads start). 1 = on the calling thread: OpenCV's worker pool spins between the
+  /// short calls of each frame and burns a second core for no gain (doc/performance.md); 0 =
+  /// leave OpenCV's default (one thread per core).
   int opencv_threads = 1;
 
   /// Throws ConfigError when fields are inconsistent with each other or out of their ranges.
@@ -75,5 +76,12 @@ struct FrontendOptions {
   /// Reads [frontend]; missing keys keep the defaults above.
   static FrontendOptions load(IniReader& ini);
 };
+
+/// Sets OpenCV's thread count to options.opencv_threads (0: leaves it) unless it is that already.
+/// Changing it rebuilds OpenCV's process-wide worker pool, which must not happen while another
+/// thread runs an OpenCV operation (with the TBB backend both threads then spin forever): a
+/// program applies it once before its threads start, and later calls with the same options do
+/// nothing.
+void applyOpenCvThreads(const FrontendOptions& options);
 
 }  // namespace rgbdi::frontend
