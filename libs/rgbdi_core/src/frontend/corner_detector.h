@@ -97,6 +97,10 @@ class CornerDetector {
   /// got. Empty when the candidates are used up.
   std::vector<cv::Point2f> detectMore(int max_corners, FeatureSpacing& spacing);
 
+  /// Lets go of a response given to useResponse() (its buffers may then be reused elsewhere);
+  /// detect() and hasCorner() need a computeResponse() or useResponse() again.
+  void releaseResponse() { response_ = cv::Mat(); }
+
   /// The response image in use (CV_32FC1; 0 within half a block of the border), for tests and
   /// diagnostics.
   const cv::Mat& response() const { return response_; }

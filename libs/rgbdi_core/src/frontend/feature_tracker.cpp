@@ -362,6 +362,8 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   previous_tracks_ = std::move(tracks);
   previous_t_ = frame.t;
   has_previous_ = true;
+  // A prepared image's buffers go back to its owner, which may reuse them for a later image.
+  if (prepared) detector_->releaseResponse();
   // The preparation counts wherever it ran (this thread's CPU has it only when it ran here).
   out.timings.total_ms = total.lapMs() + (prepared ? prepared->cpuMs() : 0.0);
   return out;

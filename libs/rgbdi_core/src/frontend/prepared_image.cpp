@@ -67,14 +67,19 @@ cv::Mat ImagePreparer::grey(const RgbdFrame& frame) {
 }
 
 PreparedImage ImagePreparer::prepare(const RgbdFrame& frame) {
-  Stopwatch step;
   PreparedImage out;
+  prepare(frame, out);
+  return out;
+}
+
+void ImagePreparer::prepare(const RgbdFrame& frame, PreparedImage& out) {
+  Stopwatch step;
   out.t = frame.t;
   out.frame_index = frame.index;
   out.size = frame.rgb.size();
   out.recipe = recipe_;
-  cv::Mat converted, equalised;  // new buffers: the result travels to another thread
-  toGrey(frame, converted, equalised, out.grey);
+  out.corner_candidates.clear();
+  toGrey(frame, out.converted_storage, out.equalised_storage, out.grey);
   out.grey_ms = step.lapMs();
   // cv::Scharr with its default border (reflect 101) gives the derivatives KLT's pyramid stores
   // for its base image, value for value (test_prepared_image).
@@ -89,7 +94,6 @@ PreparedImage ImagePreparer::prepare(const RgbdFrame& frame) {
   candidates_->collect(out.corner_response, out.candidate_min_response, nullptr,
                        out.corner_candidates);
   out.response_ms = step.lapMs();
-  return out;
 }
 
 }  // namespace rgbdi::frontend

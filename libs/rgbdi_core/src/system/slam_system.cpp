@@ -80,7 +80,15 @@ void SlamSystem::feedRgbd(const RgbdFrame& frame) {
       odometry_stage_->waitHandled(prepared_handled_at_.front());
       prepared_handled_at_.pop_front();
     }
-    in.prepared = preparer_->prepare(std::get<RgbdFrame>(in.measurement));
+    in.prepared.emplace();
+    {
+      std::lock_guard<std::mutex> lock(spare_images_mutex_);
+      if (!spare_images_.empty()) {
+        *in.prepared = std::move(spare_images_.back());
+        spare_images_.pop_back();
+      }
+    }
+    preparer_->prepare(std::get<RgbdFrame>(in.measurement), *in.prepared);
     ++images_prepared_ahead_;
   }
   odometry_stage_->submit(std::move(in));
@@ -91,6 +99,7 @@ void SlamSystem::endOfStream() {
   if (ended_) return;
   ended_ = true;
   odometry_stage_->finish();
+  spare_images_ = {};  // no image comes any more: their buffers are not kept for the end's work
   vio_.endOfStream();  // flushes the window: its keyframes go to loop closing
   loop_stage_->finish();
   if (closer_) closer_->finish();  // solves for loops accepted since the last solve
@@ -173,11 +182,15 @@ void SlamSystem::handleMeasurement(OdometryInput& in) {
     vio_.feedImu(*imu);
   } else {
     const RgbdFrame& frame = std::get<RgbdFrame>(in.measurement);
-    if (in.prepared)
-      vio_.feedRgbd(frame, *in.prepared);
-    else
+    if (in.prepared) {
+      vio_.feedRgbd(frame, *in.prepared);  // reads it during the call only
+      std::lock_guard<std::mutex> lock(spare_images_mutex_);
+      if (spare_images_.size() <= options_.images_prepared_ahead)
+        spare_images_.push_back(std::move(*in.prepared));
+      in.prepared.reset();
+    } else {
       vio_.feedRgbd(frame);
-    in.prepared.reset();
+    }
     progress_frames_.store(vio_.framesReceived());
     progress_status_.store(static_cast<int>(vio_.status()));
   }

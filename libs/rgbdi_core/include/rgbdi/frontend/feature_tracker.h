@@ -50,7 +50,7 @@ class FeatureTracker {
   /// KLT starts a feature that the rotation moves beyond the pyramid's reach where the rotation
   /// puts it (a fast turn), otherwise at its previous position.
   /// `prepared`: the frame's image prepared ahead (ImagePreparer with these options, e.g. on the
-  /// thread that feeds the tracker; its buffers are shared until the next image). Without it
+  /// thread that feeds the tracker; read during this call only). Without it
   /// the tracker prepares the image itself; the result is the same. Throws
   /// std::invalid_argument when `prepared` was made from another frame or with other options.
   FeatureFrame track(const RgbdFrame& frame,

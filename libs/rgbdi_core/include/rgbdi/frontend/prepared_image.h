@@ -58,6 +58,9 @@ struct PreparedImage {
   double grey_ms = 0.0;      ///< thread CPU [ms] of the grey conversion (and CLAHE)
   double response_ms = 0.0;  ///< thread CPU [ms] of the corner response
 
+  /// Pixel buffers behind `grey` (colour conversion, CLAHE), kept for reuse.
+  cv::Mat converted_storage, equalised_storage;
+
   double cpuMs() const { return grey_ms + response_ms; }
   /// Whether it was made from `frame` with `recipe`.
   bool matches(const RgbdFrame& frame, const PreparationRecipe& r) const;
@@ -77,8 +80,10 @@ class ImagePreparer {
   /// frames are left to the tracker, which refuses them with a message naming the frame.
   static bool accepts(const RgbdFrame& frame);
 
-  /// The frame prepared (new image buffers: the result may go to another thread). Throws
-  /// std::invalid_argument for a frame accepts() refuses.
+  /// The frame prepared into `out`, reusing its buffers (a PreparedImage that nothing else refers
+  /// to any more, e.g. one whose tracking is done, or a new one). Throws std::invalid_argument
+  /// for a frame accepts() refuses.
+  void prepare(const RgbdFrame& frame, PreparedImage& out);
   PreparedImage prepare(const RgbdFrame& frame);
 
   /// Only the grey image, into the preparer's own buffers (valid until the next call; a CV_8UC1

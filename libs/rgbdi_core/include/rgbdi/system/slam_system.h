@@ -231,6 +231,10 @@ class SlamSystem : public MeasurementSink {
   std::unique_ptr<frontend::ImagePreparer> preparer_;
   std::deque<std::uint64_t> prepared_handled_at_;
   std::uint64_t images_prepared_ahead_ = 0;
+  // Prepared images whose tracking is done, handed back by the odometry thread for reuse: no
+  // fresh 1.5 MB of buffers per image (page faults, and a fragmented heap on long runs).
+  std::mutex spare_images_mutex_;
+  std::vector<frontend::PreparedImage> spare_images_;
 
   std::uint64_t id_offset_ = 0;  ///< keyframe id = id_offset_ + slot
   int segment_offset_ = 0;       ///< frame/keyframe segment = estimator segment + this
