@@ -151,7 +151,7 @@ void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size)
   strongest_ = computer_.compute(derivatives, block_size, own_response_);
   response_ = own_response_;
   block_size_ = block_size;
-  has_prepared_ = false;
+  prepared_candidates_ = nullptr;
 }
 
 void CornerDetector::useResponse(const PreparedImage& prepared, int block_size) {
@@ -161,8 +161,7 @@ void CornerDetector::useResponse(const PreparedImage& prepared, int block_size) 
   response_ = prepared.corner_response;
   block_size_ = block_size;
   strongest_ = prepared.strongest_response;
-  prepared_candidates_ = prepared.corner_candidates;  // a copy: the image may go away first
-  has_prepared_ = true;
+  prepared_candidates_ = &prepared.corner_candidates;
   prepared_min_ = prepared.candidate_min_response;
 }
 
@@ -204,8 +203,8 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_cor
   // Candidates: allowed 3x3 local maxima at or above the threshold. A prepared list holds every
   // local maximum above a lower bound, strongest first: those that pass are the same, in the
   // same order, as a scan would find.
-  if (has_prepared_ && threshold >= prepared_min_) {
-    for (const CornerCandidate& c : prepared_candidates_) {
+  if (prepared_candidates_ && threshold >= prepared_min_) {
+    for (const CornerCandidate& c : *prepared_candidates_) {
       if (c.response < threshold) break;
       if (mask.at<std::uint8_t>(c.v, c.u)) candidates_.push_back(c);
     }

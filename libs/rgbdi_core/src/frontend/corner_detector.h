@@ -72,8 +72,9 @@ class CornerDetector {
   void computeResponse(const cv::Mat& derivatives, int block_size);
 
   /// Uses a response prepared elsewhere (PreparedImage: the response with its block size, its
-  /// strongest value and its local maxima; shared, not copied: it must stay unchanged until the
-  /// next computeResponse()/useResponse()). detect() then filters the prepared candidates
+  /// strongest value and its local maxima; read in place, not copied: `prepared` must stay
+  /// unchanged until releaseResponse(), computeResponse() or the next useResponse()). detect()
+  /// then filters the prepared candidates
   /// instead of scanning the image, with the same result. Throws std::invalid_argument unless
   /// the response is CV_32FC1 and block_size >= 1.
   void useResponse(const PreparedImage& prepared, int block_size);
@@ -99,7 +100,10 @@ class CornerDetector {
 
   /// Lets go of a response given to useResponse() (its buffers may then be reused elsewhere);
   /// detect() and hasCorner() need a computeResponse() or useResponse() again.
-  void releaseResponse() { response_ = cv::Mat(); }
+  void releaseResponse() {
+    response_ = cv::Mat();
+    prepared_candidates_ = nullptr;
+  }
 
   /// The response image in use (CV_32FC1; 0 within half a block of the border), for tests and
   /// diagnostics.
@@ -111,9 +115,8 @@ class CornerDetector {
   cv::Mat response_;        ///< the response in use: own_response_ or one given to useResponse()
   int block_size_ = 0;      ///< of response_
   float strongest_ = 0.0f;  ///< of response_
-  /// Prepared local maxima of response_ of at least prepared_min_ (when has_prepared_)
-  std::vector<CornerCandidate> prepared_candidates_;
-  bool has_prepared_ = false;
+  /// Prepared local maxima of response_ of at least prepared_min_ (nullptr: none prepared)
+  const std::vector<CornerCandidate>* prepared_candidates_ = nullptr;
   float prepared_min_ = 0.0f;
   std::vector<CornerCandidate> candidates_;  ///< of the last detect(), strongest first
   std::vector<float> column_max_;            ///< detect()'s work buffer

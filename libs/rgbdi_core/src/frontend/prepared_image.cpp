@@ -23,7 +23,8 @@ PreparationRecipe PreparationRecipe::of(const FrontendOptions& options) {
 }
 
 bool PreparedImage::matches(const RgbdFrame& frame, const PreparationRecipe& r) const {
-  return recipe == r && frame_index == frame.index && t == frame.t && size == frame.rgb.size();
+  return recipe == r && frame_index == frame.index && t == frame.t &&
+         grey.size() == frame.rgb.size();
 }
 
 ImagePreparer::ImagePreparer(const FrontendOptions& options)
@@ -76,7 +77,6 @@ void ImagePreparer::prepare(const RgbdFrame& frame, PreparedImage& out) {
   Stopwatch step;
   out.t = frame.t;
   out.frame_index = frame.index;
-  out.size = frame.rgb.size();
   out.recipe = recipe_;
   out.corner_candidates.clear();
   toGrey(frame, out.converted_storage, out.equalised_storage, out.grey);

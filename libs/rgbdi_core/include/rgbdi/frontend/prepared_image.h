@@ -43,7 +43,6 @@ struct CornerCandidate {
 struct PreparedImage {
   double t = 0.0;                 ///< [s] stamp of the frame it was made from
   std::uint64_t frame_index = 0;  ///< RgbdFrame::index of that frame
-  cv::Size size;                  ///< of the image
   PreparationRecipe recipe;
   cv::Mat grey;  ///< CV_8UC1 grey image (equalised when CLAHE is on) that KLT tracks
   /// CV_32FC1 Shi-Tomasi response of `grey` from its Scharr derivatives (the same values as from
