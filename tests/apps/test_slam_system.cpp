@@ -64,7 +64,8 @@ void expectSameTrajectory(const Trajectory& a, const Trajectory& b, const char* 
 TEST(SlamSystem, ThreadedAndSequentialRunsGiveIdenticalResults) {
   // At twice the profile's speed (a 16 s lap) long enough to come back to the start once, so loop
   // detection and graph solves run while the odometry goes on. Both systems get the same
-  // measurements from one rendering.
+  // measurements from one rendering. A third, threaded with two-packet queues and no images
+  // prepared ahead ([pipeline]), waits on its stages all the time: the same results again.
   sim::SimOptions so = shortSequence("wheeled_circle", 26.0);
   so.profile.speed_m_s = 0.8;
   sim::SimulatedSequence seq(so);
@@ -72,12 +73,17 @@ TEST(SlamSystem, ThreadedAndSequentialRunsGiveIdenticalResults) {
   system::SlamSystemOptions threaded, sequential;
   threaded.threaded = true;
   sequential.threaded = false;
-  system::SlamSystem a(cfg, threaded), b(cfg, sequential);
-  FanOutSink both({&a, &b});
-  seq.pump(both);
+  system::SystemConfig tight_cfg = cfg;
+  tight_cfg.pipeline.queue_capacity_packets = 2;
+  tight_cfg.pipeline.images_prepared_ahead = 0;
+  system::SlamSystem a(cfg, threaded), b(cfg, sequential), c(tight_cfg, threaded);
+  FanOutSink all({&a, &b, &c});
+  seq.pump(all);
   ASSERT_GT(a.frames().size(), 100u);
   EXPECT_GE(a.imagesPreparedAhead(), a.frames().size());  // every image, posed or not
   EXPECT_EQ(b.imagesPreparedAhead(), 0u);
+  EXPECT_EQ(c.imagesPreparedAhead(), 0u);
+  EXPECT_LE(c.mapQueueHighWater(), 2u);
   ASSERT_NE(a.loopCloser(), nullptr);
   ASSERT_NE(b.loopCloser(), nullptr);
   EXPECT_GT(a.loopCloser()->stats().accepted, 0u);
@@ -85,6 +91,9 @@ TEST(SlamSystem, ThreadedAndSequentialRunsGiveIdenticalResults) {
   expectSameTrajectory(a.odometryTrajectory(), b.odometryTrajectory(), "odometry");
   expectSameTrajectory(a.onlineTrajectory(), b.onlineTrajectory(), "online");
   expectSameTrajectory(a.finalTrajectory(), b.finalTrajectory(), "final");
+  expectSameTrajectory(c.odometryTrajectory(), b.odometryTrajectory(), "odometry, tight queues");
+  expectSameTrajectory(c.onlineTrajectory(), b.onlineTrajectory(), "online, tight queues");
+  expectSameTrajectory(c.finalTrajectory(), b.finalTrajectory(), "final, tight queues");
   ASSERT_EQ(a.keyframeStates().size(), b.keyframeStates().size());
   EXPECT_GT(a.keyframeStates().size(), 10u);
   EXPECT_EQ(a.mapper().pointMap().pointCount(), b.mapper().pointMap().pointCount());

@@ -103,6 +103,35 @@ TEST(PreparedImage, ResponseIsTheSmallerStructureTensorEigenvalue) {
   EXPECT_GT(p.strongest_response, 0.0f);
 }
 
+TEST(PreparedImage, AReusedResponseImageIsOverwrittenBorderIncluded) {
+  // Prepared images are reused from frame to frame: only the border of the response is zeroed
+  // explicitly, every other pixel must be written. Odd and even blocks (even ones have one
+  // border row and column fewer at the top and left).
+  const cv::Mat grey = toGrey8(randomRectangleTexture(160, 120, 13));
+  const RgbdFrame frame = colourFrame(grey, 0.0, 0, simpleCamera());
+  for (int block : {3, 4, 5}) {
+    FrontendOptions options;
+    options.shi_tomasi_block_size = block;
+    ImagePreparer preparer(options);
+    const PreparedImage fresh = preparer.prepare(frame);
+    PreparedImage reused;
+    reused.corner_response = cv::Mat(grey.size(), CV_32FC1, cv::Scalar(7.0f));
+    preparer.prepare(frame, reused);
+    EXPECT_EQ(cv::countNonZero(reused.corner_response != fresh.corner_response), 0)
+        << "block " << block;
+    // Pixels with a complete window: rows block-1-half .. h-1-half, columns half .. w-1-half.
+    const int half = block / 2;
+    for (int v = 0; v < grey.rows; ++v)
+      for (int u = 0; u < grey.cols; ++u) {
+        const bool inside = v >= block - 1 - half && v <= grey.rows - 1 - half && u >= half &&
+                            u <= grey.cols - 1 - half;
+        if (!inside)
+          ASSERT_EQ(reused.corner_response.at<float>(v, u), 0.0f)
+              << "block " << block << " border pixel " << u << "," << v;
+      }
+  }
+}
+
 TEST(PreparedImage, CandidatesAreEveryLocalMaximumStrongestFirst) {
   const cv::Mat grey = toGrey8(randomRectangleTexture(320, 240, 13));
   FrontendOptions options;  // texture floor 2 grey levels per pixel

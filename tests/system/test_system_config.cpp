@@ -1,6 +1,6 @@
-// The whole configuration: the shipped file loads, the [loop] keys are validated like every other
-// section (a bad value or an unknown key is an error naming it), and the loop defaults equal the
-// shipped file.
+// The whole configuration: the shipped file loads, the [loop] and [pipeline] keys are validated
+// like every other section (a bad value or an unknown key is an error naming it), and their
+// defaults equal the shipped file.
 #include <gtest/gtest.h>
 
 #include "rgbdi/system/system_config.h"
@@ -44,4 +44,22 @@ TEST(SystemConfig, LoopKeysAreValidatedLikeEveryOtherSection) {
   const std::string range = loadError("[loop]\nsolve_interval_keyframes = 0\n");
   EXPECT_NE(range.find("solve_interval_keyframes"), std::string::npos) << range;
   EXPECT_EQ(loadError("[loop]\nenable = false\n"), "");
+}
+
+TEST(SystemConfig, PipelineDefaultsEqualTheShippedConfigAndAreValidated) {
+  const system::SystemConfig shipped =
+      system::SystemConfig::load(test::sourceDir() + "/share/config.ini");
+  const system::PipelineOptions d;
+  EXPECT_EQ(shipped.pipeline.queue_capacity_packets, d.queue_capacity_packets);
+  EXPECT_EQ(shipped.pipeline.images_prepared_ahead, d.images_prepared_ahead);
+  IniReader custom = IniReader::fromText(
+      "[pipeline]\nqueue_capacity_packets = 8\nimages_prepared_ahead = 0\n", "test.ini");
+  const system::SystemConfig c = system::SystemConfig::load(custom);
+  EXPECT_EQ(c.pipeline.queue_capacity_packets, 8);
+  EXPECT_EQ(c.pipeline.images_prepared_ahead, 0);
+  const std::string zero_queue = loadError("[pipeline]\nqueue_capacity_packets = 0\n");
+  EXPECT_NE(zero_queue.find("[pipeline] queue_capacity_packets"), std::string::npos) << zero_queue;
+  const std::string negative = loadError("[pipeline]\nimages_prepared_ahead = -1\n");
+  EXPECT_NE(negative.find("images_prepared_ahead"), std::string::npos) << negative;
+  EXPECT_NE(loadError("[pipeline]\nthreads = 2\n").find("threads"), std::string::npos);
 }

@@ -49,8 +49,16 @@ float CornerResponse::computeRows(int w, int h, int block_size, RowDerivatives d
   const int half = block_size / 2;
   // Pixels closer than half a block to the border have no complete window: response 0 there.
   response.create(h, w, CV_32FC1);
-  response.setTo(0.0f);
-  if (w < block_size || h < block_size) return 0.0f;
+  if (w < block_size || h < block_size) {
+    response.setTo(0.0f);
+    return 0.0f;
+  }
+  // Only the border is zeroed here (rows now, columns with each row below): the image is reused
+  // from frame to frame and the rest is overwritten.
+  for (int v = 0; v < half; ++v) {
+    std::fill_n(response.ptr<float>(v), w, 0.0f);
+    std::fill_n(response.ptr<float>(h - 1 - v), w, 0.0f);
+  }
 
   // One pass over the image: per row the three structure-tensor products are summed along the
   // row, kept in a ring of `block_size` rows, and the rows of the ring are summed into the
@@ -105,6 +113,8 @@ float CornerResponse::computeRows(int w, int h, int block_size, RowDerivatives d
     }
     cv::hal::sqrt32f(root, root, w);
     float* __restrict r = response.ptr<float>(v - half);
+    std::fill_n(r, half, 0.0f);
+    std::fill_n(r + w - half, half, 0.0f);
     for (int u = half; u < w - half; ++u) {
       r[u] = 0.5f * (a[u] + c[u]) - root[u];
       // Per column (an element-wise max vectorises, a running maximum would not).

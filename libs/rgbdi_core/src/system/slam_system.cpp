@@ -54,14 +54,14 @@ SlamSystem::SlamSystem(const SystemConfig& cfg, const SlamSystemOptions& options
   // use OpenCV; the tracker built later on the odometry thread then finds it set.
   frontend::applyOpenCvThreads(cfg.frontend);
   const bool t = options.threaded;
-  const std::size_t cap = options.queue_capacity;
+  const auto cap = static_cast<std::size_t>(cfg.pipeline.queue_capacity_packets);
   map_stage_ = std::make_unique<StageWorker<MapPacket>>(
       "mapping", [this](MapPacket& p) { handleMap(p); }, t, cap);
   loop_stage_ = std::make_unique<StageWorker<KeyframePacket>>(
       "loop closing", [this](KeyframePacket& p) { handleKeyframe(p); }, t, cap);
   odometry_stage_ = std::make_unique<StageWorker<OdometryInput>>(
       "odometry", [this](OdometryInput& in) { handleMeasurement(in); }, t, cap);
-  if (t && options.images_prepared_ahead > 0)
+  if (t && cfg.pipeline.images_prepared_ahead > 0)
     preparer_ = std::make_unique<frontend::ImagePreparer>(cfg.frontend);
 }
 
@@ -76,7 +76,8 @@ void SlamSystem::feedRgbd(const RgbdFrame& frame) {
   // odometry stage to track an older prepared image bounds the memory they hold.
   const bool prepare = preparer_ && frontend::ImagePreparer::accepts(frame);
   if (prepare) {
-    if (prepared_handled_at_.size() >= options_.images_prepared_ahead) {
+    if (prepared_handled_at_.size() >=
+        static_cast<std::size_t>(cfg_.pipeline.images_prepared_ahead)) {
       odometry_stage_->waitHandled(prepared_handled_at_.front());
       prepared_handled_at_.pop_front();
     }
@@ -185,7 +186,7 @@ void SlamSystem::handleMeasurement(OdometryInput& in) {
     if (in.prepared) {
       vio_.feedRgbd(frame, *in.prepared);  // reads it during the call only
       std::lock_guard<std::mutex> lock(spare_images_mutex_);
-      if (spare_images_.size() <= options_.images_prepared_ahead)
+      if (spare_images_.size() <= static_cast<std::size_t>(cfg_.pipeline.images_prepared_ahead))
         spare_images_.push_back(std::move(*in.prepared));
       in.prepared.reset();
     } else {

@@ -49,13 +49,7 @@ struct SlamSystemOptions {
   bool use_depth = true;  ///< false: monocular-inertial baseline (depth ignored everywhere)
   bool threaded = true;   ///< stages on their own threads (false: all inline, same result)
   bool live = false;      ///< live input: drift corrections taken when ready (wall time)
-  bool keep_observations = false;   ///< keep each keyframe's MRPT observation (keyframes.simplemap)
-  std::size_t queue_capacity = 64;  ///< [packets] bound of each stage queue
-  /// [images] threaded: each image is prepared for tracking (grey image and corner response:
-  /// frontend::ImagePreparer) on the feeding thread, which takes that work off the odometry
-  /// thread; at most this many prepared images wait untracked (1.5 MB each at 640x480). 0: the
-  /// odometry thread prepares them. Same result either way.
-  std::size_t images_prepared_ahead = 4;
+  bool keep_observations = false;  ///< keep each keyframe's MRPT observation (keyframes.simplemap)
   /// A saved map to start in (nullptr: a new map). Needs loop closure ([loop] enable).
   std::shared_ptr<const map::MapData> map;
   bool localize_only = false;  ///< with a map: the map stays as loaded (it does not grow)
@@ -156,8 +150,8 @@ class SlamSystem : public MeasurementSink {
   const SystemConfig& config() const { return cfg_; }
   const SlamSystemOptions& options() const { return options_; }
   std::size_t mapQueueHighWater() const { return map_stage_->queueHighWater(); }
-  /// Images prepared for tracking on the feeding thread (SlamSystemOptions::
-  /// images_prepared_ahead); read it from the feeding thread or after endOfStream().
+  /// Images prepared for tracking on the feeding thread ([pipeline] images_prepared_ahead);
+  /// read it from the feeding thread or after endOfStream().
   std::uint64_t imagesPreparedAhead() const { return images_prepared_ahead_; }
 
  private:
