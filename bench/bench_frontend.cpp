@@ -1,6 +1,7 @@
 // Front-end timing on synthetic 640x480 images: a random-rectangle texture panned, rotated and
 // zoomed across 300 frames, with D435-like depth that is not aligned to colour. Prints ms/frame
 // per step. Single-threaded OpenCV, as on one core of the target machine.
+//   bench_frontend [--set KEY=VALUE ...]   (keys of [frontend], e.g. --set klt_window_px=15)
 #include <time.h>
 
 #include <algorithm>
@@ -8,9 +9,12 @@
 #include <cstdio>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <iostream>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "rgbdi/common/ini_reader.h"
 #include "rgbdi/frontend/feature_tracker.h"
 
 namespace {
@@ -62,7 +66,20 @@ struct Stat {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  std::string overrides = "[frontend]\n";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--set" && i + 1 < argc && std::string(argv[i + 1]).find('=') != std::string::npos) {
+      overrides += std::string(argv[++i]) + "\n";
+    } else {
+      std::cerr << "usage: bench_frontend [--set KEY=VALUE ...]  (keys of [frontend])\n";
+      return 2;
+    }
+  }
+  rgbdi::IniReader ini = rgbdi::IniReader::fromText(overrides, "bench_frontend --set");
+  const FrontendOptions options = FrontendOptions::load(ini);
+  ini.checkNoUnknownKeys();
   cv::setNumThreads(1);
   PinholeCamera cam;
   cam.width = 640;
@@ -106,7 +123,6 @@ int main() {
     f.depth_aligned_to_color = false;
   }
 
-  const FrontendOptions options;
   FeatureTracker tracker(options, cam);
   Stat grey, pyramid, klt, ransac, detect, depth_ms, tracking, total, cpu, tracked, fresh,
       with_depth;
@@ -129,8 +145,8 @@ int main() {
     fresh.add(f.n_new);
     with_depth.add(f.n_with_depth);
   }
-  std::printf("frontend, %d frames 640x480, max_features %d, 1 OpenCV thread\n", kFrames,
-              options.max_features);
+  std::printf("frontend, %d frames 640x480, max_features %d, KLT window %d px, 1 OpenCV thread\n",
+              kFrames, options.max_features, options.klt_window_px);
   std::printf("  wall-clock time per step (from FeatureFrame::timings):\n");
   std::printf("  %-32s %8s %8s %8s\n", "step", "min ms", "median", "p95");
   auto row = [](const char* name, const Stat& s) {
