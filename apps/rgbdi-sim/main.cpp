@@ -181,9 +181,7 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   rgbdi::sim::SimOptions o = rgbdi::sim::SimOptions::load(ini);
   // The simulator reads [sim], [camera] and [extrinsic]; the other modules' sections of a full
   // rgbdi configuration (e.g. share/config.ini) are allowed but not used.
-  for (const char* s :
-       {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "convert"})
-    ini.acceptSection(s);
+  ini.acceptConfigSectionsExcept({"sim", "camera", "extrinsic"});
   ini.checkNoUnknownKeys();
   try {
     o.profile.kind = rgbdi::sim::parseProfileKind(a.profile);

@@ -3,6 +3,10 @@
 // defaults equal the shipped file.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <string>
+#include <vector>
+
 #include "rgbdi/system/system_config.h"
 #include "testing/fixtures.h"
 
@@ -62,4 +66,15 @@ TEST(SystemConfig, PipelineDefaultsEqualTheShippedConfigAndAreValidated) {
   const std::string negative = loadError("[pipeline]\nimages_prepared_ahead = -1\n");
   EXPECT_NE(negative.find("images_prepared_ahead"), std::string::npos) << negative;
   EXPECT_NE(loadError("[pipeline]\nthreads = 2\n").find("threads"), std::string::npos);
+}
+
+TEST(SystemConfig, EverySectionOfTheShippedFileIsAConfigSection) {
+  // Tools that read part of a full configuration accept the other sections by this list
+  // (IniReader::acceptConfigSectionsExcept): a section added to the file must be added to it.
+  std::ifstream in(test::sourceDir() + "/share/config.ini");
+  std::vector<std::string> sections;
+  for (std::string line; std::getline(in, line);)
+    if (line.size() > 2 && line.front() == '[')
+      sections.push_back(line.substr(1, line.find(']') - 1));
+  EXPECT_EQ(sections, kConfigSections);
 }

@@ -205,6 +205,11 @@ void IniReader::acceptSection(const std::string& section) {
   accepted_sections_.insert(lower(section));
 }
 
+void IniReader::acceptConfigSectionsExcept(const std::vector<std::string>& read_here) {
+  for (const std::string& s : kConfigSections)
+    if (std::find(read_here.begin(), read_here.end(), s) == read_here.end()) acceptSection(s);
+}
+
 void IniReader::checkNoUnknownKeys() const {
   std::vector<std::string> sections;
   cfg_->getAllSections(sections);

@@ -45,9 +45,7 @@ ConversionSettings loadConversionSettings(const std::string& config_path,
     const CameraOptions camera = CameraOptions::load(ini);
     const ExtrinsicOptions extrinsic = ExtrinsicOptions::load(ini);
     // A full rgbdi configuration is welcome; only the sections above matter here.
-    for (const char* sec :
-         {"imu", "stream", "frontend", "estimator", "loop", "mapping", "output", "sim"})
-      ini.acceptSection(sec);
+    ini.acceptConfigSectionsExcept({"camera", "extrinsic", "convert"});
     ini.checkNoUnknownKeys();
     if (hasAny(ini, "camera", {"width", "height", "fx", "fy", "cx", "cy", "distortion"})) {
       s.calibration.color = camera.camera;

@@ -25,6 +25,12 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The sections of the rgbdi configuration (share/config.ini), in its order. A section that
+/// is added to the file is added here, so that every tool reading part of the file accepts it.
+inline const std::vector<std::string> kConfigSections = {
+    "camera", "imu",     "extrinsic", "stream", "frontend", "estimator",
+    "loop",   "mapping", "pipeline",  "output", "convert",  "sim"};
+
 class IniReader {
  public:
   /// Reads the file; throws ConfigError when it cannot be opened or has a line that is not
@@ -58,6 +64,9 @@ class IniReader {
 
   /// Marks a whole section as known (for sections read by other tools).
   void acceptSection(const std::string& section);
+  /// Marks every section of the rgbdi configuration (kConfigSections) as known except those
+  /// listed: a tool that reads some sections of a full share/config.ini accepts the others.
+  void acceptConfigSectionsExcept(const std::vector<std::string>& read_here);
   /// Throws ConfigError listing every key present in the file that no get*() asked for.
   void checkNoUnknownKeys() const;
 
