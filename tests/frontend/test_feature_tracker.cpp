@@ -325,13 +325,17 @@ TEST(FeatureTracker, ContrastEqualisationIsAppliedAndStillTracks) {
 TEST(FeatureTracker, ForwardBackwardCheckDropsTracksWhoseContentChanged) {
   // The scene stays still but a region suddenly shows different texture (e.g. a screen, or a
   // moving object filling it): KLT still "converges" somewhere for many features there; the
-  // round trip exposes them.
+  // round trip exposes most of them: on rectangle textures a few land on a corner that looks the
+  // same both ways (1-2 of about 20 false tracks over these eight scenes, with a 15 or a 21 px
+  // window alike; a single scene decides nothing). Eight scenes, so that the share does not rest
+  // on one texture.
   const PinholeCamera cam = simpleCamera();
-  const cv::Mat before = toGrey8(randomRectangleTexture(640, 480, 31));
-  cv::Mat after = before.clone();
   const cv::Rect region(200, 150, 200, 160);
-  toGrey8(randomRectangleTexture(640, 480, 32))(region).copyTo(after(region));
-  auto survivorsInRegion = [&](const FrontendOptions& options, int* inside_before) {
+  auto survivorsInRegion = [&](const FrontendOptions& options, std::uint64_t seed,
+                               int* inside_before) {
+    const cv::Mat before = toGrey8(randomRectangleTexture(640, 480, seed));
+    cv::Mat after = before.clone();
+    toGrey8(randomRectangleTexture(640, 480, seed + 100))(region).copyTo(after(region));
     FeatureTracker tracker(options, cam);
     const FeatureFrame f0 = tracker.track(colourFrame(before, 0.0, 0, cam));
     const FeatureFrame f1 = tracker.track(colourFrame(after, kDt, 1, cam));
@@ -351,13 +355,22 @@ TEST(FeatureTracker, ForwardBackwardCheckDropsTracksWhoseContentChanged) {
   with_check.ransac_threshold_px = 20.0;
   FrontendOptions no_check = with_check;
   no_check.klt_max_forward_backward_px = 20.0;
-  int inside = 0;
-  const int without_check = survivorsInRegion(no_check, &inside);
-  ASSERT_GE(inside, 8);
-  std::cout << "features in the changed region: " << inside
-            << ", kept without the round trip: " << without_check << "\n";
-  EXPECT_GE(without_check, 2) << "the test needs KLT to report false tracks without the check";
-  EXPECT_EQ(survivorsInRegion(with_check, &inside), 0);
+  const FrontendOptions defaults;
+  int inside = 0, without = 0, with = 0, with_ransac = 0;
+  for (std::uint64_t seed = 31; seed < 39; ++seed) {
+    int n = 0;
+    without += survivorsInRegion(no_check, seed, &n);
+    inside += n;
+    with += survivorsInRegion(with_check, seed, &n);
+    with_ransac += survivorsInRegion(defaults, seed, &n);
+  }
+  std::cout << "features in the changed regions: " << inside
+            << ", kept without the round trip: " << without << ", with it: " << with
+            << ", with it and RANSAC: " << with_ransac << "\n";
+  ASSERT_GE(inside, 60);
+  EXPECT_GE(without, 10) << "the test needs KLT to report false tracks without the check";
+  EXPECT_LE(4 * with, without) << "the round trip drops at least three in four false tracks";
+  EXPECT_LE(with_ransac, with) << "the RANSAC of the default options only removes more";
 }
 
 TEST(FeatureTracker, SameInputGivesIdenticalOutput) {

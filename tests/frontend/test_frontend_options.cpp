@@ -23,7 +23,7 @@ TEST(FrontendOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.border_px, d.border_px);
   EXPECT_DOUBLE_EQ(f.clahe_clip_limit, d.clahe_clip_limit);
   EXPECT_EQ(f.klt_window_px, d.klt_window_px);
-  EXPECT_EQ(f.klt_window_px, 21);
+  EXPECT_EQ(f.klt_window_px, 15);
   EXPECT_EQ(f.klt_pyramid_levels, d.klt_pyramid_levels);
   EXPECT_EQ(f.klt_pyramid_levels, 3);
   EXPECT_EQ(f.klt_max_iterations, d.klt_max_iterations);

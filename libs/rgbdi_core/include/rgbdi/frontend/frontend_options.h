@@ -23,7 +23,7 @@ struct FrontendOptions {
   double clahe_clip_limit = 0.0;
 
   // --- KLT tracking ---
-  int klt_window_px = 21;        ///< [px] side of the KLT window
+  int klt_window_px = 15;        ///< [px] side of the KLT window
   int klt_pyramid_levels = 3;    ///< [count] pyramid levels above the base image
   int klt_max_iterations = 30;   ///< [count] Gauss-Newton iterations per level
   double klt_epsilon_px = 0.01;  ///< [px] stop iterating when the update is smaller
