@@ -234,20 +234,3 @@ TEST(GaugePrior, ZeroAtAnchorAndJacobianMatchesNumeric) {
     EXPECT_LT((Ja - Jn).norm(), 1e-4 * Jn.norm()) << Ja << "\n" << Jn;
   }
 }
-
-TEST(SplitScalarPrior, HasTheCostGradientAndInformationOfScalarPrior) {
-  const ScalarPrior one(0.4, 0.02);
-  const SplitScalarPrior two(0.4, 0.02);
-  ASSERT_EQ(two.num_residuals(), 2);
-  for (double x : {0.4, 0.37, 0.55, -0.1}) {
-    const double* p[1] = {&x};
-    double r1, j1, r2[2], j2[2];
-    double* jp1[1] = {&j1};
-    double* jp2[1] = {j2};
-    ASSERT_TRUE(one.Evaluate(p, &r1, jp1));
-    ASSERT_TRUE(two.Evaluate(p, r2, jp2));
-    EXPECT_NEAR(r2[0] * r2[0] + r2[1] * r2[1], r1 * r1, 1e-12 * std::max(1.0, r1 * r1));
-    EXPECT_NEAR(j2[0] * r2[0] + j2[1] * r2[1], j1 * r1, 1e-9 * std::max(1.0, std::abs(j1 * r1)));
-    EXPECT_NEAR(j2[0] * j2[0] + j2[1] * j2[1], j1 * j1, 1e-9 * j1 * j1);
-  }
-}

@@ -218,6 +218,31 @@ TEST(DepthRegistration, RegisteringAroundPointsGivesTheSameValuesThere) {
   EXPECT_EQ(cv::countNonZero(sparse), cv::countNonZero(r.frame.depth(cv::Rect(98, 49, 5, 5))));
 }
 
+TEST(DepthRegistration, OverlappingWindowsInTwoCallsGiveTheFullRegistrationsValues) {
+  // Windows closer than their size (their depth regions overlap, and are projected once) in a
+  // first call and more in a second call, also overlapping the first ones.
+  const RigScene r = makeRig();
+  const cv::Mat full = registerDepthToColor(r.frame);
+  std::vector<Eigen::Vector2d> first, second;
+  for (int v = 100; v < 380; v += 6)
+    for (int u = 150; u < 500; u += 7) (((u + v) / 7) % 2 ? first : second).emplace_back(u, v);
+  const int radius = 5;
+  rgbdi::frontend::DepthRegistrar registrar;
+  cv::Mat sparse;
+  // A frame registered before must leave nothing behind (what it projected is not this frame's).
+  registrar.registerDepthAround(r.frame, r.cam_color, second, radius, sparse);
+  registrar.registerDepthAround(r.frame, r.cam_color, first, radius, sparse);
+  registrar.registerMoreDepthAround(r.frame, r.cam_color, second, radius, sparse);
+  int compared = 0;
+  // The windows tile the grid's area without gaps (spacing below 2 radius + 1).
+  for (int v = 100 - radius; v <= 376 + radius; ++v)
+    for (int u = 150 - radius; u <= 493 + radius; ++u) {
+      ASSERT_EQ(sparse.at<float>(v, u), full.at<float>(v, u)) << u << "," << v;
+      compared += full.at<float>(v, u) > 0 ? 1 : 0;
+    }
+  EXPECT_GT(compared, 100000);
+}
+
 TEST(DepthRegistration, AlignedDepthIsOnlyConvertedToMetres) {
   RgbdFrame f;
   f.depth_aligned_to_color = true;

@@ -11,8 +11,6 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   o.keyframe_min_tracked = ini.getInt(s, "keyframe_min_tracked", o.keyframe_min_tracked, 0, 10000);
   o.max_iterations = ini.getInt(s, "max_iterations", o.max_iterations, 1, 1000);
   o.max_solver_time_s = ini.getDouble(s, "max_solver_time_s", o.max_solver_time_s, 0.0, 10.0);
-  o.bound_line_search_iterations =
-      ini.getInt(s, "bound_line_search_iterations", o.bound_line_search_iterations, 0, 100);
   o.solver_function_tolerance =
       ini.getDouble(s, "solver_function_tolerance", o.solver_function_tolerance, 1e-12, 0.1);
   o.solver_function_tolerance_no_depth = ini.getDouble(

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "estimator/dense_kernels.h"
+#include "estimator/robust_correction.h"
 #include "rgbdi/estimator/pose_manifold.h"
 
 namespace rgbdi::estimator {
@@ -90,14 +92,48 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nx, nx);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(nx);
   Eigen::VectorXd h_diag = Eigen::VectorXd::Zero(nd), g_diag = Eigen::VectorXd::Zero(nd);
-  Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(nd, nx);
-  std::vector<std::vector<int>> coupled(static_cast<size_t>(nd));  ///< dense vars per diagonal
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor coupling = RowMajor::Zero(nd, nx);                      ///< row d: contiguous
+  std::vector<std::vector<int>> coupled(static_cast<size_t>(nd));  ///< dense vars per diagonal
+  // H += J^T J (formed when the prior was made), g += J^T r of a previous prior; false (nothing
+  // added) when one of its blocks is an eliminated scalar.
+  auto addPrior = [&](const MarginalizationInfo& p, const std::vector<double*>& blocks,
+                      const std::vector<int>& rv) {
+    for (int v : rv)
+      if (v >= 0 && vars[static_cast<size_t>(v)].diagonal) return false;
+    const std::vector<const double*> values(blocks.begin(), blocks.end());
+    Eigen::VectorXd dx;
+    p.tangentDelta(values.data(), dx);
+    const Eigen::VectorXd Jtr = p.jacobian().transpose() * (p.residual() + p.jacobian() * dx);
+    const Eigen::MatrixXd& Hp = p.hessian();
+    for (size_t a = 0, oa = 0; a < blocks.size(); ++a) {
+      const int ta = tangentSize(p.keptSizes()[a]);
+      if (rv[a] >= 0) {
+        const Var& va = vars[static_cast<size_t>(rv[a])];
+        g.segment(va.index, ta) += Jtr.segment(static_cast<Eigen::Index>(oa), ta);
+        for (size_t c = 0, oc = 0; c < blocks.size(); ++c) {
+          const int tc = tangentSize(p.keptSizes()[c]);
+          if (rv[c] >= 0)
+            H.block(va.index, vars[static_cast<size_t>(rv[c])].index, ta, tc) +=
+                Hp.block(static_cast<Eigen::Index>(oa), static_cast<Eigen::Index>(oc), ta, tc);
+          oc += static_cast<size_t>(tc);
+        }
+      }
+      oa += static_cast<size_t>(ta);
+    }
+    return true;
+  };
   std::vector<double> jac_storage, res_storage, row_storage;
   std::vector<double*> jac_ptrs;
   std::vector<const double*> params;
   for (size_t i = 0; i < residuals_.size(); ++i) {
     const auto& r = residuals_[i];
+    // A previous prior adds its constant J^T J and J^T r directly (its Jacobian is dense: the
+    // generic products below would form J^T J again over ~150 rows).
+    if (const auto* prior = dynamic_cast<const MarginalizationFactor*>(r.cost.get());
+        prior && !r.loss && addPrior(prior->info(), r.blocks, res_vars[i])) {
+      continue;
+    }
     const int nres = r.cost->num_residuals();
     const auto& sizes = r.cost->parameter_block_sizes();
     const size_t nb = r.blocks.size();
@@ -116,60 +152,45 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
     params.assign(r.blocks.begin(), r.blocks.end());
     if (!r.cost->Evaluate(params.data(), res_storage.data(), jac_ptrs.data())) continue;
     Eigen::Map<Eigen::VectorXd> res(res_storage.data(), nres);
-    auto J = [&](size_t k) { return Eigen::Map<RowMajor>(jac_ptrs[k], nres, sizes[k]); };
     if (r.loss) {
-      const double sq = res.squaredNorm();
-      double rho[3];
-      r.loss->Evaluate(sq, rho);
-      const double sqrt_rho1 = std::sqrt(rho[1]);
-      double alpha = 0.0;
-      if (sq != 0.0 && rho[2] > 0.0) {
-        const double D = 1.0 + 2.0 * sq * rho[2] / rho[1];
-        alpha = 1.0 - std::sqrt(D);
-      }
-      // Residual and Jacobian scaling of Ceres' Corrector (Triggs correction).
-      for (size_t k = 0; k < nb; ++k) {
-        auto Jk = J(k);
-        if (sq == 0.0) {
-          Jk *= sqrt_rho1;
-        } else {
-          if (row_storage.size() < static_cast<size_t>(sizes[k]))
-            row_storage.resize(static_cast<size_t>(sizes[k]));
-          Eigen::Map<Eigen::RowVectorXd> rtJ(row_storage.data(), sizes[k]);
-          rtJ.noalias() = res.transpose() * Jk;
-          Jk = sqrt_rho1 * (Jk - (alpha / sq) * res * rtJ);
-        }
-      }
-      res *= sqrt_rho1 / (1.0 - alpha);
+      detail::applyRobustLoss(*r.loss, nres, res_storage.data(), jac_ptrs.data(), sizes.data(),
+                              static_cast<int>(nb), row_storage);
     }
     const auto& rv = res_vars[i];
+    // The eliminated (diagonal) variable of this residual, if any: its Jacobian column.
+    const double* Jd = nullptr;
+    int d = -1;
+    for (size_t a = 0; a < nb; ++a)
+      if (rv[a] >= 0 && vars[static_cast<size_t>(rv[a])].diagonal) {
+        Jd = jac_ptrs[a];
+        d = vars[static_cast<size_t>(rv[a])].index;
+      }
+    if (Jd) {
+      for (int k = 0; k < nres; ++k) {
+        h_diag[d] += Jd[k] * Jd[k];
+        g_diag[d] += Jd[k] * res[k];
+      }
+    }
     for (size_t a = 0; a < nb; ++a) {
       if (rv[a] < 0) continue;
       const Var& va = vars[static_cast<size_t>(rv[a])];
-      const auto Ja = J(a).leftCols(va.tangent);
-      if (va.diagonal) {
-        const int d = va.index;
-        h_diag[d] += Ja.squaredNorm();
-        g_diag[d] += Ja.col(0).dot(res);
-        for (size_t c = 0; c < nb; ++c) {
-          if (rv[c] < 0 || c == a) continue;
-          const Var& vc = vars[static_cast<size_t>(rv[c])];
-          coupling.row(d).segment(vc.index, vc.tangent).noalias() +=
-              Ja.col(0).transpose() * J(c).leftCols(vc.tangent);
-          auto& list = coupled[static_cast<size_t>(d)];
-          if (std::find(list.begin(), list.end(), rv[c]) == list.end()) list.push_back(rv[c]);
-        }
-        continue;
+      if (va.diagonal) continue;
+      const double* Ja = jac_ptrs[a];
+      detail::addJtv(g.data() + va.index, Ja, sizes[a], va.tangent, res.data(), nres);
+      if (Jd) {
+        detail::addJtv(coupling.row(d).data() + va.index, Ja, sizes[a], va.tangent, Jd, nres);
+        auto& list = coupled[static_cast<size_t>(d)];
+        if (std::find(list.begin(), list.end(), rv[a]) == list.end()) list.push_back(rv[a]);
       }
-      g.segment(va.index, va.tangent).noalias() += Ja.transpose() * res;
       for (size_t c = a; c < nb; ++c) {
         if (rv[c] < 0) continue;
         const Var& vc = vars[static_cast<size_t>(rv[c])];
         if (vc.diagonal) continue;
-        const auto Jc = J(c).leftCols(vc.tangent);
-        H.block(va.index, vc.index, va.tangent, vc.tangent).noalias() += Ja.transpose() * Jc;
+        detail::addJtJ(H.data(), nx, va.index, vc.index, Ja, sizes[a], va.tangent, jac_ptrs[c],
+                       sizes[c], vc.tangent, nres);
         if (c != a)
-          H.block(vc.index, va.index, vc.tangent, va.tangent).noalias() += Jc.transpose() * Ja;
+          detail::addJtJ(H.data(), nx, vc.index, va.index, jac_ptrs[c], sizes[c], vc.tangent, Ja,
+                         sizes[a], va.tangent, nres);
       }
     }
   }
@@ -181,15 +202,18 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
   for (int d = 0; d < nd; ++d) {
     const double h = h_diag[d];
     if (!(h > kEigenEps)) continue;
-    const auto c = coupling.row(d);
+    const double* c = coupling.row(d).data();
     for (int p : coupled[static_cast<size_t>(d)]) {
       const Var& vp = vars[static_cast<size_t>(p)];
-      const auto cp = c.segment(vp.index, vp.tangent);
-      g.segment(vp.index, vp.tangent) -= cp.transpose() * (g_diag[d] / h);
+      for (int i = 0; i < vp.tangent; ++i) g[vp.index + i] -= c[vp.index + i] * (g_diag[d] / h);
       for (int q : coupled[static_cast<size_t>(d)]) {
         const Var& vq = vars[static_cast<size_t>(q)];
-        H.block(vp.index, vq.index, vp.tangent, vq.tangent).noalias() -=
-            (cp.transpose() / h) * c.segment(vq.index, vq.tangent);
+        for (int j = 0; j < vq.tangent; ++j) {
+          const double cj = c[vq.index + j] / h;
+          double* __restrict col =
+              H.data() + static_cast<std::ptrdiff_t>(vq.index + j) * nx + vp.index;
+          for (int i = 0; i < vp.tangent; ++i) col[i] -= c[vp.index + i] * cj;
+        }
       }
     }
   }
@@ -220,6 +244,7 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
       (es.eigenvalues().array() > kEigenEps).select(es.eigenvalues().array().inverse(), 0.0);
   lin_jacobian_ = S.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
   lin_residual_ = S_inv.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose() * bvec;
+  lin_hessian_ = lin_jacobian_.transpose() * lin_jacobian_;
 
   kept_blocks_.clear();
   kept_sizes_.clear();
@@ -232,6 +257,16 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
   }
   residuals_.clear();  // the linearised prior is all that is needed from now on
   return true;
+}
+
+void MarginalizationInfo::tangentDelta(double const* const* parameters, Eigen::VectorXd& dx) const {
+  dx.resize(lin_jacobian_.cols());
+  int off = 0;
+  for (size_t k = 0; k < kept_sizes_.size(); ++k) {
+    const int t = tangentSize(kept_sizes_[k]);
+    dx.segment(off, t) = estimator::tangentDelta(parameters[k], kept_values_[k], kept_sizes_[k]);
+    off += t;
+  }
 }
 
 void MarginalizationInfo::remapBlocks(const std::unordered_map<const double*, double*>& remap) {
@@ -255,16 +290,11 @@ bool MarginalizationFactor::Evaluate(double const* const* parameters, double* re
                                      double** jacobians) const {
   const auto& sizes = info_->keptSizes();
   const int n = num_residuals();
-  Eigen::VectorXd dx(n);
-  int off = 0;
-  for (size_t k = 0; k < sizes.size(); ++k) {
-    const int t = MarginalizationInfo::tangentSize(sizes[k]);
-    dx.segment(off, t) = tangentDelta(parameters[k], info_->keptValues()[k], sizes[k]);
-    off += t;
-  }
+  Eigen::VectorXd dx;
+  info_->tangentDelta(parameters, dx);
   Eigen::Map<Eigen::VectorXd>(residuals, n) = info_->residual() + info_->jacobian() * dx;
   if (!jacobians) return true;
-  off = 0;
+  int off = 0;
   for (size_t k = 0; k < sizes.size(); ++k) {
     const int t = MarginalizationInfo::tangentSize(sizes[k]);
     if (jacobians[k]) {

@@ -18,6 +18,7 @@
 #include "rgbdi/estimator/scale_alignment.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
 #include "rgbdi/estimator/visual_sfm.h"
+#include "rgbdi/estimator/window_solver.h"
 #include "rgbdi/imu/imu_buffer.h"
 #include "rgbdi/imu/imu_factor.h"
 #include "rgbdi/imu/imu_init.h"
@@ -42,6 +43,9 @@ namespace {
 // Sqrt information of the gauge prior [1/m, 1/rad]: stiff enough to act as a constraint, soft
 // enough to keep the normal equations well conditioned.
 constexpr double kGaugeStiffness = 1e4;
+// [1/m] lower bound of a solved inverse depth (1 km): a feature beyond it carries no depth
+// information, and the bound keeps a step from flipping it behind the camera.
+constexpr double kMinInverseDepth = 1e-3;
 
 /// Stage timings are thread CPU time: on a shared machine wall time mostly measures the others.
 double msSince(double cpu_t0_s) { return 1e3 * (threadCpuSeconds() - cpu_t0_s); }
@@ -674,37 +678,33 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
 void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   const double t0 = threadCpuSeconds();
   const Eigen::Vector3d g_w(0, 0, -imu_opt_.gravity_m_s2);
-  ceres::Problem::Options popt;
-  popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  popt.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  // The blocks are built right here from the window (sizes and pointers are known to be
-  // consistent): Ceres' per-block validation is pure overhead on every update.
-  popt.disable_all_safety_checks = true;
-  ceres::Problem problem(popt);
-  PoseManifold pose_manifold;
-  ceres::CauchyLoss cauchy(opt_.cauchy_loss_sigma);
+  // The window's own solver (window_solver.h: the inverse depths eliminated, the frame blocks
+  // solved densely); the factors live for this update only.
+  WindowSolver& solver = solver_;
+  solver.clear();
+  std::vector<std::unique_ptr<ceres::CostFunction>> factors;
+  auto add = [&](ceres::CostFunction* f, const ceres::LossFunction* loss,
+                 const std::vector<double*>& blocks) {
+    factors.emplace_back(f);
+    solver.addResidual(f, loss, blocks);
+  };
+  const ceres::CauchyLoss cauchy(opt_.cauchy_loss_sigma);
 
   for (auto& s : window_) {
-    problem.AddParameterBlock(s.pose, 7, &pose_manifold);
-    problem.AddParameterBlock(s.sb, 9);
+    solver.addFrameBlock(s.pose, 7);
+    solver.addFrameBlock(s.sb, 9);
   }
-  problem.AddParameterBlock(td_param_, 1);
   td_param_[0] = td_;
-  if (!opt_.estimate_time_offset) problem.SetParameterBlockConstant(td_param_);
-  if (prior_) {
-    problem.AddResidualBlock(new MarginalizationFactor(prior_), nullptr, prior_->keptBlocks());
-  }
+  if (opt_.estimate_time_offset) solver.addFrameBlock(td_param_, 1);
+  if (prior_) solver.addPrior(prior_);
   // Gauge: hold position and yaw of the oldest pose (the prior carries no information on them).
-  problem.AddResidualBlock(new GaugePrior(window_.front().pose, kGaugeStiffness), nullptr,
-                           window_.front().pose);
+  add(new GaugePrior(window_.front().pose, kGaugeStiffness), nullptr, {window_.front().pose});
   if (use_init_prior_) {
-    problem.AddResidualBlock(new SpeedBiasPrior(init_prior_mean_, init_prior_sigma_), nullptr,
-                             window_.front().sb);
+    add(new SpeedBiasPrior(init_prior_mean_, init_prior_sigma_), nullptr, {window_.front().sb});
     // The time offset is unobservable under uniform motion: anchor it to the configured value
     // until the marginalisation prior carries that information.
     if (opt_.estimate_time_offset)
-      problem.AddResidualBlock(new ScalarPrior(td_config_, opt_.time_offset_prior_sigma_s), nullptr,
-                               td_param_);
+      add(new ScalarPrior(td_config_, opt_.time_offset_prior_sigma_s), nullptr, {td_param_});
   }
   for (size_t k = 1; k < window_.size(); ++k) {
     Slot& a = window_[k - 1];
@@ -713,78 +713,53 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
                                      opt_.repropagate_gyr_bias_rad_s)) {
       b.preint->repropagate(a.ba(), a.bg());
     }
-    problem.AddResidualBlock(new imu::ImuFactor(b.preint.get(), g_w), nullptr, a.pose, a.sb, b.pose,
-                             b.sb);
+    add(new imu::ImuFactor(b.preint.get(), g_w), nullptr, {a.pose, a.sb, b.pose, b.sb});
   }
   const int newest = static_cast<int>(window_.size()) - 1;
   int used = 0, verified = 0;
-  // Schur order given explicitly: the inverse depths are eliminated, every frame block and the
-  // time offset stay in the reduced system. Left to itself Ceres picks an independent set that
-  // can also take a speed/bias block (size 9 next to the depths' 1), which forces its
-  // fully dynamic Schur eliminator.
-  // Ceres orders the blocks of one ordering group by their addresses. For a deterministic solve
-  // (the same bits whichever thread or heap arena built the tracks) the inverse depths are solved
-  // in one contiguous buffer filled in track-id order, the window's blocks lie in window order in
-  // window_, and the time offset has a group of its own.
+  // The inverse depths are solved in one buffer filled in track-id order (the solver's order
+  // is the order of addition: the same bits whichever thread built the tracks).
   std::vector<FeatureTrack*> solved;
   for (auto& [id, f] : features_.tracks())
     if (FeatureManager::usable(f, newest)) solved.push_back(&f);
   inv_depth_params_.assign(solved.size(), 0.0);
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (auto& s : window_) {
-    ordering->AddElementToGroup(s.pose, 1);
-    ordering->AddElementToGroup(s.sb, 1);
-  }
-  ordering->AddElementToGroup(td_param_, 2);
   for (std::size_t n = 0; n < solved.size(); ++n) {
     FeatureTrack& f = *solved[n];
     double* inv_depth = &inv_depth_params_[n];
     *inv_depth = f.inv_depth;
     ++used;
-    ordering->AddElementToGroup(inv_depth, 0);
+    const bool held = f.depthVerified() && depth_opt_.hold_constant;
+    if (!held) solver.addEliminatedScalar(inv_depth, kMinInverseDepth);
     const int i = f.start_slot;
     for (size_t k = 1; k < f.obs.size(); ++k) {
       const int j = i + static_cast<int>(k);
-      problem.AddResidualBlock(
-          new ReprojectionFactor(f.obs.front().meas, f.obs[k].meas, T_bc_, sqrt_info_), &cauchy,
-          window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose, inv_depth,
-          td_param_);
+      add(new ReprojectionFactor(f.obs.front().meas, f.obs[k].meas, T_bc_, sqrt_info_), &cauchy,
+          {window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose, inv_depth,
+           td_param_});
     }
-    if (f.depthVerified() && depth_opt_.hold_constant) {
-      problem.SetParameterBlockConstant(inv_depth);
+    if (f.depthVerified()) {
       ++verified;
-    } else {
-      if (f.depthVerified()) {
-        problem.AddResidualBlock(new SplitScalarPrior(f.verified_inv_depth, depthPriorSigma(f)),
-                                 nullptr, inv_depth);
-        ++verified;
-      }
-      problem.SetParameterLowerBound(inv_depth, 0, 1e-3);
+      if (!held)
+        add(new ScalarPrior(f.verified_inv_depth, depthPriorSigma(f)), nullptr, {inv_depth});
     }
   }
 
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.linear_solver_ordering = ordering;
-  so.trust_region_strategy_type = ceres::DOGLEG;
+  WindowSolverOptions so;
   // One step when the second-newest frame's measurements leave the window after this update
   // (the window is solved fully again with the next keyframe); not without depth-verified
   // features, where the scale rests on the IMU alone (as for the function tolerance below).
   single_step = single_step && verified > 0;
-  so.max_num_iterations = single_step ? 1 : opt_.max_iterations;
+  so.max_iterations = single_step ? 1 : opt_.max_iterations;
   if (single_step) ++stats_.single_step_updates;
-  so.max_num_line_search_step_size_iterations = opt_.bound_line_search_iterations;
   so.function_tolerance =
       verified > 0 ? opt_.solver_function_tolerance : opt_.solver_function_tolerance_no_depth;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
-  if (opt_.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = opt_.max_solver_time_s;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  so.max_time_s = opt_.max_solver_time_s;
+  const WindowSolverSummary summary = solver.solve(so);
   for (std::size_t n = 0; n < solved.size(); ++n) solved[n]->inv_depth = inv_depth_params_[n];
   ++stats_.optimisations;
-  stats_.solver_iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
-  if (summary.termination_type == ceres::NO_CONVERGENCE) ++stats_.solver_iterations_capped;
+  stats_.solver_iterations += summary.successful_steps + summary.unsuccessful_steps;
+  if (summary.termination == WindowSolverSummary::Termination::kNoConvergence)
+    ++stats_.solver_iterations_capped;
   td_ = td_param_[0];
   for (auto& s : window_) s.setPose(s.p(), s.q());  // keep quaternions exactly unit
 

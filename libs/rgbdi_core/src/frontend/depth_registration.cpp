@@ -113,7 +113,7 @@ void DepthRegistrar::prepare(const RgbdFrame& frame, const PinholeCamera& cam_co
   cover_.setTo(kEmpty);
 }
 
-void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
+void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi, bool skip_done) {
   const PinholeCamera& c = cam_color_;
   const float k1 = float(c.dist[0]), k2 = float(c.dist[1]), p1 = float(c.dist[2]),
               p2 = float(c.dist[3]), k3 = float(c.dist[4]);
@@ -128,7 +128,12 @@ void DepthRegistrar::splat(const RgbdFrame& frame, const cv::Rect& depth_roi) {
   for (int v = depth_roi.y; v < depth_roi.y + depth_roi.height; ++v) {
     const std::uint16_t* drow = frame.depth.ptr<std::uint16_t>(v);
     const float* ray = rays_xn_.data() + 2 * (static_cast<size_t>(v) * depth_width + depth_roi.x);
+    std::uint8_t* done = skip_done ? splatted_.ptr<std::uint8_t>(v) : nullptr;
     for (int u = depth_roi.x; u < depth_roi.x + depth_roi.width; ++u, ray += 2) {
+      if (done) {
+        if (done[u]) continue;
+        done[u] = 1;
+      }
       if (drow[u] == 0) continue;
       const float z = drow[u] * unit;
       const Eigen::Vector3f p = R * Eigen::Vector3f(ray[0] * z, ray[1] * z, z) + t;
@@ -279,6 +284,8 @@ void DepthRegistrar::registerDepthAround(const RgbdFrame& frame, const PinholeCa
             : 0.0;
     if (any_depth_ && !(nearest_range_m_ > 0.0))
       splat(frame, cv::Rect(0, 0, frame.depth.cols, frame.depth.rows));
+    splatted_.create(frame.depth.rows, frame.depth.cols, CV_8U);
+    splatted_.setTo(0);
   }
   registerWindows(frame, cam_color, centres, radius_px, out);
 }
@@ -313,7 +320,8 @@ void DepthRegistrar::registerWindows(const RgbdFrame& frame, const PinholeCamera
     // (Without a bound the whole image was projected once by registerDepthAround.)
     for (const Eigen::Vector2d& c : centres) {
       const cv::Rect colour = grown(aroundPixel(c, radius_px), 3) & all;
-      if (!colour.empty()) splat(frame, depthRoiFor(colour, nearest_range_m_, frame, cam_color));
+      if (!colour.empty())
+        splat(frame, depthRoiFor(colour, nearest_range_m_, frame, cam_color), true);
     }
   }
   for (const Eigen::Vector2d& c : centres) {

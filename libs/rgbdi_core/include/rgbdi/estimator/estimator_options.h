@@ -13,12 +13,8 @@ struct EstimatorOptions {
   int keyframe_min_tracked = 20;       ///< [count] fewer tracked features -> keyframe
   int max_iterations = 8;              ///< [count] solver iterations per update
   double max_solver_time_s = 0.0;      ///< [s] live-mode budget; 0 = unbounded (deterministic)
-  /// [count] trial step sizes of Ceres' projected line search after a step that crosses the
-  /// inverse-depth lower bound; 0 = none (the step is clamped onto the bound). Each trial
-  /// evaluates every residual with its Jacobian.
-  int bound_line_search_iterations = 0;
   /// [unitless] an update stops when an iteration lowers the cost by less than this fraction
-  /// (Ceres' function_tolerance, whose default is 1e-6), when the window holds depth-verified
+  /// (Ceres' default function_tolerance is 1e-6), when the window holds depth-verified
   /// features. Iterations that gain less than 0.1 % moved no RGB-D trajectory by more than noise
   /// (doc/performance.md) and were half of the cost.
   double solver_function_tolerance = 1e-3;

@@ -40,6 +40,11 @@ class MarginalizationInfo {
   const std::vector<Eigen::VectorXd>& keptValues() const { return kept_values_; }
   const Eigen::MatrixXd& jacobian() const { return lin_jacobian_; }
   const Eigen::VectorXd& residual() const { return lin_residual_; }
+  /// jacobian()^T jacobian(): the prior's Gauss-Newton Hessian, constant as the prior is linear.
+  const Eigen::MatrixXd& hessian() const { return lin_hessian_; }
+  /// x - x0 over the kept blocks in their tangent spaces (poses: PoseManifold::Minus), for the
+  /// values at `parameters` (one pointer per kept block, in keptBlocks() order).
+  void tangentDelta(double const* const* parameters, Eigen::VectorXd& dx) const;
   /// Rewrites the kept block addresses after the window shifted (old address -> new address).
   void remapBlocks(const std::unordered_map<const double*, double*>& remap);
 
@@ -52,6 +57,7 @@ class MarginalizationInfo {
   std::vector<Eigen::VectorXd> kept_values_;
   Eigen::MatrixXd lin_jacobian_;
   Eigen::VectorXd lin_residual_;
+  Eigen::MatrixXd lin_hessian_;
 };
 
 /// The prior as a Ceres cost function on the kept blocks.
@@ -60,6 +66,7 @@ class MarginalizationFactor final : public ceres::CostFunction {
   explicit MarginalizationFactor(std::shared_ptr<const MarginalizationInfo> info);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
+  const MarginalizationInfo& info() const { return *info_; }
 
  private:
   std::shared_ptr<const MarginalizationInfo> info_;

@@ -20,6 +20,7 @@
 #include "rgbdi/common/types.h"
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/estimator/feature_manager.h"
+#include "rgbdi/estimator/window_solver.h"
 #include "rgbdi/frontend/feature_frame.h"
 
 namespace rgbdi::imu {
@@ -162,6 +163,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   std::shared_ptr<MarginalizationInfo> prior_;
   double td_param_[1] = {0.0};
   std::vector<double> inv_depth_params_;  ///< the solved inverse depths during optimise()
+  WindowSolver solver_;                   ///< optimise()'s solver (its buffers are reused)
   // Prior on the first state's speed and biases from the initialisation (until marginalised).
   bool use_init_prior_ = false;
   Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();

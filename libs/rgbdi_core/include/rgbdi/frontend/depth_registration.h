@@ -56,8 +56,10 @@ class DepthRegistrar {
   /// Validates the frame; for unaligned depth also prepares rays, projection and buffers.
   void prepare(const RgbdFrame& frame, const PinholeCamera& cam_color);
   void updateRays(const PinholeCamera& cam_depth);
-  /// Projects the valid depth pixels inside `depth_roi` into values_ and cover_.
-  void splat(const RgbdFrame& frame, const cv::Rect& depth_roi);
+  /// Projects the valid depth pixels inside `depth_roi` into values_ and cover_; with `skip_done`
+  /// only those splatted_ does not mark yet (and marks them). The z-buffers take minima, so a
+  /// pixel projected twice changes nothing: overlapping windows are projected once.
+  void splat(const RgbdFrame& frame, const cv::Rect& depth_roi, bool skip_done = false);
   /// Depth pixels that can land in colour rectangle `colour_rect` when no depth point is nearer
   /// than `nearest_range_m` to the depth camera.
   cv::Rect depthRoiFor(const cv::Rect& colour_rect, double nearest_range_m, const RgbdFrame& frame,
@@ -78,6 +80,7 @@ class DepthRegistrar {
   float max_radius2_ = 0.0f;  ///< projection validity bound (see maxNormalisedRadius2)
   cv::Mat values_;            ///< nearest-pixel z-buffer, +max float = no point
   cv::Mat cover_;             ///< 2x2-footprint z-buffer, +max float = no point
+  cv::Mat splatted_;          ///< CV_8U, depth image size: 1 = projected in this frame
   double nearest_range_m_ =
       0.0;                  ///< of the current frame: no depth point is nearer (0 = none known)
   bool any_depth_ = false;  ///< the current frame has a valid depth pixel
