@@ -128,7 +128,9 @@ int main(int argc, char** argv) {
   std::cout << "estimator updates " << st.optimisations << ", solver iterations per update "
             << (st.optimisations > 0 ? double(st.solver_iterations) / st.optimisations : 0.0)
             << ", stopped at their iteration limit " << st.solver_iterations_capped
-            << ", single-step updates (non_keyframe_update) " << st.single_step_updates << "\n";
+            << ", single-step updates (non_keyframe_update) " << st.single_step_updates
+            << ", factorisations retried with more damping " << st.solver_factorisation_retries
+            << "\n";
   if (updates > 0)
     std::cout << "features per update: " << used / updates << " used, " << verified / updates
               << " depth-verified\n";

@@ -248,6 +248,44 @@ class FailsBelowZero final : public ceres::SizedCostFunction<1, 1> {
 
 }  // namespace
 
+namespace {
+
+/// r = w (x + s - 3): only the sum is observed, the difference is a direction without
+/// information.
+class SumCost final : public ceres::SizedCostFunction<1, 1, 1> {
+ public:
+  explicit SumCost(double w) : w_(w) {}
+  bool Evaluate(double const* const* p, double* r, double** j) const override {
+    r[0] = w_ * (p[0][0] + p[1][0] - 3.0);
+    if (j && j[0]) j[0][0] = w_;
+    if (j && j[1]) j[1][0] = w_;
+    return true;
+  }
+
+ private:
+  double w_;
+};
+
+}  // namespace
+
+TEST(WindowSolver, DampsMoreWhenTheSystemDoesNotFactorise) {
+  // With damping 1e-20 the reduced system of a direction without information is 0 in floating
+  // point (not positive definite): the step is solved again with more damping.
+  double x[1] = {0.0}, s[1] = {0.0};
+  SumCost sum(1e10);
+  WindowSolver solver;
+  solver.addFrameBlock(x, 1);
+  solver.addEliminatedScalar(s);
+  solver.addResidual(&sum, nullptr, {x, s});
+  WindowSolverOptions o = tight();
+  o.initial_trust_region_radius = 1e20;
+  o.max_trust_region_radius = 1e20;
+  const WindowSolverSummary summary = solver.solve(o);
+  EXPECT_GT(summary.factorisation_retries, 0);
+  EXPECT_GE(summary.successful_steps, 1);
+  EXPECT_NEAR(x[0] + s[0], 3.0, 1e-9);
+}
+
 TEST(WindowSolver, LeavesValuesUntouchedWhenTheStartCannotBeEvaluated) {
   double x[1] = {-1.0};
   FailsBelowZero cost;

@@ -760,6 +760,7 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   stats_.solver_iterations += summary.successful_steps + summary.unsuccessful_steps;
   if (summary.termination == WindowSolverSummary::Termination::kNoConvergence)
     ++stats_.solver_iterations_capped;
+  stats_.solver_factorisation_retries += summary.factorisation_retries;
   td_ = td_param_[0];
   for (auto& s : window_) s.setPose(s.p(), s.q());  // keep quaternions exactly unit
 

@@ -33,6 +33,9 @@ namespace {
 
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+/// Damping increases (x10 each) tried within one iteration when the system does not factorise.
+constexpr int kFactorisationRetries = 8;
+
 int tangentOf(int ambient) { return ambient == 7 ? 6 : ambient; }
 
 /// Where a parameter block of a residual lives in the solver.
@@ -442,7 +445,15 @@ WindowSolverSummary WindowSolver::solve(const WindowSolverOptions& o) {
       s.message = "trust region radius below its minimum";
       break;
     }
-    const bool solved = m.solveStep(1.0 / radius, o);
+    // A damped system that does not factorise (not positive definite in floating point: a
+    // direction with next to no information) is solved again with ten times the damping within
+    // the same iteration, as Ceres' dogleg does for its Gauss-Newton step; the radius follows.
+    bool solved = m.solveStep(1.0 / radius, o);
+    for (int retry = 0; !solved && retry < kFactorisationRetries; ++retry) {
+      ++s.factorisation_retries;
+      radius /= 10.0;
+      solved = m.solveStep(1.0 / radius, o);
+    }
     const double model = solved ? m.modelDecrease() : 0.0;
     if (!solved || !(model > 0.0)) {
       ++s.unsuccessful_steps;

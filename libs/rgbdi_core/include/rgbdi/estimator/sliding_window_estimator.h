@@ -81,10 +81,11 @@ struct EstimatorStats {
   double first_pose_t_image = -1.0;
   /// [ms] thread CPU time of the stages, summed over all frames
   double sum_ms_optimisation = 0.0, sum_ms_marginalisation = 0.0, sum_ms_preintegration = 0.0;
-  int optimisations = 0;             ///< solver runs (window updates)
-  int solver_iterations = 0;         ///< Ceres iterations summed over those runs
-  int solver_iterations_capped = 0;  ///< runs that stopped at max_iterations
-  int single_step_updates = 0;       ///< of the runs: limited to one step (non_keyframe_update)
+  int optimisations = 0;                 ///< solver runs (window updates)
+  int solver_iterations = 0;             ///< Ceres iterations summed over those runs
+  int solver_iterations_capped = 0;      ///< runs that stopped at max_iterations
+  int single_step_updates = 0;           ///< of the runs: limited to one step (non_keyframe_update)
+  int solver_factorisation_retries = 0;  ///< damped systems that needed more damping
   /// Why the odometry waited for a pose: frames on which a start was tried and failed, by reason
   /// ("static start: ...", "moving start: ...": each such frame tries both that are enabled; "no
   /// IMU data up to the image" when it could try neither), over every start of the run (the

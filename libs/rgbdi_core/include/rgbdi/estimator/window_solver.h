@@ -56,7 +56,8 @@ struct WindowSolverSummary {
   Termination termination = Termination::kFailure;
   int successful_steps = 0;
   int unsuccessful_steps = 0;
-  double initial_cost = 0.0;  ///< 1/2 sum of the robustified squared residuals
+  int factorisation_retries = 0;  ///< damped systems solved again with more damping
+  double initial_cost = 0.0;      ///< 1/2 sum of the robustified squared residuals
   double final_cost = 0.0;
   std::string message;  ///< why it stopped
 };
