@@ -27,4 +27,16 @@ inline void addJtv(double* out, const double* Ja, int sa, int t, const double* v
     for (int k = 0; k < t; ++k) out[k] += Ja[r * sa + k] * v[r];
 }
 
+/// A(rows op.., cols oq..) -= c[op..op+tp) c[oq..oq+tq)^T / h: one eliminated scalar's rank-one
+/// Schur update on a column-major A with leading dimension ld (c: its coupling row).
+inline void subtractOuter(double* A, int ld, const double* c, int op, int tp, int oq, int tq,
+                          double h) {
+  for (int j = 0; j < tq; ++j) {
+    const double cj = c[oq + j] / h;
+    double* __restrict col = A + static_cast<std::ptrdiff_t>(oq + j) * ld + op;
+    const double* __restrict cp = c + op;
+    for (int i = 0; i < tp; ++i) col[i] -= cp[i] * cj;
+  }
+}
+
 }  // namespace rgbdi::estimator::detail

@@ -101,10 +101,8 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
                       const std::vector<int>& rv) {
     for (int v : rv)
       if (v >= 0 && vars[static_cast<size_t>(v)].diagonal) return false;
-    const std::vector<const double*> values(blocks.begin(), blocks.end());
-    Eigen::VectorXd dx;
-    p.tangentDelta(values.data(), dx);
-    const Eigen::VectorXd Jtr = p.jacobian().transpose() * (p.residual() + p.jacobian() * dx);
+    Eigen::VectorXd Jtr;
+    p.evaluate(blocks.data(), &Jtr);
     const Eigen::MatrixXd& Hp = p.hessian();
     for (size_t a = 0, oa = 0; a < blocks.size(); ++a) {
       const int ta = tangentSize(p.keptSizes()[a]);
@@ -208,12 +206,7 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
       for (int i = 0; i < vp.tangent; ++i) g[vp.index + i] -= c[vp.index + i] * (g_diag[d] / h);
       for (int q : coupled[static_cast<size_t>(d)]) {
         const Var& vq = vars[static_cast<size_t>(q)];
-        for (int j = 0; j < vq.tangent; ++j) {
-          const double cj = c[vq.index + j] / h;
-          double* __restrict col =
-              H.data() + static_cast<std::ptrdiff_t>(vq.index + j) * nx + vp.index;
-          for (int i = 0; i < vp.tangent; ++i) col[i] -= c[vp.index + i] * cj;
-        }
+        detail::subtractOuter(H.data(), nx, c, vp.index, vp.tangent, vq.index, vq.tangent, h);
       }
     }
   }
@@ -267,6 +260,16 @@ void MarginalizationInfo::tangentDelta(double const* const* parameters, Eigen::V
     dx.segment(off, t) = estimator::tangentDelta(parameters[k], kept_values_[k], kept_sizes_[k]);
     off += t;
   }
+}
+
+double MarginalizationInfo::evaluate(double const* const* parameters,
+                                     Eigen::VectorXd* gradient) const {
+  Eigen::VectorXd dx;
+  tangentDelta(parameters, dx);
+  Eigen::VectorXd r;
+  r.noalias() = lin_residual_ + lin_jacobian_ * dx;
+  if (gradient) *gradient = lin_jacobian_.transpose() * r;
+  return 0.5 * r.squaredNorm();
 }
 
 void MarginalizationInfo::remapBlocks(const std::unordered_map<const double*, double*>& remap) {

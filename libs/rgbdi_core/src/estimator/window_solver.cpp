@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "estimator/dense_kernels.h"
 #include "estimator/robust_correction.h"
@@ -35,8 +36,6 @@ using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::Ro
 
 /// Damping increases (x10 each) tried within one iteration when the system does not factorise.
 constexpr int kFactorisationRetries = 8;
-
-int tangentOf(int ambient) { return ambient == 7 ? 6 : ambient; }
 
 /// Where a parameter block of a residual lives in the solver.
 struct BlockRef {
@@ -91,9 +90,7 @@ struct WindowSolver::Impl {
   // Evaluation scratch.
   std::vector<double> jac, res, row;
   std::vector<double*> jac_ptrs;
-  std::vector<int> cols;
-  Eigen::VectorXd prior_dx, prior_r;
-  std::vector<const double*> prior_params;
+  const int* cols = nullptr;  ///< the current residual's parameter block sizes
 
   BlockRef refOf(double* x) const {
     const auto it = ref_of.find(x);
@@ -136,7 +133,7 @@ void WindowSolver::addFrameBlock(double* x, int ambient_size) {
   Impl& m = *impl_;
   if (ambient_size < 1) throw std::invalid_argument("WindowSolver: block size must be positive");
   if (m.ref_of.count(x)) throw std::invalid_argument("WindowSolver: block added twice");
-  const int t = tangentOf(ambient_size);
+  const int t = MarginalizationInfo::tangentSize(ambient_size);
   m.ref_of[x] = BlockRef{BlockRef::kFrame, m.nf, t};
   m.frames.push_back({x, ambient_size, t, m.nf});
   m.nf += t;
@@ -164,7 +161,7 @@ void WindowSolver::addResidual(const ceres::CostFunction* cost, const ceres::Los
       if (sizes[k] != 1) throw std::invalid_argument("WindowSolver: eliminated block not scalar");
       r.eliminated = ref.index;
     }
-    if (ref.kind == BlockRef::kFrame && tangentOf(sizes[k]) != ref.tangent)
+    if (ref.kind == BlockRef::kFrame && MarginalizationInfo::tangentSize(sizes[k]) != ref.tangent)
       throw std::invalid_argument("WindowSolver: block size differs from its declaration");
     m.blocks.push_back(blocks[k]);
     m.refs.push_back(ref);
@@ -205,37 +202,32 @@ void WindowSolver::Impl::accumulate(const Residual& r, const double* residual, i
     const BlockRef& ra = refs[static_cast<std::size_t>(r.first_block + a)];
     if (ra.kind != BlockRef::kFrame) continue;
     const double* Ja = jac_ptrs[static_cast<std::size_t>(a)];
-    const int sa = cols[static_cast<std::size_t>(a)];
+    const int sa = cols[a];
     detail::addJtv(g.data() + ra.index, Ja, sa, ra.tangent, residual, n);
     if (Jd) detail::addJtv(coupling.row(d).data() + ra.index, Ja, sa, ra.tangent, Jd, n);
     for (int c = 0; c < r.n_blocks; ++c) {
       const BlockRef& rc = refs[static_cast<std::size_t>(r.first_block + c)];
       if (rc.kind != BlockRef::kFrame || rc.index > ra.index) continue;
       detail::addJtJ(H.data(), nf, ra.index, rc.index, Ja, sa, ra.tangent,
-                     jac_ptrs[static_cast<std::size_t>(c)], cols[static_cast<std::size_t>(c)],
-                     rc.tangent, n);
+                     jac_ptrs[static_cast<std::size_t>(c)], cols[c], rc.tangent, n);
     }
   }
 }
 
 void WindowSolver::Impl::addPriorTerms(bool linearise, double* cost) {
-  const auto& kept = prior->keptBlocks();
-  prior_params.assign(kept.begin(), kept.end());
-  prior->tangentDelta(prior_params.data(), prior_dx);
-  prior_r.noalias() = prior->residual() + prior->jacobian() * prior_dx;
-  *cost += 0.5 * prior_r.squaredNorm();
+  Eigen::VectorXd Jtr;
+  *cost += prior->evaluate(prior->keptBlocks().data(), linearise ? &Jtr : nullptr);
   if (!linearise) return;
   // g += J^T r; H += J^T J (constant, formed by the marginalisation), block by block.
-  const Eigen::VectorXd Jtr = prior->jacobian().transpose() * prior_r;
   const Eigen::MatrixXd& Hp = prior->hessian();
   int oa = 0;
   for (std::size_t a = 0; a < prior_refs.size(); ++a) {
-    const int ta = tangentOf(prior->keptSizes()[a]);
+    const int ta = MarginalizationInfo::tangentSize(prior->keptSizes()[a]);
     if (prior_refs[a].kind == BlockRef::kFrame) {
       g.segment(prior_refs[a].index, ta) += Jtr.segment(oa, ta);
       int oc = 0;
       for (std::size_t c = 0; c < prior_refs.size(); ++c) {
-        const int tc = tangentOf(prior->keptSizes()[c]);
+        const int tc = MarginalizationInfo::tangentSize(prior->keptSizes()[c]);
         if (prior_refs[c].kind == BlockRef::kFrame && prior_refs[c].index <= prior_refs[a].index)
           H.block(prior_refs[a].index, prior_refs[c].index, ta, tc) += Hp.block(oa, oc, ta, tc);
         oc += tc;
@@ -258,6 +250,7 @@ bool WindowSolver::Impl::evaluate(bool linearise, double* cost) {
   for (const Residual& r : residuals) {
     const int n = r.cost->num_residuals();
     const auto& sizes = r.cost->parameter_block_sizes();
+    cols = sizes.data();
     if (res.size() < static_cast<std::size_t>(n)) res.resize(static_cast<std::size_t>(n));
     double** jp = nullptr;
     if (linearise) {
@@ -265,7 +258,6 @@ bool WindowSolver::Impl::evaluate(bool linearise, double* cost) {
       for (int k = 0; k < r.n_blocks; ++k) total += static_cast<std::size_t>(n * sizes[k]);
       if (jac.size() < total) jac.resize(total);
       jac_ptrs.resize(static_cast<std::size_t>(r.n_blocks));
-      cols.assign(sizes.begin(), sizes.end());
       std::size_t off = 0;
       for (int k = 0; k < r.n_blocks; ++k) {
         // Constant blocks get no Jacobian (the cost function skips it).
@@ -278,7 +270,7 @@ bool WindowSolver::Impl::evaluate(bool linearise, double* cost) {
     }
     if (!r.cost->Evaluate(blocks.data() + r.first_block, res.data(), jp)) return false;
     if (r.loss) {
-      *cost += detail::applyRobustLoss(*r.loss, n, res.data(), jp, cols.data(), r.n_blocks, row);
+      *cost += detail::applyRobustLoss(*r.loss, n, res.data(), jp, cols, r.n_blocks, row);
     } else {
       *cost += 0.5 * Eigen::Map<const Eigen::VectorXd>(res.data(), n).squaredNorm();
     }
@@ -310,12 +302,7 @@ bool WindowSolver::Impl::solveStep(double mu, const WindowSolverOptions& o) {
       for (int q : list) {
         const FrameBlock& bq = frames[static_cast<std::size_t>(q)];
         if (bq.offset > bp.offset) continue;
-        for (int j = 0; j < bq.tangent; ++j) {
-          const double cj = c[bq.offset + j] / a;
-          double* __restrict col = Ad + static_cast<std::ptrdiff_t>(bq.offset + j) * nf + bp.offset;
-          const double* __restrict cp = c + bp.offset;
-          for (int i = 0; i < bp.tangent; ++i) col[i] -= cp[i] * cj;
-        }
+        detail::subtractOuter(Ad, nf, c, bp.offset, bp.tangent, bq.offset, bq.tangent, a);
       }
     }
   }

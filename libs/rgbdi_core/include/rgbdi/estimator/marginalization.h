@@ -45,6 +45,9 @@ class MarginalizationInfo {
   /// x - x0 over the kept blocks in their tangent spaces (poses: PoseManifold::Minus), for the
   /// values at `parameters` (one pointer per kept block, in keptBlocks() order).
   void tangentDelta(double const* const* parameters, Eigen::VectorXd& dx) const;
+  /// The prior's cost 1/2 |r|^2, r = residual() + jacobian() (x - x0), at those values; with
+  /// `gradient` also J^T r (its Hessian is hessian()).
+  double evaluate(double const* const* parameters, Eigen::VectorXd* gradient = nullptr) const;
   /// Rewrites the kept block addresses after the window shifted (old address -> new address).
   void remapBlocks(const std::unordered_map<const double*, double*>& remap);
 

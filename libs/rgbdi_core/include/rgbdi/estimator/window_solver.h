@@ -19,11 +19,9 @@
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 
-#include <Eigen/Core>
 #include <limits>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace rgbdi::estimator {
