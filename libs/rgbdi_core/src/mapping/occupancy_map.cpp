@@ -10,7 +10,7 @@
 #include "mapping/depth_grid_sampler.h"
 #include "mapping/pose_check.h"
 #include "rgbdi/common/atomic_file.h"
-#include "rgbdi/mapping/morton_code.h"
+#include "rgbdi/mapping/occupancy_cells.h"
 
 namespace rgbdi::mapping {
 
@@ -25,11 +25,11 @@ struct OccupancyMap::Impl {
 
   MappingOptions options;
   detail::DepthGridSampler sampler;
-  octomap::OcTree tree;
+  detail::OccupancyTree tree;
   OccupancyStats stats;
   std::vector<MapPoint> scratch;
-  std::vector<std::pair<std::uint64_t, octomap::OcTreeKey>> sorted;  ///< inOctreeOrder's buffers
-  std::vector<octomap::OcTreeKey> ordered_keys;
+  std::vector<octomap::point3d> rays, hits_only;  ///< castRays' buffers
+  detail::ScanCells cells;
   bool inner_nodes_stale = false;
 
   /// Brings the inner nodes up to date with the leaves (needed by pruning, queries at coarse
@@ -54,10 +54,8 @@ struct OccupancyMap::Impl {
     const Eigen::Vector3d o = T_world_cam.translation();
     const octomap::point3d origin(static_cast<float>(o.x()), static_cast<float>(o.y()),
                                   static_cast<float>(o.z()));
-    octomap::Pointcloud rays;
-    rays.reserve(points_cam.size() / ray_every + 1);
-    std::vector<octomap::point3d> hits_only;
-    hits_only.reserve(points_cam.size());
+    rays.clear();
+    hits_only.clear();
     for (std::size_t i = 0; i < points_cam.size(); ++i) {
       const Eigen::Vector3d w = T_world_cam * points_cam[i].p_cam.cast<double>();
       const octomap::point3d pw(static_cast<float>(w.x()), static_cast<float>(w.y()),
@@ -71,40 +69,17 @@ struct OccupancyMap::Impl {
     // As OcTree::insertPointCloud: discretised endpoints (rays ending in the same voxel are cast
     // once), max range (farther readings only clear space up to the trusted depth), occupied
     // wins over free within one scan, lazy inner-node updates (refreshed once by finish()).
-    const double max_range = options.depth_max_m;
-    octomap::KeySet free_cells, occupied_cells;
-    tree.computeDiscreteUpdate(rays, origin, free_cells, occupied_cells, max_range);
-    for (const octomap::point3d& p : hits_only) {
-      octomap::OcTreeKey key;
-      if ((p - origin).norm() <= max_range && tree.coordToKeyChecked(p, key)) {
-        occupied_cells.insert(key);
-        free_cells.erase(key);
-      }
-    }
-    // Each cell is updated once per scan (free and occupied sets are disjoint), so the order of
-    // the updates does not change the tree; in octree (Morton) order consecutive updates share
-    // the path from the root, instead of a cache miss per level in the hash set's order.
-    for (const octomap::OcTreeKey& k : inOctreeOrder(free_cells)) tree.updateNode(k, false, true);
-    for (const octomap::OcTreeKey& k : inOctreeOrder(occupied_cells))
-      tree.updateNode(k, true, true);
+    // Each cell is updated once per scan (the free and occupied cells are disjoint), so the
+    // order of the updates does not change the tree: in Morton order consecutive cells share
+    // their path from the root.
+    cells.compute(tree, origin, rays, hits_only, options.depth_max_m);
+    tree.updateSorted(cells.freeCells(), tree.getProbMissLog());
+    tree.updateSorted(cells.occupiedCells(), tree.getProbHitLog());
     inner_nodes_stale = true;
     ++stats.scans;
     stats.rays += rays.size();
     stats.seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-
-  /// The keys sorted by their Morton code (the octree's depth-first order).
-  const std::vector<octomap::OcTreeKey>& inOctreeOrder(const octomap::KeySet& keys) {
-    sorted.clear();
-    sorted.reserve(keys.size());
-    for (const octomap::OcTreeKey& k : keys) sorted.push_back({detail::mortonCode(k), k});
-    std::sort(sorted.begin(), sorted.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    ordered_keys.clear();
-    ordered_keys.reserve(sorted.size());
-    for (const auto& e : sorted) ordered_keys.push_back(e.second);
-    return ordered_keys;
   }
 
   /// Every how many kept points a ray is cast: occupancy_grid_stride in both image directions.
@@ -167,7 +142,9 @@ std::size_t OccupancyMap::leafCount() const { return impl_->tree.getNumLeafNodes
 const OccupancyStats& OccupancyMap::stats() const { return impl_->stats; }
 std::size_t OccupancyMap::memoryBytes() const {
   return sizeof(OccupancyMap) + sizeof(Impl) + impl_->tree.memoryUsage() +
-         impl_->scratch.capacity() * sizeof(MapPoint);
+         impl_->scratch.capacity() * sizeof(MapPoint) +
+         (impl_->rays.capacity() + impl_->hits_only.capacity()) * sizeof(octomap::point3d) +
+         impl_->cells.memoryBytes();
 }
 
 }  // namespace rgbdi::mapping

@@ -20,8 +20,25 @@ inline std::uint64_t spreadBits3(std::uint64_t v) {
   return v;
 }
 
+/// Gathers every third bit of v (bit 3i goes to bit i): spreadBits3's inverse.
+inline std::uint64_t compactBits3(std::uint64_t v) {
+  v &= 0x249249249249ull;
+  v = (v | (v >> 2)) & 0x0C30C30C30C3ull;
+  v = (v | (v >> 4)) & 0x00F00F00F00Full;
+  v = (v | (v >> 8)) & 0x0000FF0000FFull;
+  v = (v | (v >> 16)) & 0xFFFFull;
+  return v;
+}
+
 inline std::uint64_t mortonCode(const octomap::OcTreeKey& k) {
   return spreadBits3(k[0]) | (spreadBits3(k[1]) << 1) | (spreadBits3(k[2]) << 2);
+}
+
+/// The key of a Morton code (mortonCode's inverse).
+inline octomap::OcTreeKey keyOfMortonCode(std::uint64_t code) {
+  return octomap::OcTreeKey(static_cast<octomap::key_type>(compactBits3(code)),
+                            static_cast<octomap::key_type>(compactBits3(code >> 1)),
+                            static_cast<octomap::key_type>(compactBits3(code >> 2)));
 }
 
 }  // namespace rgbdi::mapping::detail
