@@ -10,8 +10,8 @@
 #include <sstream>
 #include <vector>
 
-#include "rgbdi/mapping/occupancy_cells.h"
 #include "rgbdi/mapping/morton_code.h"
+#include "rgbdi/mapping/occupancy_cells.h"
 
 namespace {
 using rgbdi::mapping::detail::keyOfMortonCode;
@@ -91,7 +91,8 @@ TEST(MortonCode, KeyOfMortonCodeInvertsMortonCode) {
                                static_cast<octomap::key_type>(coord(rng)));
     ASSERT_EQ(keyOfMortonCode(mortonCode(k)), k);
   }
-  EXPECT_EQ(keyOfMortonCode((std::uint64_t{1} << 48) - 1), octomap::OcTreeKey(0xFFFF, 0xFFFF, 0xFFFF));
+  EXPECT_EQ(keyOfMortonCode((std::uint64_t{1} << 48) - 1),
+            octomap::OcTreeKey(0xFFFF, 0xFFFF, 0xFFFF));
 }
 
 TEST(MortonSet, KeepsEachCodeOnceInInsertionOrderAcrossGrowthAndClear) {
@@ -157,9 +158,9 @@ TEST(OccupancyTree, ScansGiveOctomapsTreeNodeForNodeIncludingClampedCells) {
   ScanCells cells;
   for (int n = 0; n < 25; ++n) {
     // Every other scan onto a small patch, 2 m ahead: its cells are hit often enough to clamp.
-    const Scan s = n % 2 ? randomScan(rng, octomap::point3d(0.0f, 0.01f * (n % 5), 0.0f), 1.95f,
-                                      2.05f, 0.2f)
-                         : randomScan(rng, octomap::point3d(0.02f * n, 0.0f, 0.0f));
+    const Scan s =
+        n % 2 ? randomScan(rng, octomap::point3d(0.0f, 0.01f * (n % 5), 0.0f), 1.95f, 2.05f, 0.2f)
+              : randomScan(rng, octomap::point3d(0.02f * n, 0.0f, 0.0f));
     ourInsert(ours, cells, s);
     referenceInsert(reference, s);
   }

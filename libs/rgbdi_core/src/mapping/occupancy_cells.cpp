@@ -76,7 +76,8 @@ void ScanCells::compute(const octomap::OcTree& tree, const octomap::point3d& ori
       if (tree.coordToKeyChecked(p, key)) occupied_.insert(mortonCode(key));
     } else {
       // A reading beyond the trusted range clears the first max_range metres of its ray.
-      const octomap::point3d end = origin + (p - origin).normalized() * static_cast<float>(max_range);
+      const octomap::point3d end =
+          origin + (p - origin).normalized() * static_cast<float>(max_range);
       if (tree.computeRayKeys(origin, end, ray_))
         for (const octomap::OcTreeKey& k : ray_) free_set_.insert(mortonCode(k));
     }

@@ -40,8 +40,8 @@ class MortonSet {
 class ScanCells {
  public:
   void compute(const octomap::OcTree& tree, const octomap::point3d& origin,
-               const std::vector<octomap::point3d>& rays,
-               const std::vector<octomap::point3d>& hits, double max_range);
+               const std::vector<octomap::point3d>& rays, const std::vector<octomap::point3d>& hits,
+               double max_range);
   /// Morton codes, ascending, disjoint.
   const std::vector<std::uint64_t>& freeCells() const { return free_; }
   const std::vector<std::uint64_t>& occupiedCells() const { return occupied_.codes(); }
