@@ -37,6 +37,9 @@ TEST(SystemConfig, LoopDefaultsEqualTheShippedConfig) {
   EXPECT_EQ(f.min_keyframe_distance_m, d.min_keyframe_distance_m);
   EXPECT_EQ(f.min_keyframe_angle_deg, d.min_keyframe_angle_deg);
   EXPECT_EQ(f.solve_interval_keyframes, d.solve_interval_keyframes);
+  EXPECT_EQ(f.correction.gate_sigma, d.correction.gate_sigma);
+  EXPECT_EQ(f.correction.sigma_floor_m, d.correction.sigma_floor_m);
+  EXPECT_EQ(f.correction.yaw_sigma_deg_per_m, d.correction.yaw_sigma_deg_per_m);
 }
 
 TEST(SystemConfig, LoopKeysAreValidatedLikeEveryOtherSection) {
@@ -47,7 +50,12 @@ TEST(SystemConfig, LoopKeysAreValidatedLikeEveryOtherSection) {
   EXPECT_NE(unknown.find("no_such_key"), std::string::npos) << unknown;
   const std::string range = loadError("[loop]\nsolve_interval_keyframes = 0\n");
   EXPECT_NE(range.find("solve_interval_keyframes"), std::string::npos) << range;
+  const std::string gate = loadError("[loop]\ncorrection_gate_sigma = -1\n");
+  EXPECT_NE(gate.find("[loop] correction_gate_sigma"), std::string::npos) << gate;
+  const std::string floor = loadError("[loop]\ncorrection_sigma_floor_m = 0\n");
+  EXPECT_NE(floor.find("correction_sigma_floor_m"), std::string::npos) << floor;
   EXPECT_EQ(loadError("[loop]\nenable = false\n"), "");
+  EXPECT_EQ(loadError("[loop]\ncorrection_gate_sigma = 0\n"), "");
 }
 
 TEST(SystemConfig, PipelineDefaultsEqualTheShippedConfigAndAreValidated) {

@@ -121,6 +121,16 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
         graph_.addLoopEdge(v.constraint.from_id, v.constraint.to_id, v.constraint.T_from_to);
     r.by_proximity = c.by_proximity;
     r.t_query = kf.t - t_shift_;
+    if (cand.segment == kf.segment) {
+      // Within one segment the odometry has its own estimate of the same relative pose.
+      const LoopDisagreement d =
+          loopDisagreement(v.constraint, cand.T_world_body_odom.inverse() * kf.T_world_body_odom,
+                           options_.correction);
+      r.disagreement_sigmas = d.sigmas;
+      r.shows_drift = d.shows_drift;
+      if (!d.shows_drift) ++stats_.within_odometry_uncertainty;
+    }
+    correcting_ = correcting_ || r.shows_drift;
     loops_.push_back(r);
     ++update.accepted;
     ++stats_.accepted;
@@ -128,7 +138,8 @@ LoopUpdate LoopCloser::process(LoopKeyframe kf) {
   if (join_matched) tryJoin(kf, update);
   stats_.verification_ms_total += msSince(t_ver);
 
-  if (update.accepted > 0) solve_pending_ = true;
+  // Loops that agree with the odometry wait in the graph: solved only once one shows drift.
+  if (update.accepted > 0 && correcting_) solve_pending_ = true;
   ++keyframes_since_solve_;
   if (solve_pending_ &&
       keyframes_since_solve_ >= static_cast<std::uint64_t>(options_.solve_interval_keyframes))
@@ -230,6 +241,7 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
   joins_.push_back(j);
   ++stats_.joins;
   // Solved now, not after solve_interval_keyframes: the part's poses jump into the other frame.
+  correcting_ = true;
   solve_pending_ = true;
   keyframes_since_solve_ = static_cast<std::uint64_t>(options_.solve_interval_keyframes);
   return true;
@@ -256,6 +268,7 @@ int LoopCloser::addExternalLoop(std::uint64_t from_id, std::uint64_t to_id,
   r.t_query = it == slot_of_.end() ? 0.0 : keyframes_[it->second].t;
   loops_.push_back(r);
   ++stats_.external;
+  correcting_ = true;
   solve_pending_ = true;
   return r.edge_id;
 }

@@ -35,6 +35,12 @@ LoopOptions LoopOptions::load(IniReader& ini) {
              std::to_string(o.relocalize_window_keyframes) +
                  " must be at least relocalize_consistent_keyframes (" +
                  std::to_string(o.relocalize_consistent_keyframes) + ")");
+  o.correction.gate_sigma =
+      ini.getDouble(s, "correction_gate_sigma", o.correction.gate_sigma, 0.0, 1000.0);
+  o.correction.sigma_floor_m =
+      ini.getDouble(s, "correction_sigma_floor_m", o.correction.sigma_floor_m, 1e-6, 10.0);
+  o.correction.yaw_sigma_deg_per_m = ini.getDouble(s, "correction_yaw_sigma_deg_per_m",
+                                                   o.correction.yaw_sigma_deg_per_m, 1e-3, 1e4);
   o.features = LoopFeatureOptions::load(ini);
   o.place = PlaceRecognitionOptions::load(ini);
   o.verify = LoopVerificationOptions::load(ini);

@@ -82,6 +82,12 @@ nlohmann::json loopSummary(const SlamSystem& sys) {
   j["external"] = st.external;
   j["rolled_back"] = st.rolled_back;
   j["active_loops"] = st.accepted + st.external - st.rolled_back;
+  j["within_odometry_uncertainty"] = st.within_odometry_uncertainty;
+  double max_sigmas = 0.0;  // of the loops the gate judged (within one segment)
+  for (const loop::LoopRecord& r : lc->loops())
+    max_sigmas = std::max(max_sigmas, r.disagreement_sigmas);
+  j["max_disagreement_sigmas"] = max_sigmas;
+  j["correcting"] = lc->correcting();
   j["solves"] = st.solves;
   j["timing_ms"] = {{"features_per_keyframe", st.features_ms_total / n_kf},
                     {"recognition_per_keyframe", st.recognition_ms_total / n_kf},
@@ -255,6 +261,11 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
      << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets, "
      << (s["loop"].contains("active_loops") ? s["loop"]["active_loops"].get<std::uint64_t>() : 0)
      << " loops" << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
+  const nlohmann::json& loop = s["loop"];
+  if (loop.contains("correcting") && !loop["correcting"].get<bool>() &&
+      loop["accepted"].get<std::uint64_t>() > 0)
+    os << "Every loop agreed with the odometry within its own uncertainty ([loop] "
+          "correction_gate_sigma): trajectory.tum is the odometry\n";
   if (s["first_pose_time_s"].is_number() &&
       s["first_pose_time_s"].get<double>() > kReportInitWaitsAfter_s)
     os << "First pose " << std::setprecision(3) << s["first_pose_time_s"].get<double>()

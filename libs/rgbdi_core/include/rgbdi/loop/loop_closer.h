@@ -33,6 +33,10 @@ struct LoopRecord {
   double t_query = 0.0;       ///< [s] stamp of the query keyframe
   bool rolled_back = false;   ///< removed by a later solve (its residual exceeded the gate)
   bool external = false;      ///< added by addExternalLoop, not found by the closer
+  /// Disagreement with the odometry in the loop's own sigmas (correction gate; 0 for loops
+  /// between segments and external ones, which always correct)
+  double disagreement_sigmas = 0.0;
+  bool shows_drift = true;  ///< beyond the correction gate (or between segments, or external)
 };
 
 /// One relocalisation: a part joined to another by verified loops.
@@ -53,6 +57,9 @@ struct LoopStats {
   std::uint64_t accepted = 0;
   std::uint64_t external = 0;     ///< loops added by addExternalLoop (not in accepted)
   std::uint64_t rolled_back = 0;  ///< accepted or external loops removed by a solve
+  /// accepted loops within the correction gate: agreeing with the odometry within their own
+  /// uncertainty (kept in the graph; they correct once a loop beyond the gate came)
+  std::uint64_t within_odometry_uncertainty = 0;
   std::uint64_t solves = 0;
   std::uint64_t joins = 0;                 ///< relocalisations (see JoinRecord)
   std::uint64_t join_matches_weak = 0;     ///< joining matches with too few PnP inliers
@@ -125,6 +132,9 @@ class LoopCloser {
   /// Every processed keyframe (loaded map first), by id order; poses as of the last update.
   const std::vector<LoopKeyframe>& keyframes() const { return keyframes_; }
   const LoopStats& stats() const { return stats_; }
+  /// Whether the pose graph corrects the odometry: since the first loop beyond the correction
+  /// gate, join or external loop (until then the corrected poses are the odometry's).
+  bool correcting() const { return correcting_; }
   LoopStats& mutableStats() { return stats_; }
   const PlaceRecognitionStats& placeStats() const { return recognizer_.stats(); }
   /// Bytes held for the stored keyframes (descriptors, keypoints, points) and the index.
@@ -140,6 +150,7 @@ class LoopCloser {
   std::vector<LoopRecord> loops_;
   LoopStats stats_;
   bool solve_pending_ = false;
+  bool correcting_ = false;  ///< see correcting()
   std::uint64_t keyframes_since_solve_ = 0;
 
   /// A verified match joining two unrelated parts, waiting for consecutive confirmations.

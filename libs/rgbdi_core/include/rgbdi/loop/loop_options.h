@@ -2,6 +2,7 @@
 #pragma once
 
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/loop/correction_gate.h"
 #include "rgbdi/loop/loop_features.h"
 #include "rgbdi/loop/loop_verifier.h"
 #include "rgbdi/loop/place_recognizer.h"
@@ -43,6 +44,8 @@ struct LoopOptions {
   /// when they leave the window: relocalisation a window (about 10 keyframes) earlier.
   bool relocalize_from_window = true;
 
+  /// When accepted loops start correcting the odometry (correction_* keys).
+  CorrectionGateOptions correction;
   LoopFeatureOptions features;
   PlaceRecognitionOptions place;
   LoopVerificationOptions verify;
