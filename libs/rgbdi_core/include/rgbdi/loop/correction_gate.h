@@ -22,12 +22,12 @@ struct CorrectionGateOptions {
 };
 
 struct LoopDisagreement {
-  double position_m = 0.0;     ///< |translation| of T_odom^-1 T_loop
-  double yaw_deg = 0.0;        ///< |yaw| of T_odom^-1 T_loop
+  double position_m = 0.0;  ///< |translation| of T_odom^-1 T_loop
+  double yaw_deg = 0.0;     ///< |yaw| of T_odom^-1 T_loop
   double sigma_position_m = 0.0;
   double sigma_yaw_deg = 0.0;
-  double sigmas = 0.0;         ///< the larger of the two ratios
-  bool shows_drift = false;    ///< sigmas > gate (always when the gate is 0)
+  double sigmas = 0.0;       ///< the larger of the two ratios
+  bool shows_drift = false;  ///< sigmas > gate (always when the gate is 0)
 };
 
 /// The loop `c` (T_from_to measured) against the odometry's relative pose of the same two
