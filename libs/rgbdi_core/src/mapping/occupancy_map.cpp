@@ -122,6 +122,11 @@ void OccupancyMap::rebuild(const KeyframeStore& store) {
   clear();
   for (const Keyframe& kf : store.keyframes())
     impl_->castRays(kf.points, kf.T_world_cam, impl_->keptPointRayStep());
+  // A rebuild is the end-of-run pass (Mapper::finish): its work buffers (several MB for the
+  // largest scan) would otherwise stay allocated while the outputs are written, the run's peak.
+  impl_->cells = detail::ScanCells();
+  std::vector<octomap::point3d>().swap(impl_->rays);
+  std::vector<octomap::point3d>().swap(impl_->hits_only);
 }
 
 void OccupancyMap::clear() {
