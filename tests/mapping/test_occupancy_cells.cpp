@@ -42,9 +42,9 @@ Scan randomScan(std::mt19937& rng, const octomap::point3d& origin, float near = 
   return s;
 }
 
-/// What castRays did with OctoMap's own calls before ScanCells and updateSorted.
-void referenceInsert(octomap::OcTree& tree, const Scan& s) {
-  octomap::KeySet free_cells, occupied_cells;
+/// A scan's cells by OctoMap's own calls: what castRays computed before ScanCells.
+void referenceCells(octomap::OcTree& tree, const Scan& s, octomap::KeySet& free_cells,
+                    octomap::KeySet& occupied_cells) {
   octomap::Pointcloud cloud;
   for (const octomap::point3d& p : s.rays) cloud.push_back(p);
   tree.computeDiscreteUpdate(cloud, s.origin, free_cells, occupied_cells, kMaxRange);
@@ -55,6 +55,12 @@ void referenceInsert(octomap::OcTree& tree, const Scan& s) {
       free_cells.erase(key);
     }
   }
+}
+
+/// What castRays did before ScanCells and updateSorted: OctoMap's updateNode per cell.
+void referenceInsert(octomap::OcTree& tree, const Scan& s) {
+  octomap::KeySet free_cells, occupied_cells;
+  referenceCells(tree, s, free_cells, occupied_cells);
   for (const octomap::OcTreeKey& k : free_cells) tree.updateNode(k, false, true);
   for (const octomap::OcTreeKey& k : occupied_cells) tree.updateNode(k, true, true);
 }
@@ -125,16 +131,7 @@ TEST(ScanCells, SameCellsAsOctomapsDiscreteUpdateSortedAndDisjoint) {
   for (int n = 0; n < 3; ++n) {  // the kept buffers must not leak cells from scan to scan
     const Scan s = randomScan(rng, octomap::point3d(0.1f * n, -0.2f, 0.3f));
     octomap::KeySet free_cells, occupied_cells;
-    octomap::Pointcloud cloud;
-    for (const octomap::point3d& p : s.rays) cloud.push_back(p);
-    tree.computeDiscreteUpdate(cloud, s.origin, free_cells, occupied_cells, kMaxRange);
-    for (const octomap::point3d& p : s.hits) {
-      octomap::OcTreeKey key;
-      if ((p - s.origin).norm() <= kMaxRange && tree.coordToKeyChecked(p, key)) {
-        occupied_cells.insert(key);
-        free_cells.erase(key);
-      }
-    }
+    referenceCells(tree, s, free_cells, occupied_cells);
     std::vector<std::uint64_t> free_expected, occupied_expected;
     for (const octomap::OcTreeKey& k : free_cells) free_expected.push_back(mortonCode(k));
     for (const octomap::OcTreeKey& k : occupied_cells) occupied_expected.push_back(mortonCode(k));
