@@ -165,3 +165,34 @@ TEST(LoopSystem, AnInjectedWrongLoopIsRolledBackAndLeavesTheTrajectoryAsItWas) {
   EXPECT_EQ(wrongLoops(seq, injected), 0u);
   EXPECT_LT(std::abs(injected_ate - reference_ate), 0.10 * reference_ate);
 }
+
+TEST(LoopSystem, WhenTheOnlyLoopShowingDriftIsRolledBackTheTrajectoryIsTheOdometryAgain) {
+  // The correction gate raised so far that no loop of the run shows drift: the graph is never
+  // solved for them. The injected wrong loop (an external loop always corrects) is solved,
+  // rolled back, and leaves loops that agree with the odometry: the poses go back to it.
+  const sim::SimulatedSequence seq(shortRun("wheeled_circle", 30.0, false));
+  system::SystemConfig cfg = configOf(seq);
+  cfg.loop.correction.gate_sigma = 1e3;
+  system::SlamSystemOptions opt;
+  opt.threaded = false;
+  Eigen::Isometry3d error = Eigen::Isometry3d::Identity();
+  error.translation() = Eigen::Vector3d(1.0, 0.0, 0.0);
+  system::SlamSystem sys(cfg, opt);
+  InjectingSink sink(sys, 3, error);
+  seq.pump(sink);
+
+  const loop::LoopCloser* lc = sys.loopCloser();
+  ASSERT_NE(lc, nullptr);
+  ASSERT_GE(sink.edge(), 0) << "fewer than 3 loops: nothing injected";
+  EXPECT_EQ(lc->stats().within_odometry_uncertainty, lc->stats().accepted);
+  EXPECT_GE(lc->stats().solves, 1u);
+  EXPECT_EQ(lc->stats().rolled_back, 1u);
+  EXPECT_FALSE(lc->correcting());
+  const Trajectory final_trajectory = sys.finalTrajectory();
+  const Trajectory odometry = sys.odometryTrajectory();
+  ASSERT_EQ(final_trajectory.size(), odometry.size());
+  for (std::size_t i = 0; i < odometry.size(); ++i) {
+    ASSERT_EQ(final_trajectory[i].t, odometry[i].t);
+    ASSERT_LT((final_trajectory[i].p - odometry[i].p).norm(), 1e-9) << "pose " << i;
+  }
+}

@@ -289,6 +289,14 @@ void LoopCloser::solve(LoopUpdate& update) {
         ++update.rolled_back;
       }
   }
+  // The graph corrects while an active loop shows drift: once the last such loop is rolled
+  // back, the loops left agree with the odometry, and so do the poses again.
+  if (correcting_ && std::none_of(loops_.begin(), loops_.end(), [](const LoopRecord& r) {
+        return r.shows_drift && !r.rolled_back;
+      })) {
+    graph_.resetToOdometry();
+    correcting_ = false;
+  }
   update.solved = true;
   solve_pending_ = false;
   keyframes_since_solve_ = 0;

@@ -187,6 +187,13 @@ int PoseGraph4Dof::addLoopEdge(std::uint64_t from_id, std::uint64_t to_id,
   return e.id;
 }
 
+void PoseGraph4Dof::resetToOdometry() {
+  for (GraphNode& n : nodes_)
+    if (!n.fixed) n.xyz_yaw << n.T_world_body_odom.translation(), n.yaw_odom_rad;
+  for (std::size_t s = 0; s < solved_labels_.size(); ++s) solved_labels_[s] = s;
+  updateResiduals();
+}
+
 PoseGraphSolveReport PoseGraph4Dof::solve() {
   PoseGraphSolveReport report;
   report.nodes = nodes_.size();

@@ -132,8 +132,9 @@ class LoopCloser {
   /// Every processed keyframe (loaded map first), by id order; poses as of the last update.
   const std::vector<LoopKeyframe>& keyframes() const { return keyframes_; }
   const LoopStats& stats() const { return stats_; }
-  /// Whether the pose graph corrects the odometry: since the first loop beyond the correction
-  /// gate, join or external loop (until then the corrected poses are the odometry's).
+  /// Whether the pose graph corrects the odometry: while an active (not rolled back) loop is
+  /// beyond the correction gate, or joins two segments, or was added from outside; otherwise
+  /// the corrected poses are the odometry's.
   bool correcting() const { return correcting_; }
   LoopStats& mutableStats() { return stats_; }
   const PlaceRecognitionStats& placeStats() const { return recognizer_.stats(); }

@@ -136,6 +136,11 @@ class PoseGraph4Dof {
   /// fails (poses and loop edges are then left as they were before the call).
   PoseGraphSolveReport solve();
 
+  /// Every free node back at its odometry pose and every segment on its own: the poses of a
+  /// graph never solved (edges kept as they are). For a loop closer whose remaining loops no
+  /// longer show drift (loop/correction_gate.h).
+  void resetToOdometry();
+
   /// Corrected body pose: optimised x, y, z, yaw and the odometry's roll/pitch. Throws
   /// std::out_of_range naming the id when it is unknown.
   Eigen::Isometry3d pose(std::uint64_t id) const;
