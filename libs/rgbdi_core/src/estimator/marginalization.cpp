@@ -97,28 +97,15 @@ bool MarginalizationInfo::marginalize(const std::set<const double*>& remove,
   std::vector<std::vector<int>> coupled(static_cast<size_t>(nd));  ///< dense vars per diagonal
   // H += J^T J (formed when the prior was made), g += J^T r of a previous prior; false (nothing
   // added) when one of its blocks is an eliminated scalar.
+  std::vector<int> prior_offsets;
   auto addPrior = [&](const MarginalizationInfo& p, const std::vector<double*>& blocks,
                       const std::vector<int>& rv) {
-    for (int v : rv)
+    prior_offsets.clear();
+    for (int v : rv) {
       if (v >= 0 && vars[static_cast<size_t>(v)].diagonal) return false;
-    Eigen::VectorXd Jtr;
-    p.evaluate(blocks.data(), &Jtr);
-    const Eigen::MatrixXd& Hp = p.hessian();
-    for (size_t a = 0, oa = 0; a < blocks.size(); ++a) {
-      const int ta = tangentSize(p.keptSizes()[a]);
-      if (rv[a] >= 0) {
-        const Var& va = vars[static_cast<size_t>(rv[a])];
-        g.segment(va.index, ta) += Jtr.segment(static_cast<Eigen::Index>(oa), ta);
-        for (size_t c = 0, oc = 0; c < blocks.size(); ++c) {
-          const int tc = tangentSize(p.keptSizes()[c]);
-          if (rv[c] >= 0)
-            H.block(va.index, vars[static_cast<size_t>(rv[c])].index, ta, tc) +=
-                Hp.block(static_cast<Eigen::Index>(oa), static_cast<Eigen::Index>(oc), ta, tc);
-          oc += static_cast<size_t>(tc);
-        }
-      }
-      oa += static_cast<size_t>(ta);
+      prior_offsets.push_back(v >= 0 ? vars[static_cast<size_t>(v)].index : -1);
     }
+    p.addNormalEquations(blocks.data(), prior_offsets, false, H, g);
     return true;
   };
   std::vector<double> jac_storage, res_storage, row_storage;
@@ -270,6 +257,28 @@ double MarginalizationInfo::evaluate(double const* const* parameters,
   r.noalias() = lin_residual_ + lin_jacobian_ * dx;
   if (gradient) *gradient = lin_jacobian_.transpose() * r;
   return 0.5 * r.squaredNorm();
+}
+
+double MarginalizationInfo::addNormalEquations(double const* const* parameters,
+                                               const std::vector<int>& offsets, bool lower_only,
+                                               Eigen::MatrixXd& H, Eigen::VectorXd& g) const {
+  Eigen::VectorXd Jtr;
+  const double cost = evaluate(parameters, &Jtr);
+  for (std::size_t a = 0, oa = 0; a < kept_sizes_.size(); ++a) {
+    const int ta = tangentSize(kept_sizes_[a]);
+    if (offsets[a] >= 0) {
+      g.segment(offsets[a], ta) += Jtr.segment(static_cast<Eigen::Index>(oa), ta);
+      for (std::size_t c = 0, oc = 0; c < kept_sizes_.size(); ++c) {
+        const int tc = tangentSize(kept_sizes_[c]);
+        if (offsets[c] >= 0 && (!lower_only || offsets[c] <= offsets[a]))
+          H.block(offsets[a], offsets[c], ta, tc) += lin_hessian_.block(
+              static_cast<Eigen::Index>(oa), static_cast<Eigen::Index>(oc), ta, tc);
+        oc += static_cast<std::size_t>(tc);
+      }
+    }
+    oa += static_cast<std::size_t>(ta);
+  }
+  return cost;
 }
 
 void MarginalizationInfo::remapBlocks(const std::unordered_map<const double*, double*>& remap) {

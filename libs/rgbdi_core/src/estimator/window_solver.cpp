@@ -62,7 +62,8 @@ struct WindowSolver::Impl {
     const ceres::LossFunction* loss;
     int first_block;  ///< into blocks/refs
     int n_blocks;
-    int eliminated = -1;  ///< the eliminated scalar it holds, or -1
+    int eliminated = -1;        ///< the eliminated scalar it holds, or -1
+    int eliminated_block = -1;  ///< which of its blocks that scalar is
   };
 
   std::vector<FrameBlock> frames;
@@ -74,7 +75,7 @@ struct WindowSolver::Impl {
   int nf = 0;  ///< reduced system size
 
   std::shared_ptr<const MarginalizationInfo> prior;
-  std::vector<BlockRef> prior_refs;
+  std::vector<int> prior_offsets;  ///< per kept block of the prior: its column offset, or -1
 
   // Linearisation at the current point.
   Eigen::MatrixXd H;                      ///< frame-frame block of J^T J
@@ -101,7 +102,6 @@ struct WindowSolver::Impl {
   /// residual cannot be evaluated there.
   bool evaluate(bool linearise, double* cost);
   void accumulate(const Residual& r, const double* residual, int n);
-  void addPriorTerms(bool linearise, double* cost);
   /// Solves the damped system (mu: 1 / trust region radius); false if not positive definite.
   bool solveStep(double mu, const WindowSolverOptions& o);
   /// 1/2 d^T (J^T J) d + g^T d of the step (the model's cost change, negated).
@@ -126,7 +126,7 @@ void WindowSolver::clear() {
   m.refs.clear();
   m.nf = 0;
   m.prior.reset();
-  m.prior_refs.clear();
+  m.prior_offsets.clear();
 }
 
 void WindowSolver::addFrameBlock(double* x, int ambient_size) {
@@ -160,6 +160,7 @@ void WindowSolver::addResidual(const ceres::CostFunction* cost, const ceres::Los
         throw std::invalid_argument("WindowSolver: a residual holds two eliminated scalars");
       if (sizes[k] != 1) throw std::invalid_argument("WindowSolver: eliminated block not scalar");
       r.eliminated = ref.index;
+      r.eliminated_block = static_cast<int>(k);
     }
     if (ref.kind == BlockRef::kFrame && MarginalizationInfo::tangentSize(sizes[k]) != ref.tangent)
       throw std::invalid_argument("WindowSolver: block size differs from its declaration");
@@ -172,12 +173,12 @@ void WindowSolver::addResidual(const ceres::CostFunction* cost, const ceres::Los
 void WindowSolver::addPrior(std::shared_ptr<const MarginalizationInfo> prior) {
   Impl& m = *impl_;
   m.prior = std::move(prior);
-  m.prior_refs.clear();
+  m.prior_offsets.clear();
   for (std::size_t k = 0; k < m.prior->keptBlocks().size(); ++k) {
     const BlockRef ref = m.refOf(m.prior->keptBlocks()[k]);
     if (ref.kind == BlockRef::kEliminated)
       throw std::invalid_argument("WindowSolver: the prior holds an eliminated scalar");
-    m.prior_refs.push_back(ref);
+    m.prior_offsets.push_back(ref.kind == BlockRef::kFrame ? ref.index : -1);
   }
 }
 
@@ -185,10 +186,9 @@ void WindowSolver::Impl::accumulate(const Residual& r, const double* residual, i
   // Only H's lower triangle is formed (blocks with row offset >= column offset; the Cholesky
   // factorisation and the products below read that triangle).
   const int d = r.eliminated;
-  const double* Jd = nullptr;  ///< the eliminated scalar's Jacobian column (n x 1)
-  for (int a = 0; a < r.n_blocks; ++a)
-    if (refs[static_cast<std::size_t>(r.first_block + a)].kind == BlockRef::kEliminated)
-      Jd = jac_ptrs[static_cast<std::size_t>(a)];
+  // The eliminated scalar's Jacobian column (n x 1), if the residual holds one.
+  const double* Jd =
+      r.eliminated_block >= 0 ? jac_ptrs[static_cast<std::size_t>(r.eliminated_block)] : nullptr;
   if (Jd) {
     double h = 0.0, gg = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -211,29 +211,6 @@ void WindowSolver::Impl::accumulate(const Residual& r, const double* residual, i
       detail::addJtJ(H.data(), nf, ra.index, rc.index, Ja, sa, ra.tangent,
                      jac_ptrs[static_cast<std::size_t>(c)], cols[c], rc.tangent, n);
     }
-  }
-}
-
-void WindowSolver::Impl::addPriorTerms(bool linearise, double* cost) {
-  Eigen::VectorXd Jtr;
-  *cost += prior->evaluate(prior->keptBlocks().data(), linearise ? &Jtr : nullptr);
-  if (!linearise) return;
-  // g += J^T r; H += J^T J (constant, formed by the marginalisation), block by block.
-  const Eigen::MatrixXd& Hp = prior->hessian();
-  int oa = 0;
-  for (std::size_t a = 0; a < prior_refs.size(); ++a) {
-    const int ta = MarginalizationInfo::tangentSize(prior->keptSizes()[a]);
-    if (prior_refs[a].kind == BlockRef::kFrame) {
-      g.segment(prior_refs[a].index, ta) += Jtr.segment(oa, ta);
-      int oc = 0;
-      for (std::size_t c = 0; c < prior_refs.size(); ++c) {
-        const int tc = MarginalizationInfo::tangentSize(prior->keptSizes()[c]);
-        if (prior_refs[c].kind == BlockRef::kFrame && prior_refs[c].index <= prior_refs[a].index)
-          H.block(prior_refs[a].index, prior_refs[c].index, ta, tc) += Hp.block(oa, oc, ta, tc);
-        oc += tc;
-      }
-    }
-    oa += ta;
   }
 }
 
@@ -277,7 +254,11 @@ bool WindowSolver::Impl::evaluate(bool linearise, double* cost) {
     if (!std::isfinite(*cost)) return false;
     if (linearise) accumulate(r, res.data(), n);
   }
-  if (prior) addPriorTerms(linearise, cost);
+  // The prior's J^T J is constant (formed by the marginalisation); only H's lower triangle.
+  if (prior)
+    *cost += linearise
+                 ? prior->addNormalEquations(prior->keptBlocks().data(), prior_offsets, true, H, g)
+                 : prior->evaluate(prior->keptBlocks().data());
   return std::isfinite(*cost);
 }
 

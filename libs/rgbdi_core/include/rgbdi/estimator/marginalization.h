@@ -48,6 +48,12 @@ class MarginalizationInfo {
   /// The prior's cost 1/2 |r|^2, r = residual() + jacobian() (x - x0), at those values; with
   /// `gradient` also J^T r (its Hessian is hessian()).
   double evaluate(double const* const* parameters, Eigen::VectorXd* gradient = nullptr) const;
+  /// Adds the prior's Gauss-Newton terms at those values to normal equations: g += J^T r and
+  /// H += hessian(), kept block k at tangent offset offsets[k] of H and g (-1: a block not in
+  /// them, left out); with `lower_only` only the blocks whose row offset is at least their
+  /// column offset. Returns the prior's cost.
+  double addNormalEquations(double const* const* parameters, const std::vector<int>& offsets,
+                            bool lower_only, Eigen::MatrixXd& H, Eigen::VectorXd& g) const;
   /// Rewrites the kept block addresses after the window shifted (old address -> new address).
   void remapBlocks(const std::unordered_map<const double*, double*>& remap);
 
