@@ -6,15 +6,13 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "common/cpu_dispatch.h"
 #include "frontend/feature_spacing.h"
 
 // The response is the front end's largest own cost per image; its loops are element-wise float
 // arithmetic, which AVX2 does eight values at a time instead of SSE2's four. The row kernel is
 // compiled for both and the AVX2 copy used when the CPU has it: the same operations in the same
 // order (no FMA contraction without the FMA target), so the same values either way.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define RGBDI_HAVE_AVX2_DISPATCH 1
-#endif
 
 namespace rgbdi::frontend {
 
@@ -119,14 +117,14 @@ inline __attribute__((always_inline)) void rowPassInline(const RowPass& p) {
 
 void rowPassPortable(const RowPass& p) { rowPassInline(p); }
 
-#ifdef RGBDI_HAVE_AVX2_DISPATCH
+#ifdef RGBDI_HAVE_X86_DISPATCH
 __attribute__((target("avx2"))) void rowPassAvx2(const RowPass& p) { rowPassInline(p); }
 #endif
 
 using RowPassFunction = void (*)(const RowPass&);
 
 RowPassFunction rowPassForThisCpu() {
-#ifdef RGBDI_HAVE_AVX2_DISPATCH
+#ifdef RGBDI_HAVE_X86_DISPATCH
   if (__builtin_cpu_supports("avx2")) return rowPassAvx2;
 #endif
   return rowPassPortable;

@@ -3,12 +3,11 @@
 #include <cstring>
 #include <limits>
 
+#include "common/cpu_dispatch.h"
+
 // The x86-64 baseline has no POPCNT instruction; without it GCC expands popcount into ~12
 // shift/mask operations. The scan is compiled twice, and the POPCNT copy is used when the CPU
 // has it (both give the same numbers).
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define RGBDI_HAVE_POPCNT_DISPATCH 1
-#endif
 
 namespace rgbdi::loop {
 namespace {
@@ -67,7 +66,7 @@ void scanPortable(const std::uint8_t* query, int n_query, const std::uint8_t* tr
   scanInline(query, n_query, train, n_train, bytes, s);
 }
 
-#ifdef RGBDI_HAVE_POPCNT_DISPATCH
+#ifdef RGBDI_HAVE_X86_DISPATCH
 __attribute__((target("popcnt"))) void scanPopcnt(const std::uint8_t* query, int n_query,
                                                   const std::uint8_t* train, int n_train,
                                                   std::uint32_t bytes, Scan& s) {
@@ -93,7 +92,7 @@ std::vector<DescriptorMatch> matchDescriptors(const std::uint8_t* query, int n_q
   s.query_second_dist.assign(n_query, 0);
   s.train_best_query.assign(n_train, -1);
   s.train_best_dist.assign(n_train, std::numeric_limits<int>::max());
-#ifdef RGBDI_HAVE_POPCNT_DISPATCH
+#ifdef RGBDI_HAVE_X86_DISPATCH
   if (__builtin_cpu_supports("popcnt"))
     scanPopcnt(query, n_query, train, n_train, bytes, s);
   else

@@ -45,15 +45,12 @@ std::size_t MortonSet::memoryBytes() const {
 void MortonSet::grow() {
   table_.assign(std::max(kInitialSlots, 2 * table_.size()), kEmpty);
   const std::size_t mask = table_.size() - 1;
-  // Re-inserted from the slot list's order (the codes may have been reordered by the caller).
-  std::vector<std::uint64_t> old;
-  old.swap(codes_);
+  // The codes keep their list (a caller may have reordered it); only their slots change.
   slots_.clear();
-  for (std::uint64_t code : old) {
+  for (std::uint64_t code : codes_) {
     std::size_t s = slotOf(code, mask);
     while (table_[s] != kEmpty) s = (s + 1) & mask;
     table_[s] = code;
-    codes_.push_back(code);
     slots_.push_back(static_cast<std::uint32_t>(s));
   }
 }
