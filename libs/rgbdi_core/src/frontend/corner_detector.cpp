@@ -207,10 +207,14 @@ void CornerCandidates::collect(const cv::Mat& response, float min_response, cons
         if (keep[k]) out.push_back({r[k], k, v});
     }
   }
-  std::sort(out.begin(), out.end(), [](const CornerCandidate& p, const CornerCandidate& q) {
-    if (p.response != q.response) return p.response > q.response;
-    return p.v != q.v ? p.v < q.v : p.u < q.u;
-  });
+}
+
+void CornerCandidates::sortStrongestFirst(std::vector<CornerCandidate>& candidates) {
+  std::sort(candidates.begin(), candidates.end(),
+            [](const CornerCandidate& p, const CornerCandidate& q) {
+              if (p.response != q.response) return p.response > q.response;
+              return p.v != q.v ? p.v < q.v : p.u < q.u;
+            });
 }
 
 void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size) {
@@ -267,16 +271,16 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_cor
   const float threshold = static_cast<float>(std::max(quality * strongest, floor));
 
   // Candidates: allowed 3x3 local maxima at or above the threshold. A prepared list holds every
-  // local maximum above a lower bound, strongest first: those that pass are the same, in the
-  // same order, as a scan would find.
+  // local maximum above a lower bound in scan order: those that pass are the ones a scan would
+  // find. They are sorted here, after the mask and the threshold took most of them out (the
+  // preparation does not sort: a third of the images detect nothing).
   if (prepared_candidates_ && threshold >= prepared_min_) {
-    for (const CornerCandidate& c : *prepared_candidates_) {
-      if (c.response < threshold) break;
-      if (mask.at<std::uint8_t>(c.v, c.u)) candidates_.push_back(c);
-    }
+    for (const CornerCandidate& c : *prepared_candidates_)
+      if (c.response >= threshold && mask.at<std::uint8_t>(c.v, c.u)) candidates_.push_back(c);
   } else {
     collector_.collect(response_, threshold, &mask, candidates_);
   }
+  CornerCandidates::sortStrongestFirst(candidates_);
   return detectMore(max_corners, spacing);
 }
 

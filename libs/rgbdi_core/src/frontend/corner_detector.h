@@ -17,10 +17,12 @@ class CornerCandidates {
  public:
   /// Appends the 3x3 local maxima of `response` (at least each of their 8 neighbours; none on
   /// the outermost pixel rows and columns) with a response of at least `min_response` where
-  /// `mask` (CV_8UC1, nullptr: everywhere) is nonzero, then sorts `out` strongest first (ties by
-  /// row, then column).
+  /// `mask` (CV_8UC1, nullptr: everywhere) is nonzero, in scan order (row, then column).
   void collect(const cv::Mat& response, float min_response, const cv::Mat* mask,
                std::vector<CornerCandidate>& out);
+  /// Sorts candidates strongest first, ties by row, then column (a total order: the same
+  /// sequence whatever order they came in).
+  static void sortStrongestFirst(std::vector<CornerCandidate>& candidates);
 
  private:
   cv::Mat neighbourhood_max_;       ///< 3x3 maximum of the response

@@ -195,7 +195,7 @@ std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size
 }
 
 std::optional<cv::Mat> readMrptRangeFile(const std::string& path) {
-  thread_local std::vector<std::uint8_t> file, raw;
+  thread_local std::vector<std::uint8_t> file;
   if (!readWholeFile(path, file) || file.size() < 2 || file[0] != 0x1F || file[1] != 0x8B)
     return std::nullopt;  // unreadable (MRPT reports it) or not gzip
   const auto damaged = [&](const std::string& what) {
@@ -208,26 +208,32 @@ std::optional<cv::Mat> readMrptRangeFile(const std::string& path) {
   if (raw_size > kMaxDecodedBytes)
     throw damaged("its gzip trailer gives " + std::to_string(raw_size) +
                   " bytes of data, more than any range image (truncated or corrupt)");
-  raw.resize(raw_size);
+  // Inflated straight into the image's own buffer: the 8-byte size header is 4 uint16 values
+  // before the pixels, which then start at column 4 of a one-row image (no copy of the image).
+  const int raw_values = static_cast<int>((raw_size + 1) / 2);
+  cv::Mat raw(1, std::max(raw_values, 4), CV_16UC1);
   std::size_t in_used = 0, out_size = 0;
   const libdeflate_result result = libdeflate_gzip_decompress_ex(
-      decompressor(), file.data(), file.size(), raw.data(), raw_size, &in_used, &out_size);
+      decompressor(), file.data(), file.size(), raw.data, raw_size, &in_used, &out_size);
   if (result != LIBDEFLATE_SUCCESS || out_size != raw_size)
     throw damaged("its gzip data do not inflate to the size in its trailer (truncated or corrupt)");
   if (in_used != file.size()) return std::nullopt;  // more gzip members follow: MRPT reads them
   // The older CMatrixF files start with MRPT's object header (0x88 "CMatrixF"), which read as
   // rows and cols is far too large: refused here, read by MRPT.
-  const std::uint32_t rows = littleEndian32(raw.data()), cols = littleEndian32(raw.data() + 4);
+  if (raw_size < 8) return std::nullopt;
+  const std::uint32_t rows = littleEndian32(raw.data), cols = littleEndian32(raw.data + 4);
   if (rows == 0 || cols == 0 || rows > kMaxDecodedBytes / cols ||
       8 + 2 * std::size_t{rows} * cols != raw_size)
     return std::nullopt;
-  cv::Mat range(static_cast<int>(rows), static_cast<int>(cols), CV_16UC1);
+  const int n = static_cast<int>(std::size_t{rows} * cols);
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-  std::memcpy(range.data, raw.data() + 8, raw_size - 8);
+  // A one-row ROI is continuous, so it reshapes to rows x cols sharing the buffer.
+  cv::Mat range = raw.colRange(4, 4 + n).reshape(1, static_cast<int>(rows));
 #else
+  cv::Mat range(static_cast<int>(rows), static_cast<int>(cols), CV_16UC1);
   for (std::uint32_t r = 0; r < rows; ++r) {
     auto* dst = range.ptr<std::uint16_t>(static_cast<int>(r));
-    const std::uint8_t* src = raw.data() + 8 + 2 * std::size_t{r} * cols;
+    const std::uint8_t* src = raw.data + 8 + 2 * std::size_t{r} * cols;
     for (std::uint32_t c = 0; c < cols; ++c)
       dst[c] = static_cast<std::uint16_t>(src[2 * c] | (src[2 * c + 1] << 8));
   }

@@ -49,8 +49,9 @@ struct PreparedImage {
   /// the derivatives cv::buildOpticalFlowPyramid stores)
   cv::Mat corner_response;
   float strongest_response = 0.0f;  ///< its largest value
-  /// Every 3x3 local maximum of the response of at least `candidate_min_response`, strongest
-  /// first (ties by row, then column): the corners a detection may take, whatever its mask.
+  /// Every 3x3 local maximum of the response of at least `candidate_min_response`, in scan order
+  /// (row, then column): the corners a detection may take, whatever its mask (it sorts those its
+  /// mask and threshold let through).
   std::vector<CornerCandidate> corner_candidates;
   /// max(the texture floor, the smallest positive float)
   float candidate_min_response = 0.0f;
