@@ -282,6 +282,41 @@ TEST(FeatureTracker, ZoomingOutKeepsFeaturesApartAndTopsUp) {
   EXPECT_GT(too_close, 0);
 }
 
+TEST(FeatureTracker, NewCornersWaitUntilEnoughAreMissing) {
+  // Zooming out drops a few features per frame: with detect_min_missing = k no image detects
+  // while fewer than k are missing, and an image that detects tops up to max_features; with 1
+  // (the default) every image that lost one does.
+  const PinholeCamera cam = simpleCamera();
+  const HomographySequence seq(10, -0.02);
+  for (const int min_missing : {1, 12, 40}) {
+    FrontendOptions options;
+    options.detect_min_missing = min_missing;
+    FeatureTracker tracker(options, cam);
+    int detecting = 0, waiting = 0;
+    for (int k = 0; k < 10; ++k) {
+      const FeatureFrame f =
+          tracker.track(colourFrame(seq.images[static_cast<size_t>(k)], k * kDt, k, cam));
+      const int missing = options.max_features - f.n_tracked;
+      if (k == 0 || missing >= min_missing) {
+        EXPECT_EQ(static_cast<int>(f.features.size()), options.max_features)
+            << "k " << min_missing << ", frame " << k;
+        detecting += k > 0;
+      } else {
+        EXPECT_EQ(f.n_new, 0) << "k " << min_missing << ", frame " << k;
+        EXPECT_EQ(static_cast<int>(f.features.size()), f.n_tracked);
+        waiting += missing > 0;
+      }
+    }
+    if (min_missing == 1) {
+      EXPECT_GT(detecting, 5);
+      EXPECT_EQ(waiting, 0);
+    } else {
+      EXPECT_GT(waiting, 2) << "k " << min_missing;  // some images lost features and waited
+    }
+    if (min_missing == 12) EXPECT_GT(detecting, 0);  // and some detected
+  }
+}
+
 TEST(FeatureTracker, StandingStillKeepsEveryFeature) {
   // Identical images (a robot at rest): degenerate for the fundamental matrix, yet nothing may be
   // rejected and nothing may move.

@@ -17,6 +17,7 @@ TEST(FrontendOptions, DefaultsEqualTheShippedConfig) {
   const FrontendOptions d;
   EXPECT_EQ(f.max_features, d.max_features);
   EXPECT_EQ(f.max_features, 150);
+  EXPECT_EQ(f.detect_min_missing, d.detect_min_missing);
   EXPECT_DOUBLE_EQ(f.min_distance_px, d.min_distance_px);
   EXPECT_DOUBLE_EQ(f.shi_tomasi_quality, d.shi_tomasi_quality);
   EXPECT_EQ(f.shi_tomasi_block_size, d.shi_tomasi_block_size);
@@ -123,4 +124,16 @@ TEST(FrontendOptions, ValidateRejectsCodeBuiltNonsense) {
   FrontendOptions n;
   n.klt_epsilon_px = std::nan("");
   EXPECT_THROW(n.validate(), ConfigError);
+  FrontendOptions m;
+  m.detect_min_missing = 0;
+  EXPECT_THROW(m.validate(), ConfigError);
+  m.detect_min_missing = m.max_features;
+  EXPECT_NO_THROW(m.validate());
+  m.detect_min_missing = m.max_features + 1;
+  try {
+    m.validate();
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("detect_min_missing"), std::string::npos) << e.what();
+  }
 }

@@ -1,12 +1,9 @@
-// Images prepared ahead of tracking (ImagePreparer): the corner response equals the one from the
-// KLT pyramid's derivatives, the candidates are exactly the response's local maxima, and a
-// tracker given prepared images produces the same features, bit for bit, as one preparing them
-// itself (the SLAM system prepares on the feeding thread only when threaded).
+// Images prepared ahead of tracking (ImagePreparer): a tracker given prepared images produces the
+// same features, bit for bit, as one preparing them itself (the SLAM system prepares on the
+// feeding thread only when threaded).
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
 #include "rgbdi/frontend/feature_tracker.h"
 #include "rgbdi/frontend/prepared_image.h"
@@ -51,112 +48,19 @@ void expectSameFeatures(const FeatureFrame& a, const FeatureFrame& b, int k) {
 
 }  // namespace
 
-TEST(PreparedImage, ScharrDerivativesAreThoseOfTheKltPyramid) {
-  // The preparer takes cv::Scharr's derivatives where the tracker takes the pyramid's: the
-  // response is only the same if these are, value for value (borders included).
-  const cv::Mat grey = toGrey8(randomRectangleTexture(640, 480, 11));
-  std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(grey, pyramid, cv::Size(21, 21), 3, true);
-  cv::Mat planes[2];
-  cv::split(pyramid[1], planes);
-  cv::Mat dx, dy;
-  cv::Scharr(grey, dx, CV_16S, 1, 0);
-  cv::Scharr(grey, dy, CV_16S, 0, 1);
-  EXPECT_EQ(cv::countNonZero(planes[0] != dx), 0);
-  EXPECT_EQ(cv::countNonZero(planes[1] != dy), 0);
-}
-
-TEST(PreparedImage, ResponseIsTheSmallerStructureTensorEigenvalue) {
-  const cv::Mat grey = toGrey8(randomRectangleTexture(160, 120, 12));
-  FrontendOptions options;
-  options.shi_tomasi_block_size = 3;
-  ImagePreparer preparer(options);
-  const PreparedImage p = preparer.prepare(colourFrame(grey, 0.0, 0, simpleCamera()));
-  ASSERT_EQ(p.corner_response.type(), CV_32FC1);
-  ASSERT_EQ(p.corner_response.size(), grey.size());
-  cv::Mat dx, dy;
-  cv::Scharr(grey, dx, CV_64F, 1, 0);
-  cv::Scharr(grey, dy, CV_64F, 0, 1);
-  double strongest = 0.0;
-  for (int v = 0; v < grey.rows; ++v)
-    for (int u = 0; u < grey.cols; ++u) {
-      const float r = p.corner_response.at<float>(v, u);
-      if (v < 1 || u < 1 || v + 1 >= grey.rows || u + 1 >= grey.cols) {
-        EXPECT_EQ(r, 0.0f) << "border pixel " << u << "," << v;
-        continue;
-      }
-      double a = 0, b = 0, c = 0;
-      for (int j = -1; j <= 1; ++j)
-        for (int i = -1; i <= 1; ++i) {
-          const double x = dx.at<double>(v + j, u + i), y = dy.at<double>(v + j, u + i);
-          a += x * x;
-          b += x * y;
-          c += y * y;
-        }
-      const double expected = 0.5 * (a + c) - std::sqrt(0.25 * (a - c) * (a - c) + b * b);
-      EXPECT_NEAR(r, expected, 1e-5 * (a + c) + 1e-3) << u << "," << v;
-      strongest = std::max(strongest, double(r));
-    }
-  EXPECT_EQ(p.strongest_response, static_cast<float>(strongest));
-  EXPECT_EQ(p.t, 0.0);
-  EXPECT_EQ(p.frame_index, 0u);
-  EXPECT_GT(p.strongest_response, 0.0f);
-}
-
-TEST(PreparedImage, AReusedResponseImageIsOverwrittenBorderIncluded) {
-  // Prepared images are reused from frame to frame: only the border of the response is zeroed
-  // explicitly, every other pixel must be written. Odd and even blocks (even ones have one
-  // border row and column fewer at the top and left).
-  const cv::Mat grey = toGrey8(randomRectangleTexture(160, 120, 13));
-  const RgbdFrame frame = colourFrame(grey, 0.0, 0, simpleCamera());
-  for (int block : {3, 4, 5}) {
+TEST(PreparedImage, GreyImageIsTheTrackersOwn) {
+  const PinholeCamera cam = simpleCamera();
+  for (const double clahe : {0.0, 3.0}) {
     FrontendOptions options;
-    options.shi_tomasi_block_size = block;
-    ImagePreparer preparer(options);
-    const PreparedImage fresh = preparer.prepare(frame);
-    PreparedImage reused;
-    reused.corner_response = cv::Mat(grey.size(), CV_32FC1, cv::Scalar(7.0f));
-    preparer.prepare(frame, reused);
-    EXPECT_EQ(cv::countNonZero(reused.corner_response != fresh.corner_response), 0)
-        << "block " << block;
-    // Pixels with a complete window: rows block-1-half .. h-1-half, columns half .. w-1-half.
-    const int half = block / 2;
-    for (int v = 0; v < grey.rows; ++v)
-      for (int u = 0; u < grey.cols; ++u) {
-        const bool inside = v >= block - 1 - half && v <= grey.rows - 1 - half && u >= half &&
-                            u <= grey.cols - 1 - half;
-        if (!inside)
-          ASSERT_EQ(reused.corner_response.at<float>(v, u), 0.0f)
-              << "block " << block << " border pixel " << u << "," << v;
-      }
-  }
-}
-
-TEST(PreparedImage, CandidatesAreEveryLocalMaximumStrongestFirst) {
-  const cv::Mat grey = toGrey8(randomRectangleTexture(320, 240, 13));
-  FrontendOptions options;  // texture floor 2 grey levels per pixel
-  ImagePreparer preparer(options);
-  const PreparedImage p = preparer.prepare(colourFrame(grey, 0.0, 0, simpleCamera()));
-  const cv::Mat& r = p.corner_response;
-  const float floor = static_cast<float>(32.0 * 32.0 * 9 * options.min_gradient_grey_per_px *
-                                         options.min_gradient_grey_per_px);
-  EXPECT_EQ(p.candidate_min_response, floor);
-  std::vector<CornerCandidate> expected;
-  for (int v = 1; v + 1 < r.rows; ++v)
-    for (int u = 1; u + 1 < r.cols; ++u) {
-      const float x = r.at<float>(v, u);
-      bool local_max = x >= floor;
-      for (int j = -1; j <= 1 && local_max; ++j)
-        for (int i = -1; i <= 1; ++i)
-          if (x < r.at<float>(v + j, u + i)) local_max = false;
-      if (local_max) expected.push_back({x, u, v});
-    }
-  ASSERT_GT(expected.size(), 50u);
-  ASSERT_EQ(p.corner_candidates.size(), expected.size());
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    EXPECT_EQ(p.corner_candidates[i].response, expected[i].response) << i;
-    EXPECT_EQ(p.corner_candidates[i].u, expected[i].u) << i;
-    EXPECT_EQ(p.corner_candidates[i].v, expected[i].v) << i;
+    options.clahe_clip_limit = clahe;
+    ImagePreparer preparer(options), own(options);
+    const RgbdFrame frame = driftingFrames(1, cam, false)[0];
+    const PreparedImage p = preparer.prepare(frame);
+    EXPECT_EQ(p.t, frame.t);
+    EXPECT_EQ(p.frame_index, frame.index);
+    ASSERT_EQ(p.grey.type(), CV_8UC1);
+    EXPECT_EQ(cv::countNonZero(p.grey != own.grey(frame)), 0) << "CLAHE " << clahe;
+    EXPECT_TRUE(p.matches(frame, PreparationRecipe::of(options)));
   }
 }
 
@@ -181,7 +85,7 @@ TEST(PreparedImage, TrackingPreparedImagesGivesTheSameFeatures) {
           expectSameFeatures(a, b, static_cast<int>(k));
           if (k > 0) detected += a.n_new;
         }
-        EXPECT_GT(detected, 20);  // the detector ran on the prepared candidates
+        EXPECT_GT(detected, 20);  // the detector ran
       }
 }
 
@@ -200,7 +104,7 @@ TEST(PreparedImage, AnImagePreparedFromAnotherFrameOrWithOtherOptionsIsRefused) 
     EXPECT_NE(std::string(e.what()).find("another frame"), std::string::npos) << e.what();
   }
   FrontendOptions other = options;
-  other.shi_tomasi_block_size = 5;
+  other.clahe_clip_limit = 2.0;
   ImagePreparer other_preparer(other);
   const PreparedImage wrong_recipe = other_preparer.prepare(frames[0]);
   EXPECT_THROW(tracker.track(frames[0], std::nullopt, &wrong_recipe), std::invalid_argument);

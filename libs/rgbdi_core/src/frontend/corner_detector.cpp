@@ -1,7 +1,8 @@
-#include "frontend/corner_detector.h"
+#include "rgbdi/frontend/corner_detector.h"
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <opencv2/core/hal/hal.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -28,7 +29,24 @@ float CornerResponse::compute(const cv::Mat& derivatives, int block_size, cv::Ma
           iy[u] = d[2 * u + 1];
         }
       },
-      response);
+      &response, std::numeric_limits<float>::infinity());
+}
+
+bool CornerResponse::reaches(const cv::Mat& derivatives, int block_size, float floor) {
+  if (derivatives.type() != CV_16SC2)
+    throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives");
+  // Every response is >= 0 (the border's zeros among them), as compute() returns.
+  if (!(floor > 0.0f)) return true;
+  return computeRows(
+             derivatives.cols, derivatives.rows, block_size,
+             [&](int v, float* __restrict ix, float* __restrict iy) {
+               const short* __restrict d = derivatives.ptr<short>(v);
+               for (int u = 0; u < derivatives.cols; ++u) {
+                 ix[u] = d[2 * u];
+                 iy[u] = d[2 * u + 1];
+               }
+             },
+             nullptr, floor) >= floor;
 }
 
 float CornerResponse::compute(const cv::Mat& dx, const cv::Mat& dy, int block_size,
@@ -45,7 +63,7 @@ float CornerResponse::compute(const cv::Mat& dx, const cv::Mat& dy, int block_si
           iy[u] = y[u];
         }
       },
-      response);
+      &response, std::numeric_limits<float>::infinity());
 }
 
 namespace {
@@ -133,21 +151,22 @@ RowPassFunction rowPassForThisCpu() {
 
 template <typename RowDerivatives>
 float CornerResponse::computeRows(int w, int h, int block_size, RowDerivatives derivative,
-                                  cv::Mat& response) {
+                                  cv::Mat* response, float stop_at) {
   if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
   const int half = block_size / 2;
   // Pixels closer than half a block to the border have no complete window: response 0 there.
-  response.create(h, w, CV_32FC1);
+  if (response) response->create(h, w, CV_32FC1);
   if (w < block_size || h < block_size) {
-    response.setTo(0.0f);
+    if (response) response->setTo(0.0f);
     return 0.0f;
   }
   // Only the border is zeroed here (rows now, columns with each row below): the image is reused
   // from frame to frame and the rest is overwritten.
-  for (int v = 0; v < half; ++v) {
-    std::fill_n(response.ptr<float>(v), w, 0.0f);
-    std::fill_n(response.ptr<float>(h - 1 - v), w, 0.0f);
-  }
+  if (response)
+    for (int v = 0; v < half; ++v) {
+      std::fill_n(response->ptr<float>(v), w, 0.0f);
+      std::fill_n(response->ptr<float>(h - 1 - v), w, 0.0f);
+    }
 
   // One pass over the image: per row the three structure-tensor products are summed along the
   // row, kept in a ring of `block_size` rows, and the rows of the ring are summed into the
@@ -158,6 +177,7 @@ float CornerResponse::computeRows(int w, int h, int block_size, RowDerivatives d
   sums_.resize(4 * row_len);
   ix_.resize(row_len);
   iy_.resize(row_len);
+  if (!response) scratch_row_.resize(row_len);
   column_max_.assign(row_len, 0.0f);  // the border's zeros count, as in the response image
   static const RowPassFunction row_pass = rowPassForThisCpu();
   RowPass pass{w,
@@ -171,11 +191,21 @@ float CornerResponse::computeRows(int w, int h, int block_size, RowDerivatives d
                sums_.data(),
                nullptr,
                column_max_.data()};
+  // Whether to stop is checked every few response rows: the check is a pass over the column
+  // maxima, a tenth of a row's own work.
+  constexpr int kStopCheckRows = 16;
+  const bool may_stop = stop_at < std::numeric_limits<float>::infinity();
   for (int v = 0; v < h; ++v) {
     derivative(v, ix_.data(), iy_.data());
     pass.v = v;
-    pass.response = v >= block_size - 1 ? response.ptr<float>(v - half) : nullptr;
+    pass.response = v < block_size - 1 ? nullptr
+                    : response         ? response->ptr<float>(v - half)
+                                       : scratch_row_.data();
     row_pass(pass);
+    if (may_stop && v >= block_size - 1 && (v - block_size + 1) % kStopCheckRows == 0) {
+      const float strongest = *std::max_element(column_max_.begin(), column_max_.end());
+      if (strongest >= stop_at) return strongest;
+    }
   }
   return *std::max_element(column_max_.begin(), column_max_.end());
 }
@@ -209,30 +239,21 @@ void CornerCandidates::collect(const cv::Mat& response, float min_response, cons
   }
 }
 
+namespace {
+/// Strongest first, ties by row, then column: a strict total order.
+bool strongerFirst(const CornerCandidate& p, const CornerCandidate& q) {
+  if (p.response != q.response) return p.response > q.response;
+  return p.v != q.v ? p.v < q.v : p.u < q.u;
+}
+}  // namespace
+
 void CornerCandidates::sortStrongestFirst(std::vector<CornerCandidate>& candidates) {
-  std::sort(candidates.begin(), candidates.end(),
-            [](const CornerCandidate& p, const CornerCandidate& q) {
-              if (p.response != q.response) return p.response > q.response;
-              return p.v != q.v ? p.v < q.v : p.u < q.u;
-            });
+  std::sort(candidates.begin(), candidates.end(), strongerFirst);
 }
 
 void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size) {
-  strongest_ = computer_.compute(derivatives, block_size, own_response_);
-  response_ = own_response_;
+  computer_.compute(derivatives, block_size, response_);
   block_size_ = block_size;
-  prepared_candidates_ = nullptr;
-}
-
-void CornerDetector::useResponse(const PreparedImage& prepared, int block_size) {
-  if (prepared.corner_response.type() != CV_32FC1)
-    throw std::invalid_argument("CornerDetector: a response must be CV_32FC1");
-  if (block_size < 1) throw std::invalid_argument("CornerDetector: block size must be positive");
-  response_ = prepared.corner_response;
-  block_size_ = block_size;
-  strongest_ = prepared.strongest_response;
-  prepared_candidates_ = &prepared.corner_candidates;
-  prepared_min_ = prepared.candidate_min_response;
 }
 
 double CornerDetector::responseFloor(int block_size, double min_gradient) {
@@ -240,8 +261,9 @@ double CornerDetector::responseFloor(int block_size, double min_gradient) {
   return kScharrScale * kScharrScale * block_size * block_size * min_gradient * min_gradient;
 }
 
-bool CornerDetector::hasCorner(double min_gradient) const {
-  return strongest_ >= responseFloor(block_size_, min_gradient);
+bool CornerDetector::hasCorner(const cv::Mat& derivatives, int block_size, double min_gradient) {
+  return computer_.reaches(derivatives, block_size,
+                           static_cast<float>(responseFloor(block_size, min_gradient)));
 }
 
 std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_corners,
@@ -252,7 +274,7 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_cor
         "CornerDetector: need a CV_8UC1 mask of the size of the last computeResponse() image");
   std::vector<cv::Point2f> corners;
   candidates_.clear();  // detectMore() never continues the candidates of an earlier image
-  next_candidate_ = 0;
+  next_candidate_ = sorted_end_ = 0;
   if (max_corners <= 0) return corners;
 
   // Strongest allowed response: per column first (an element-wise max vectorises; cv::minMaxLoc
@@ -270,23 +292,26 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_cor
   if (!(strongest > 0.0) || strongest < floor) return corners;  // flat, bare, or nothing allowed
   const float threshold = static_cast<float>(std::max(quality * strongest, floor));
 
-  // Candidates: allowed 3x3 local maxima at or above the threshold. A prepared list holds every
-  // local maximum above a lower bound in scan order: those that pass are the ones a scan would
-  // find. They are sorted here, after the mask and the threshold took most of them out (the
-  // preparation does not sort: a third of the images detect nothing).
-  if (prepared_candidates_ && threshold >= prepared_min_) {
-    for (const CornerCandidate& c : *prepared_candidates_)
-      if (c.response >= threshold && mask.at<std::uint8_t>(c.v, c.u)) candidates_.push_back(c);
-  } else {
-    collector_.collect(response_, threshold, &mask, candidates_);
-  }
-  CornerCandidates::sortStrongestFirst(candidates_);
+  // Candidates: allowed 3x3 local maxima at or above the threshold, strongest first.
+  collector_.collect(response_, threshold, &mask, candidates_);
+  sorted_end_ = 0;
   return detectMore(max_corners, spacing);
 }
 
 std::vector<cv::Point2f> CornerDetector::detectMore(int max_corners, FeatureSpacing& spacing) {
   std::vector<cv::Point2f> corners;
   while (static_cast<int>(corners.size()) < max_corners && next_candidate_ < candidates_.size()) {
+    if (next_candidate_ == sorted_end_) {
+      // Sorted a chunk at a time: a few corners are wanted from thousands of candidates, and
+      // the strongest chunk in order is what a full sort would put first (a total order).
+      const size_t chunk = std::max<size_t>(64, 4 * static_cast<size_t>(max_corners));
+      const auto first = candidates_.begin() + static_cast<std::ptrdiff_t>(sorted_end_);
+      const auto last = candidates_.begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                  candidates_.size(), sorted_end_ + chunk));
+      std::nth_element(first, last - 1, candidates_.end(), strongerFirst);
+      std::sort(first, last, strongerFirst);
+      sorted_end_ = static_cast<size_t>(last - candidates_.begin());
+    }
     const CornerCandidate& cand = candidates_[next_candidate_++];
     const cv::Point2f p(static_cast<float>(cand.u), static_cast<float>(cand.v));
     if (!spacing.isFree(p)) continue;

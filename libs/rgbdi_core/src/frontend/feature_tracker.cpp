@@ -8,10 +8,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "frontend/corner_detector.h"
 #include "frontend/epipolar_ransac.h"
 #include "frontend/feature_spacing.h"
 #include "frontend/stopwatch.h"
+#include "rgbdi/frontend/corner_detector.h"
 #include "rgbdi/frontend/depth_sampling.h"
 #include "rgbdi/frontend/occlusion_test.h"
 
@@ -99,8 +99,9 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   // Forward success, border and texture checks first, so the backward pass only runs on
   // candidates. KLT converges on sensor noise too: on an image with no corner above the texture
   // floor anywhere (a bare wall filling the view, the lights out) no track is kept.
-  const bool textureless = options_.min_gradient_grey_per_px > 0.0 &&
-                           !detector_->hasCorner(options_.min_gradient_grey_per_px);
+  const bool textureless = n > 0 && options_.min_gradient_grey_per_px > 0.0 &&
+                           !detector_->hasCorner(pyramid[1], options_.shi_tomasi_block_size,
+                                                 options_.min_gradient_grey_per_px);
   std::vector<size_t> candidates;
   for (size_t i = 0; i < n; ++i) {
     if (!status[i]) {
@@ -216,11 +217,12 @@ void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Po
   tracks.swap(kept);
 }
 
-void FeatureTracker::detectNew(const RgbdFrame& frame, std::vector<Track>& tracks,
-                               std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing,
-                               FeatureFrame& out) {
+void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& derivatives,
+                               std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
+                               FeatureSpacing& spacing, FeatureFrame& out) {
   int missing = options_.max_features - static_cast<int>(tracks.size());
-  if (missing <= 0) return;
+  if (missing <= 0 || missing < options_.detect_min_missing) return;
+  detector_->computeResponse(derivatives, options_.shi_tomasi_block_size);
   // The mask keeps the detector away from the border band and from existing features (which
   // also makes the quality threshold relative to the strongest corner where new ones can go);
   // its circles are one pixel wider than min_distance_px because they are drawn around rounded
@@ -309,21 +311,12 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
   cv::buildOpticalFlowPyramid(grey, pyramid, window, options_.klt_pyramid_levels, true);
   out.timings.pyramid_ms = step.lapMs();
-  // Tracked features are checked against the corner response (texture floor), new corners taken
-  // from it. Unless prepared, computed from pyramid[1] (the base image's Scharr derivatives).
-  if (prepared) {
-    detector_->useResponse(*prepared, options_.shi_tomasi_block_size);
-    out.timings.detect_ms = prepared->response_ms;
-  } else {
-    detector_->computeResponse(pyramid[1], options_.shi_tomasi_block_size);
-    out.timings.detect_ms = step.lapMs();
-  }
 
   std::vector<Track> tracks;
   if (has_previous_) tracks = trackPrevious(pyramid, R_previous_current, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
   FeatureSpacing spacing = distribute(frame.rgb.size(), tracks, out);
-  out.timings.detect_ms += step.lapMs();
+  out.timings.detect_ms = step.lapMs();
 
   const double dt = has_previous_ ? frame.t - previous_t_ : 0.0;
   const bool with_depth = frame.hasDepth();
@@ -340,7 +333,9 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   }
   out.n_tracked = static_cast<int>(tracks.size());
   out.timings.depth_ms = step.lapMs();
-  detectNew(frame, tracks, occupied, spacing, out);
+  // New corners come from the corner response of pyramid[1] (the base image's Scharr
+  // derivatives); tracked ones were checked against its texture floor.
+  detectNew(frame, pyramid[1], tracks, occupied, spacing, out);
   out.timings.detect_ms += step.lapMs();
   // tracks: the tracked ones in id order, then the new ones with larger ids.
 
@@ -362,8 +357,6 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   previous_tracks_ = std::move(tracks);
   previous_t_ = frame.t;
   has_previous_ = true;
-  // A prepared image's buffers go back to its owner, which may reuse them for a later image.
-  if (prepared) detector_->releaseResponse();
   // The preparation counts wherever it ran (this thread's CPU has it only when it ran here).
   out.timings.total_ms = total.lapMs() + (prepared ? prepared->cpuMs() : 0.0);
   return out;

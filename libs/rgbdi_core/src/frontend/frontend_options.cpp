@@ -24,6 +24,7 @@ struct DoubleKey {
 
 const IntKey kIntKeys[] = {
     {"max_features", &FrontendOptions::max_features, 1, 5000},
+    {"detect_min_missing", &FrontendOptions::detect_min_missing, 1, 5000},
     {"shi_tomasi_block_size", &FrontendOptions::shi_tomasi_block_size, 3, 31},
     {"border_px", &FrontendOptions::border_px, 0, 100},
     {"klt_window_px", &FrontendOptions::klt_window_px, 5, 101},
@@ -59,6 +60,8 @@ const DoubleKey kDoubleKeys[] = {
 template <typename Fail>
 void checkConsistency(const FrontendOptions& o, Fail&& fail) {
   if (o.depth_min_m >= o.depth_max_m) fail("depth_min_m", "must be smaller than depth_max_m");
+  if (o.detect_min_missing > o.max_features)
+    fail("detect_min_missing", "must not exceed max_features (no image would ever detect)");
   if (o.occlusion_window_px > 0 && !(o.depth_noise_coeff > 0.0))
     fail("depth_noise_coeff",
          "must be positive while occlusion_window_px is on (it scales the occlusion test)");

@@ -1,11 +1,8 @@
 #include "rgbdi/frontend/prepared_image.h"
 
-#include <algorithm>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
-#include "frontend/corner_detector.h"
 #include "frontend/stopwatch.h"
 
 namespace rgbdi::frontend {
@@ -16,8 +13,6 @@ const cv::Size kClaheTiles(8, 8);
 
 PreparationRecipe PreparationRecipe::of(const FrontendOptions& options) {
   PreparationRecipe r;
-  r.block_size = options.shi_tomasi_block_size;
-  r.min_gradient_grey_per_px = options.min_gradient_grey_per_px;
   r.clahe_clip_limit = options.clahe_clip_limit;
   return r;
 }
@@ -28,9 +23,7 @@ bool PreparedImage::matches(const RgbdFrame& frame, const PreparationRecipe& r) 
 }
 
 ImagePreparer::ImagePreparer(const FrontendOptions& options)
-    : recipe_(PreparationRecipe::of(options)),
-      response_(std::make_unique<CornerResponse>()),
-      candidates_(std::make_unique<CornerCandidates>()) {
+    : recipe_(PreparationRecipe::of(options)) {
   options.validate();
   if (options.clahe_clip_limit > 0.0)
     clahe_ = cv::createCLAHE(options.clahe_clip_limit, kClaheTiles);
@@ -78,22 +71,8 @@ void ImagePreparer::prepare(const RgbdFrame& frame, PreparedImage& out) {
   out.t = frame.t;
   out.frame_index = frame.index;
   out.recipe = recipe_;
-  out.corner_candidates.clear();
   toGrey(frame, out.converted_storage, out.equalised_storage, out.grey);
   out.grey_ms = step.lapMs();
-  // cv::Scharr with its default border (reflect 101) gives the derivatives KLT's pyramid stores
-  // for its base image, value for value (test_prepared_image).
-  cv::Scharr(out.grey, dx_, CV_16S, 1, 0);
-  cv::Scharr(out.grey, dy_, CV_16S, 0, 1);
-  out.strongest_response = response_->compute(dx_, dy_, recipe_.block_size, out.corner_response);
-  // The candidates every detection would scan the image for (it filters them by its mask and
-  // threshold, which is never below the texture floor and always positive).
-  out.candidate_min_response = std::max(static_cast<float>(CornerDetector::responseFloor(
-                                            recipe_.block_size, recipe_.min_gradient_grey_per_px)),
-                                        std::numeric_limits<float>::min());
-  candidates_->collect(out.corner_response, out.candidate_min_response, nullptr,
-                       out.corner_candidates);
-  out.response_ms = step.lapMs();
 }
 
 }  // namespace rgbdi::frontend

@@ -85,9 +85,11 @@ class FeatureTracker {
   /// taken in `spacing` and in `occupied`, so no corner on the same edge replaces them at once).
   void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
                     int& dropped) const;
-  /// Tops `tracks` up to max_features with new corners away from `occupied`; with depth, corners
-  /// on occlusion boundaries are refused and the next candidates taken instead.
-  void detectNew(const RgbdFrame& frame, std::vector<Track>& tracks,
+  /// Tops `tracks` up to max_features with new corners away from `occupied` once at least
+  /// detect_min_missing are missing (corner response from `derivatives`, the base image's CV_16SC2
+  /// Scharr derivatives); with depth, corners on occlusion boundaries are refused and the next
+  /// candidates taken instead.
+  void detectNew(const RgbdFrame& frame, const cv::Mat& derivatives, std::vector<Track>& tracks,
                  std::vector<cv::Point2f>& occupied, FeatureSpacing& spacing, FeatureFrame& out);
   /// Half-size of the depth windows registered around features.
   int depthWindowRadius() const;

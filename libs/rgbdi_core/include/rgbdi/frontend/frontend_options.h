@@ -8,7 +8,12 @@ namespace rgbdi::frontend {
 /// Tracker, outlier-rejection and depth-sampling parameters. Defaults equal share/config.ini.
 struct FrontendOptions {
   // --- feature count and distribution ---
-  int max_features = 150;            ///< [count] features kept per frame
+  int max_features = 150;  ///< [count] features kept per frame
+  /// [count] new corners are detected only when at least this many of max_features are missing
+  /// (1: on every image that lost a feature, as VINS). Detection (the corner response over the
+  /// whole image, its local maxima) was a tenth of the CPU with 1, for the one or two features
+  /// most images lose; with a few missing first it runs on a fraction of the images.
+  int detect_min_missing = 1;
   double min_distance_px = 15.0;     ///< [px] no two features closer than this
   double shi_tomasi_quality = 0.01;  ///< [unitless] corner threshold relative to the best corner
   int shi_tomasi_block_size = 3;     ///< [px] window of the corner (min eigenvalue) measure

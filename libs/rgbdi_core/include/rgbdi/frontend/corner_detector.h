@@ -5,11 +5,15 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "rgbdi/frontend/prepared_image.h"
-
 namespace rgbdi::frontend {
 
 class FeatureSpacing;
+
+/// A 3x3 local maximum of the corner response (at least its 8 neighbours), at pixel (u, v).
+struct CornerCandidate {
+  float response;
+  int u, v;
+};
 
 /// Corner candidates of a response image: its 3x3 local maxima. Work buffers are kept between
 /// calls.
@@ -44,15 +48,24 @@ class CornerResponse {
   /// The same from the derivatives as two CV_16SC1 planes (cv::Scharr's dx and dy).
   float compute(const cv::Mat& dx, const cv::Mat& dy, int block_size, cv::Mat& response);
 
+  /// Whether the strongest response reaches `floor`: compute(derivatives, ...) >= floor, with
+  /// the same values computed row by row in the same way, but stopping at the first rows that
+  /// have one (a textured image is decided in its first rows, a bare one costs a whole pass).
+  bool reaches(const cv::Mat& derivatives, int block_size, float floor);
+
  private:
-  /// `derivative(v, ix, iy)` fills row v's derivatives.
+  /// `derivative(v, ix, iy)` fills row v's derivatives. The response rows go to `response`
+  /// (nullptr: to a scratch row). Stops once the strongest response so far reaches `stop_at`
+  /// (checked every few rows), returning it.
   template <typename RowDerivatives>
-  float computeRows(int w, int h, int block_size, RowDerivatives derivative, cv::Mat& response);
-  std::vector<float> ix_, iy_;     ///< derivatives of one row
-  std::vector<float> column_max_;  ///< strongest response per column so far
-  std::vector<float> ring_;        ///< row sums of the products for the last block_size rows
-  std::vector<float> products_;    ///< Ix^2, Ix Iy, Iy^2 of one row
-  std::vector<float> sums_;        ///< window sums of one row (three planes) and a square-root row
+  float computeRows(int w, int h, int block_size, RowDerivatives derivative, cv::Mat* response,
+                    float stop_at);
+  std::vector<float> ix_, iy_;      ///< derivatives of one row
+  std::vector<float> column_max_;   ///< strongest response per column so far
+  std::vector<float> ring_;         ///< row sums of the products for the last block_size rows
+  std::vector<float> products_;     ///< Ix^2, Ix Iy, Iy^2 of one row
+  std::vector<float> sums_;         ///< window sums of one row (three planes) and a square-root row
+  std::vector<float> scratch_row_;  ///< a response row nobody keeps (reaches())
 };
 
 /// Shi-Tomasi corners: the response is the smaller eigenvalue of the structure tensor summed over
@@ -61,33 +74,23 @@ class CornerResponse {
 /// (ties by row, then column) while they keep `spacing`'s minimum distance to everything
 /// accepted so far. This is the rule of cv::goodFeaturesToTrack, computed from the Scharr
 /// derivatives of the KLT pyramid instead of a second derivative pass (CornerResponse).
-///
-/// The response may come from elsewhere (useResponse: an image prepared ahead on another thread,
-/// rgbdi/frontend/prepared_image.h) or be computed here (computeResponse).
 class CornerDetector {
  public:
   /// Scharr derivatives of a unit grey-level ramp: (3 + 10 + 3) x 2.
   static constexpr double kScharrScale = 32.0;
 
-  /// Computes the response image of the next detect() / hasCorner() calls (CornerResponse on
-  /// `derivatives`; same errors).
+  /// Computes the response image of the next detect() calls (CornerResponse on `derivatives`;
+  /// same errors).
   void computeResponse(const cv::Mat& derivatives, int block_size);
-
-  /// Uses a response prepared elsewhere (PreparedImage: the response with its block size, its
-  /// strongest value and its local maxima; read in place, not copied: `prepared` must stay
-  /// unchanged until releaseResponse(), computeResponse() or the next useResponse()). detect()
-  /// then filters the prepared candidates
-  /// instead of scanning the image, with the same result. Throws std::invalid_argument unless
-  /// the response is CV_32FC1 and block_size >= 1.
-  void useResponse(const PreparedImage& prepared, int block_size);
 
   /// The response a corner needs to have, per pixel of its block, min_gradient^2
   /// [(grey levels/px)^2] of gradient along its weaker direction.
   static double responseFloor(int block_size, double min_gradient);
 
-  /// Whether any response of the image reaches the floor of min_gradient: does the view have
-  /// texture at all?
-  bool hasCorner(double min_gradient) const;
+  /// Whether any response of the image of `derivatives` (as computeResponse) reaches the floor
+  /// of min_gradient: does the view have texture at all? Decided without the whole response
+  /// image where possible (CornerResponse::reaches).
+  bool hasCorner(const cv::Mat& derivatives, int block_size, double min_gradient);
 
   /// Corners of the last computeResponse(): `mask` CV_8UC1 of the image's size, nonzero where
   /// corners may be. A corner's response must reach `quality` x the strongest allowed one and
@@ -100,30 +103,20 @@ class CornerDetector {
   /// got. Empty when the candidates are used up.
   std::vector<cv::Point2f> detectMore(int max_corners, FeatureSpacing& spacing);
 
-  /// Lets go of a response given to useResponse() (its buffers may then be reused elsewhere);
-  /// detect() and hasCorner() need a computeResponse() or useResponse() again.
-  void releaseResponse() {
-    response_ = cv::Mat();
-    prepared_candidates_ = nullptr;
-  }
-
-  /// The response image in use (CV_32FC1; 0 within half a block of the border), for tests and
-  /// diagnostics.
+  /// The response image of the last computeResponse() (CV_32FC1; 0 within half a block of the
+  /// border), for tests and diagnostics.
   const cv::Mat& response() const { return response_; }
 
  private:
   CornerResponse computer_;
-  cv::Mat own_response_;    ///< computeResponse()'s result (reused buffer)
-  cv::Mat response_;        ///< the response in use: own_response_ or one given to useResponse()
-  int block_size_ = 0;      ///< of response_
-  float strongest_ = 0.0f;  ///< of response_
-  /// Prepared local maxima of response_ of at least prepared_min_ (nullptr: none prepared)
-  const std::vector<CornerCandidate>* prepared_candidates_ = nullptr;
-  float prepared_min_ = 0.0f;
-  std::vector<CornerCandidate> candidates_;  ///< of the last detect(), strongest first
-  std::vector<float> column_max_;            ///< detect()'s work buffer
+  cv::Mat response_;    ///< computeResponse()'s result (reused buffer)
+  int block_size_ = 0;  ///< of response_
+  /// Of the last detect(): [0, sorted_end_) strongest first, the rest weaker, in any order.
+  std::vector<CornerCandidate> candidates_;
+  std::vector<float> column_max_;  ///< detect()'s work buffer
   CornerCandidates collector_;
   size_t next_candidate_ = 0;  ///< first candidate detectMore() looks at
+  size_t sorted_end_ = 0;
 };
 
 }  // namespace rgbdi::frontend
