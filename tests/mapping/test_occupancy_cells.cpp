@@ -19,6 +19,7 @@ using rgbdi::mapping::detail::mortonCode;
 using rgbdi::mapping::detail::MortonSet;
 using rgbdi::mapping::detail::OccupancyTree;
 using rgbdi::mapping::detail::ScanCells;
+using rgbdi::mapping::detail::sortMortonCodes;
 
 constexpr double kResolution = 0.05;
 constexpr double kMaxRange = 3.0;
@@ -122,6 +123,25 @@ TEST(MortonSet, KeepsEachCodeOnceInInsertionOrderAcrossGrowthAndClear) {
   EXPECT_TRUE(set.insert(expected[0]));
   EXPECT_FALSE(set.insert(expected[0]));
   EXPECT_EQ(set.codes(), (std::vector<std::uint64_t>{expected[1], expected[0]}));
+}
+
+TEST(MortonCode, RadixSortOrdersCodesAsStdSort) {
+  // Codes over all 48 bits, codes whose high digits are one value (the skipped passes), an odd
+  // number of real passes (the result ends in the scratch buffer), duplicates, and 0 / 1 codes.
+  std::mt19937_64 rng(5);
+  std::vector<std::uint64_t> scratch;
+  const std::uint64_t masks[] = {(std::uint64_t{1} << 48) - 1, 0xFFFF, 0xFF00FF, 0xFF, 0xFFFFFF};
+  for (const std::uint64_t mask : masks)
+    for (const std::size_t n :
+         {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{5000}}) {
+      std::vector<std::uint64_t> codes(n);
+      for (std::uint64_t& c : codes) c = (rng() & mask) | (std::uint64_t{0x5A} << 40);
+      if (n > 10) codes[3] = codes[7];  // a duplicate
+      std::vector<std::uint64_t> expected = codes;
+      std::sort(expected.begin(), expected.end());
+      sortMortonCodes(codes, scratch);
+      EXPECT_EQ(codes, expected) << "mask " << mask << ", n " << n;
+    }
 }
 
 TEST(ScanCells, SameCellsAsOctomapsDiscreteUpdateSortedAndDisjoint) {

@@ -30,8 +30,10 @@ double sampleDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv,
   const int vmax = bilinear ? std::max(vc + n, v0 + 1) : vc;
   if (umin < 0 || vmin < 0 || umax >= depth_m.cols || vmax >= depth_m.rows) return 0.0;
 
-  std::vector<float> window;
-  window.reserve(static_cast<size_t>((umax - umin + 1) * (vmax - vmin + 1)));
+  // Called for every feature of every image: the window's values go to a buffer kept by the
+  // thread (depth_neighbourhood_px is at most 20: 42 x 42 values), not a fresh allocation.
+  thread_local std::vector<float> window;
+  window.clear();
   float lo = 0.0f, hi = 0.0f;
   for (int v = vmin; v <= vmax; ++v) {
     const float* row = depth_m.ptr<float>(v);

@@ -17,6 +17,34 @@ std::size_t slotOf(std::uint64_t code, std::size_t mask) {
 }
 }  // namespace
 
+void sortMortonCodes(std::vector<std::uint64_t>& codes, std::vector<std::uint64_t>& scratch) {
+  // LSD radix sort, 8 bits per pass over the 48 code bits. A scan's cells lie close together,
+  // so the high digits are mostly one value: passes whose digit is the same for every code are
+  // skipped (all six histograms come from one read).
+  constexpr int kPasses = 6;
+  const std::size_t n = codes.size();
+  if (n < 2) return;
+  std::uint32_t count[kPasses][256] = {};
+  for (std::uint64_t c : codes)
+    for (int p = 0; p < kPasses; ++p) ++count[p][(c >> (8 * p)) & 0xFF];
+  scratch.resize(n);
+  std::uint64_t* from = codes.data();
+  std::uint64_t* to = scratch.data();
+  for (int p = 0; p < kPasses; ++p) {
+    std::uint32_t* bucket = count[p];
+    if (bucket[(from[0] >> (8 * p)) & 0xFF] == n) continue;  // one digit value: already in order
+    std::uint32_t offset = 0;
+    for (int d = 0; d < 256; ++d) {
+      const std::uint32_t c = bucket[d];
+      bucket[d] = offset;
+      offset += c;
+    }
+    for (std::size_t i = 0; i < n; ++i) to[bucket[(from[i] >> (8 * p)) & 0xFF]++] = from[i];
+    std::swap(from, to);
+  }
+  if (from != codes.data()) std::copy(from, from + n, codes.data());
+}
+
 bool MortonSet::insert(std::uint64_t code) {
   if (2 * (codes_.size() + 1) > table_.size()) grow();  // load factor <= 1/2
   const std::size_t mask = table_.size() - 1;
@@ -86,8 +114,8 @@ void ScanCells::compute(const octomap::OcTree& tree, const octomap::point3d& ori
   }
   std::vector<std::uint64_t>& free_codes = free_set_.codes();
   std::vector<std::uint64_t>& occupied_codes = occupied_.codes();
-  std::sort(free_codes.begin(), free_codes.end());
-  std::sort(occupied_codes.begin(), occupied_codes.end());
+  sortMortonCodes(free_codes, sort_scratch_);
+  sortMortonCodes(occupied_codes, sort_scratch_);
   // Occupied wins over free within one scan.
   free_.clear();
   std::set_difference(free_codes.begin(), free_codes.end(), occupied_codes.begin(),
@@ -96,7 +124,8 @@ void ScanCells::compute(const octomap::OcTree& tree, const octomap::point3d& ori
 
 std::size_t ScanCells::memoryBytes() const {
   return endpoints_.memoryBytes() + free_set_.memoryBytes() + occupied_.memoryBytes() +
-         free_.capacity() * sizeof(std::uint64_t) + ray_.sizeMax() * sizeof(octomap::OcTreeKey);
+         (free_.capacity() + sort_scratch_.capacity()) * sizeof(std::uint64_t) +
+         ray_.sizeMax() * sizeof(octomap::OcTreeKey);
 }
 
 void OccupancyTree::updateSorted(const std::vector<std::uint64_t>& codes, float log_odds_update) {

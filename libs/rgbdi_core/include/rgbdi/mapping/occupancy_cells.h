@@ -15,6 +15,9 @@ namespace rgbdi::mapping::detail {
 
 /// A set of Morton codes (open addressing, linear probing) that remembers its codes in insertion
 /// order. The table is kept between uses: clear() empties it without freeing.
+/// Sorts Morton codes (< 2^48) ascending; `scratch` is a work buffer kept by the caller.
+void sortMortonCodes(std::vector<std::uint64_t>& codes, std::vector<std::uint64_t>& scratch);
+
 class MortonSet {
  public:
   /// Adds `code` (< 2^48); true when it was not in the set yet.
@@ -50,7 +53,7 @@ class ScanCells {
 
  private:
   MortonSet endpoints_, free_set_, occupied_;
-  std::vector<std::uint64_t> free_;
+  std::vector<std::uint64_t> free_, sort_scratch_;
   octomap::KeyRay ray_;
 };
 
