@@ -1,5 +1,4 @@
 // MRPT-native exports: serialized coloured points map, 3-D scene and simple map.
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/CColouredPointsMap.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/math/CMatrixFixed.h>
@@ -23,6 +22,7 @@
 
 #include "mapping/pose_check.h"
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/io/gzip_file_writer.h"
 #include "rgbdi/mapping/map_export.h"
 
 namespace rgbdi::mapping {
@@ -46,9 +46,10 @@ void writeWithMrpt(const std::string& path, const std::string& what,
   });
 }
 
+/// MRPT's gzip serialization (what CFileGZOutputStream and COpenGLScene::saveToFile write, read
+/// back the same way), compressed by libdeflate (io::GzipFileWriter: half the CPU).
 bool serializeGz(const std::string& tmp, const mrpt::serialization::CSerializable& object) {
-  mrpt::io::CFileGZOutputStream out;
-  if (!out.open(tmp)) return false;
+  io::GzipFileWriter out(tmp);
   auto archive = mrpt::serialization::archiveFrom(out);
   archive << object;
   out.close();
@@ -177,7 +178,7 @@ void writeScene(const std::string& path, const PointMap& map, const Trajectory& 
   camera->setElevationDegrees(60.0f);
   scene.insert(camera);
 
-  writeWithMrpt(path, "3-D scene", [&](const std::string& tmp) { return scene.saveToFile(tmp); });
+  writeWithMrpt(path, "3-D scene", [&](const std::string& tmp) { return serializeGz(tmp, scene); });
 }
 
 void writeSimpleMap(const std::string& path, const std::vector<SimpleMapEntry>& entries) {
