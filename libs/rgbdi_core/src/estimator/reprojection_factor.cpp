@@ -6,12 +6,18 @@ namespace rgbdi::estimator {
 
 ReprojectionFactor::ReprojectionFactor(const FeatureMeasurement& obs_i,
                                        const FeatureMeasurement& obs_j,
-                                       const Eigen::Isometry3d& T_body_cam, double sqrt_info)
-    : obs_i_(obs_i),
-      obs_j_(obs_j),
-      R_bc_(T_body_cam.rotation()),
-      t_bc_(T_body_cam.translation()),
-      sqrt_info_(sqrt_info) {}
+                                       const Eigen::Isometry3d& T_body_cam, double sqrt_info) {
+  reset(obs_i, obs_j, T_body_cam, sqrt_info);
+}
+
+void ReprojectionFactor::reset(const FeatureMeasurement& obs_i, const FeatureMeasurement& obs_j,
+                               const Eigen::Isometry3d& T_body_cam, double sqrt_info) {
+  obs_i_ = obs_i;
+  obs_j_ = obs_j;
+  R_bc_ = T_body_cam.rotation();
+  t_bc_ = T_body_cam.translation();
+  sqrt_info_ = sqrt_info;
+}
 
 bool ReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
                                   double** jacobians) const {

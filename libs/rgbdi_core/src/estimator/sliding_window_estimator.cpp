@@ -683,10 +683,24 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   WindowSolver& solver = solver_;
   solver.clear();
   std::vector<std::unique_ptr<ceres::CostFunction>> factors;
+  auto addResidual = [&](const ceres::CostFunction* f, const ceres::LossFunction* loss,
+                         std::initializer_list<double*> blocks) {
+    residual_blocks_.assign(blocks);
+    solver.addResidual(f, loss, residual_blocks_);
+  };
   auto add = [&](ceres::CostFunction* f, const ceres::LossFunction* loss,
-                 const std::vector<double*>& blocks) {
+                 std::initializer_list<double*> blocks) {
     factors.emplace_back(f);
-    solver.addResidual(f, loss, blocks);
+    addResidual(f, loss, blocks);
+  };
+  std::size_t reprojections = 0;
+  auto reprojection = [&](const FeatureMeasurement& i, const FeatureMeasurement& j) {
+    if (reprojections == reprojection_factors_.size())
+      reprojection_factors_.push_back(
+          std::make_unique<ReprojectionFactor>(i, j, T_bc_, sqrt_info_));
+    else
+      reprojection_factors_[reprojections]->reset(i, j, T_bc_, sqrt_info_);
+    return reprojection_factors_[reprojections++].get();
   };
   const ceres::CauchyLoss cauchy(opt_.cauchy_loss_sigma);
 
@@ -733,9 +747,9 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
     const int i = f.start_slot;
     for (size_t k = 1; k < f.obs.size(); ++k) {
       const int j = i + static_cast<int>(k);
-      add(new ReprojectionFactor(f.obs.front().meas, f.obs[k].meas, T_bc_, sqrt_info_), &cauchy,
-          {window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose, inv_depth,
-           td_param_});
+      addResidual(reprojection(f.obs.front().meas, f.obs[k].meas), &cauchy,
+                  {window_[static_cast<size_t>(i)].pose, window_[static_cast<size_t>(j)].pose,
+                   inv_depth, td_param_});
     }
     if (f.depthVerified()) {
       ++verified;

@@ -25,6 +25,10 @@ class ReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 7, 1, 1> 
   /// sqrt_info: 1 / sigma on the normalised plane (e.g. 460 / 1.5).
   ReprojectionFactor(const FeatureMeasurement& obs_i, const FeatureMeasurement& obs_j,
                      const Eigen::Isometry3d& T_body_cam, double sqrt_info);
+  /// Makes it the factor the constructor would make from these arguments (a factor reused from
+  /// one window update to the next: a thousand fresh ones per update cost allocations).
+  void reset(const FeatureMeasurement& obs_i, const FeatureMeasurement& obs_j,
+             const Eigen::Isometry3d& T_body_cam, double sqrt_info);
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;

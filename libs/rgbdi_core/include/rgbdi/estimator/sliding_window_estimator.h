@@ -165,6 +165,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   double td_param_[1] = {0.0};
   std::vector<double> inv_depth_params_;  ///< the solved inverse depths during optimise()
   WindowSolver solver_;                   ///< optimise()'s solver (its buffers are reused)
+  /// optimise()'s reprojection factors, reused from update to update (reset, not reallocated)
+  std::vector<std::unique_ptr<ReprojectionFactor>> reprojection_factors_;
+  std::vector<double*> residual_blocks_;  ///< optimise()'s work buffer
   // Prior on the first state's speed and biases from the initialisation (until marginalised).
   bool use_init_prior_ = false;
   Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();
