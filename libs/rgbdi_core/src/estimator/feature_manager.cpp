@@ -66,9 +66,15 @@ FeatureManager::FrameLinks FeatureManager::addFrame(
 
 void FeatureManager::updateDepths(const SlotPoses& T_wb, const Eigen::Isometry3d& T_bc,
                                   const DepthCheckOptions& opt) {
+  // Every slot's camera pose and its inverse, once per call (not once per observation pair).
+  std::vector<Eigen::Isometry3d> T_wc(T_wb.size()), T_cw(T_wb.size());
+  for (std::size_t s = 0; s < T_wb.size(); ++s) {
+    T_wc[s] = worldCam(T_wb, static_cast<int>(s), T_bc);
+    T_cw[s] = T_wc[s].inverse();
+  }
   for (auto& [id, f] : tracks_) {
     if (f.obs.size() < 2) continue;
-    const Eigen::Isometry3d T_ref_w = worldCam(T_wb, f.start_slot, T_bc).inverse();
+    const Eigen::Isometry3d& T_ref_w = T_cw[static_cast<std::size_t>(f.start_slot)];
     // Algorithm 1: every observation with depth is checked against every other observation.
     double sum = 0.0;
     int count = 0, n_obs = 0;
@@ -76,12 +82,11 @@ void FeatureManager::updateDepths(const SlotPoses& T_wb, const Eigen::Isometry3d
       const double d = f.obs[k].depth_m;
       if (d < opt.min_depth_m || d > opt.max_depth_m) continue;
       const Eigen::Vector3d p_w =
-          worldCam(T_wb, f.start_slot + static_cast<int>(k), T_bc) * (f.obs[k].meas.xn * d);
+          T_wc[static_cast<std::size_t>(f.start_slot) + k] * (f.obs[k].meas.xn * d);
       bool agreed = false;
       for (size_t l = 0; l < f.obs.size(); ++l) {
         if (l == k) continue;
-        const Eigen::Vector3d p_l =
-            worldCam(T_wb, f.start_slot + static_cast<int>(l), T_bc).inverse() * p_w;
+        const Eigen::Vector3d p_l = T_cw[static_cast<std::size_t>(f.start_slot) + l] * p_w;
         if (p_l.z() <= 1e-6) continue;
         const double res = (p_l.head<2>() / p_l.z() - f.obs[l].meas.xn.head<2>()).norm();
         if (res < opt.tolerance_norm) {
