@@ -60,19 +60,6 @@ TEST(CornerResponse, IsTheSmallerStructureTensorEigenvalue) {
   EXPECT_GT(strongest, 0.0f);
 }
 
-TEST(CornerResponse, TwoPlaneAndInterleavedDerivativesGiveTheSameResponse) {
-  const cv::Mat grey = toGrey8(randomRectangleTexture(200, 150, 21));
-  cv::Mat dx, dy;
-  cv::Scharr(grey, dx, CV_16S, 1, 0);
-  cv::Scharr(grey, dy, CV_16S, 0, 1);
-  CornerResponse computer;
-  cv::Mat from_pyramid, from_planes;
-  const float a = computer.compute(pyramidDerivatives(grey), 3, from_pyramid);
-  const float b = computer.compute(dx, dy, 3, from_planes);
-  EXPECT_EQ(a, b);
-  EXPECT_EQ(cv::countNonZero(from_pyramid != from_planes), 0);
-}
-
 TEST(CornerResponse, AReusedResponseImageIsOverwrittenBorderIncluded) {
   // The response image is reused from frame to frame: only its border is zeroed explicitly,
   // every other pixel must be written. Odd and even blocks (even ones have one border row and

@@ -17,53 +17,37 @@
 
 namespace rgbdi::frontend {
 
-float CornerResponse::compute(const cv::Mat& derivatives, int block_size, cv::Mat& response) {
+namespace {
+/// Row v of CV_16SC2 Scharr derivatives (dI/dx, dI/dy interleaved) as two float rows.
+struct InterleavedRows {
+  const cv::Mat& derivatives;
+  void operator()(int v, float* __restrict ix, float* __restrict iy) const {
+    const short* __restrict d = derivatives.ptr<short>(v);
+    for (int u = 0; u < derivatives.cols; ++u) {
+      ix[u] = d[2 * u];
+      iy[u] = d[2 * u + 1];
+    }
+  }
+};
+
+void requireDerivatives(const cv::Mat& derivatives) {
   if (derivatives.type() != CV_16SC2)
     throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives");
-  return computeRows(
-      derivatives.cols, derivatives.rows, block_size,
-      [&](int v, float* __restrict ix, float* __restrict iy) {
-        const short* __restrict d = derivatives.ptr<short>(v);
-        for (int u = 0; u < derivatives.cols; ++u) {
-          ix[u] = d[2 * u];
-          iy[u] = d[2 * u + 1];
-        }
-      },
-      &response, std::numeric_limits<float>::infinity());
+}
+}  // namespace
+
+float CornerResponse::compute(const cv::Mat& derivatives, int block_size, cv::Mat& response) {
+  requireDerivatives(derivatives);
+  return computeRows(derivatives.cols, derivatives.rows, block_size, InterleavedRows{derivatives},
+                     &response, std::numeric_limits<float>::infinity());
 }
 
 bool CornerResponse::reaches(const cv::Mat& derivatives, int block_size, float floor) {
-  if (derivatives.type() != CV_16SC2)
-    throw std::invalid_argument("CornerDetector: need CV_16SC2 derivatives");
+  requireDerivatives(derivatives);
   // Every response is >= 0 (the border's zeros among them), as compute() returns.
   if (!(floor > 0.0f)) return true;
-  return computeRows(
-             derivatives.cols, derivatives.rows, block_size,
-             [&](int v, float* __restrict ix, float* __restrict iy) {
-               const short* __restrict d = derivatives.ptr<short>(v);
-               for (int u = 0; u < derivatives.cols; ++u) {
-                 ix[u] = d[2 * u];
-                 iy[u] = d[2 * u + 1];
-               }
-             },
-             nullptr, floor) >= floor;
-}
-
-float CornerResponse::compute(const cv::Mat& dx, const cv::Mat& dy, int block_size,
-                              cv::Mat& response) {
-  if (dx.type() != CV_16SC1 || dy.type() != CV_16SC1 || dx.size() != dy.size())
-    throw std::invalid_argument("CornerDetector: need two CV_16SC1 derivative planes of one size");
-  return computeRows(
-      dx.cols, dx.rows, block_size,
-      [&](int v, float* __restrict ix, float* __restrict iy) {
-        const short* __restrict x = dx.ptr<short>(v);
-        const short* __restrict y = dy.ptr<short>(v);
-        for (int u = 0; u < dx.cols; ++u) {
-          ix[u] = x[u];
-          iy[u] = y[u];
-        }
-      },
-      &response, std::numeric_limits<float>::infinity());
+  return computeRows(derivatives.cols, derivatives.rows, block_size, InterleavedRows{derivatives},
+                     nullptr, floor) >= floor;
 }
 
 namespace {

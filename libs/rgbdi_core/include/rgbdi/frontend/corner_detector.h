@@ -45,8 +45,6 @@ class CornerResponse {
   /// with anything that still reads it). Returns the strongest response. Throws
   /// std::invalid_argument on a wrong type or a block size < 1.
   float compute(const cv::Mat& derivatives, int block_size, cv::Mat& response);
-  /// The same from the derivatives as two CV_16SC1 planes (cv::Scharr's dx and dy).
-  float compute(const cv::Mat& dx, const cv::Mat& dy, int block_size, cv::Mat& response);
 
   /// Whether the strongest response reaches `floor`: compute(derivatives, ...) >= floor, with
   /// the same values computed row by row in the same way, but stopping at the first rows that
