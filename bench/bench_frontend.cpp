@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
     pyramid.add(f.timings.pyramid_ms);
     klt.add(f.timings.klt_ms);
     ransac.add(f.timings.ransac_ms);
-    if (f.n_tracked < options.max_features)
+    if (options.max_features - f.n_tracked >= options.detect_min_missing)
       detect.add(f.timings.detect_ms);  // frames that detected
     depth_ms.add(f.timings.depth_ms);
     tracking.add(f.timings.trackingMs());
