@@ -3,6 +3,7 @@
 // direct computations.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
@@ -150,14 +151,14 @@ TEST(CornerCandidates, AreEveryLocalMaximumAboveTheFloorInScanOrderThenStrongest
         expected.begin(), expected.end(),
         [](const CornerCandidate& a, const CornerCandidate& b) { return a.response > b.response; });
     std::reverse(got.begin(), got.end());  // any input order gives the same sequence
-    CornerCandidates::sortStrongestFirst(got);
+    std::sort(got.begin(), got.end(), CornerCandidates::strongerFirst);
     same("strongest first");
   }
 }
 
 TEST(CornerCandidates, TiesAreOrderedByRowThenColumn) {
   std::vector<CornerCandidate> c = {{5.0f, 7, 2}, {9.0f, 1, 1}, {5.0f, 3, 2}, {5.0f, 9, 0}};
-  CornerCandidates::sortStrongestFirst(c);
+  std::sort(c.begin(), c.end(), CornerCandidates::strongerFirst);
   const int expected_u[] = {1, 9, 3, 7}, expected_v[] = {1, 0, 2, 2};
   for (int i = 0; i < 4; ++i) {
     EXPECT_EQ(c[static_cast<std::size_t>(i)].u, expected_u[i]) << i;

@@ -223,18 +223,6 @@ void CornerCandidates::collect(const cv::Mat& response, float min_response, cons
   }
 }
 
-namespace {
-/// Strongest first, ties by row, then column: a strict total order.
-bool strongerFirst(const CornerCandidate& p, const CornerCandidate& q) {
-  if (p.response != q.response) return p.response > q.response;
-  return p.v != q.v ? p.v < q.v : p.u < q.u;
-}
-}  // namespace
-
-void CornerCandidates::sortStrongestFirst(std::vector<CornerCandidate>& candidates) {
-  std::sort(candidates.begin(), candidates.end(), strongerFirst);
-}
-
 void CornerDetector::computeResponse(const cv::Mat& derivatives, int block_size) {
   computer_.compute(derivatives, block_size, response_);
   block_size_ = block_size;
@@ -292,8 +280,8 @@ std::vector<cv::Point2f> CornerDetector::detectMore(int max_corners, FeatureSpac
       const auto first = candidates_.begin() + static_cast<std::ptrdiff_t>(sorted_end_);
       const auto last = candidates_.begin() + static_cast<std::ptrdiff_t>(std::min(
                                                   candidates_.size(), sorted_end_ + chunk));
-      std::nth_element(first, last - 1, candidates_.end(), strongerFirst);
-      std::sort(first, last, strongerFirst);
+      std::nth_element(first, last - 1, candidates_.end(), CornerCandidates::strongerFirst);
+      std::sort(first, last, CornerCandidates::strongerFirst);
       sorted_end_ = static_cast<size_t>(last - candidates_.begin());
     }
     const CornerCandidate& cand = candidates_[next_candidate_++];

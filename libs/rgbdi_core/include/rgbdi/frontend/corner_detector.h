@@ -24,9 +24,12 @@ class CornerCandidates {
   /// `mask` (CV_8UC1, nullptr: everywhere) is nonzero, in scan order (row, then column).
   void collect(const cv::Mat& response, float min_response, const cv::Mat* mask,
                std::vector<CornerCandidate>& out);
-  /// Sorts candidates strongest first, ties by row, then column (a total order: the same
-  /// sequence whatever order they came in).
-  static void sortStrongestFirst(std::vector<CornerCandidate>& candidates);
+  /// The order corners are taken in: strongest first, ties by row, then column (a strict total
+  /// order, so any sort gives one sequence whatever order the candidates came in).
+  static bool strongerFirst(const CornerCandidate& p, const CornerCandidate& q) {
+    if (p.response != q.response) return p.response > q.response;
+    return p.v != q.v ? p.v < q.v : p.u < q.u;
+  }
 
  private:
   cv::Mat neighbourhood_max_;       ///< 3x3 maximum of the response
