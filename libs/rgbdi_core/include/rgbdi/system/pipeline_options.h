@@ -15,10 +15,10 @@ struct PipelineOptions {
   /// loop closing and mapping); a full queue makes the feeding stage wait (offline) or a live
   /// source drop images.
   int queue_capacity_packets = 64;
-  /// [images] threaded runs prepare each image for tracking (grey image, corner response and
-  /// candidates: frontend::ImagePreparer) on the feeding thread, off the odometry thread; at most
-  /// this many prepared images (1.5 MB each at 640x480) wait untracked. 0: the odometry thread
-  /// prepares them itself. Same results either way.
+  /// [images] threaded runs prepare each image for tracking (its grey image, CLAHE when on:
+  /// frontend::ImagePreparer) on the feeding thread, off the odometry thread; at most this many
+  /// prepared images (0.3 MB each at 640x480, twice that with CLAHE) wait untracked. 0: the
+  /// odometry thread prepares them itself. Same results either way.
   int images_prepared_ahead = 4;
 
   static PipelineOptions load(IniReader& ini);
