@@ -12,7 +12,7 @@
 namespace rgbdi::io {
 
 GzipFileWriter::GzipFileWriter(const std::string& path, int level, std::size_t member_bytes)
-    : path_(path), level_(level) {
+    : path_(path) {
   if (level < 1 || level > 12)
     throw std::invalid_argument("GzipFileWriter: compression level " + std::to_string(level) +
                                 " outside 1..12");
@@ -28,14 +28,11 @@ GzipFileWriter::GzipFileWriter(const std::string& path, int level, std::size_t m
 }
 
 GzipFileWriter::~GzipFileWriter() {
-  if (file_) {
-    try {
-      close();
-    } catch (...) {
-      // A destructor cannot report it; close() does.
-    }
+  try {
+    close();  // closes the file whether or not writing succeeds
+  } catch (...) {
+    // A destructor cannot report it; close() does.
   }
-  if (file_) std::fclose(file_);
   libdeflate_free_compressor(static_cast<libdeflate_compressor*>(compressor_));
 }
 

@@ -276,24 +276,25 @@ void StreamChecker::checkDepthUnits(const RgbdFrame& f, std::size_t record) {
   // The median of the sampled raw values, exactly (the (n/2)-th smallest), by counting: first
   // their high bytes, then the low bytes of those in the median's high-byte bin (two passes
   // over ~20,000 values instead of a selection on them every frame).
+  auto forEachSample = [&](auto&& visit) {
+    for (int v = 0; v < f.depth.rows; v += step) {
+      const auto* row = f.depth.ptr<std::uint16_t>(v);
+      for (int u = 0; u < f.depth.cols; u += step)
+        if (row[u] != 0) visit(row[u]);
+    }
+  };
   std::array<std::uint32_t, 256> high{}, low{};
   std::size_t n = 0;
-  for (int v = 0; v < f.depth.rows; v += step) {
-    const auto* row = f.depth.ptr<std::uint16_t>(v);
-    for (int u = 0; u < f.depth.cols; u += step)
-      if (row[u] != 0) {
-        ++high[row[u] >> 8];
-        ++n;
-      }
-  }
+  forEachSample([&](std::uint16_t d) {
+    ++high[d >> 8];
+    ++n;
+  });
   if (n == 0) return;
   std::size_t rank = n / 2, bin = 0;
   while (rank >= high[bin]) rank -= high[bin++];
-  for (int v = 0; v < f.depth.rows; v += step) {
-    const auto* row = f.depth.ptr<std::uint16_t>(v);
-    for (int u = 0; u < f.depth.cols; u += step)
-      if (row[u] != 0 && (row[u] >> 8) == bin) ++low[row[u] & 0xFF];
-  }
+  forEachSample([&](std::uint16_t d) {
+    if ((d >> 8) == bin) ++low[d & 0xFF];
+  });
   std::size_t low_bin = 0;
   while (rank >= low[low_bin]) rank -= low[low_bin++];
   const double median_m = static_cast<double>((bin << 8) | low_bin) * f.depth_unit_m;

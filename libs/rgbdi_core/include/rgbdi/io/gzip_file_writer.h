@@ -48,7 +48,6 @@ class GzipFileWriter : public mrpt::io::CStream {
   void writeMember();
 
   std::string path_;
-  int level_;
   std::FILE* file_ = nullptr;
   void* compressor_ = nullptr;  ///< libdeflate_compressor
   std::vector<std::uint8_t> buffer_, compressed_;
