@@ -3,8 +3,10 @@
 # the process, all threads), wall-clock rate, peak RSS and the CPU split by stage, next to the ATE,
 # for every profile at 15 and 30 Hz. Sequences are generated once with rgbdi-sim and cached.
 #   [SEQ_DIR=out/bench-cpu/seq] [RUN_DIR=out/bench-cpu/run] [RATES="15 30"] [DURATION=S] \
-#     [SLAM_ARGS=...] scripts/bench-cpu.sh [BUILD_DIR] [PROFILES...]
+#     [SLAM_ARGS=...] [EXTRA_CONFIG=FILE] scripts/bench-cpu.sh [BUILD_DIR] [PROFILES...]
 # DURATION (seconds of data) shortens the sequences; unset = each profile's default length.
+# EXTRA_CONFIG: INI text appended to each sequence's config.ini for the run (e.g. a [stream]
+# section with image_rate_limit_hz = 15).
 # Prints a markdown table (doc/performance.md explains the columns). On a shared machine compare
 # CPU seconds, not wall time: the wall-clock rate depends on what else runs.
 set -euo pipefail
@@ -34,9 +36,14 @@ for p in $profiles; do
     fi
     out="$run_dir/$name"
     rm -rf "$out"
+    config="$seq/config.ini"
+    if [ -n "${EXTRA_CONFIG:-}" ]; then
+      config="$out.ini"
+      cat "$seq/config.ini" "$EXTRA_CONFIG" > "$config"
+    fi
     # shellcheck disable=SC2086  # SLAM_ARGS is a list of extra arguments
     /usr/bin/time -v -o "$out.time" "$build/bin/rgbdi-slam" --input "$seq/sequence.rawlog" \
-      --out "$out" --config "$seq/config.ini" --gt "$seq/groundtruth.tum" --quiet ${SLAM_ARGS:-} \
+      --out "$out" --config "$config" --gt "$seq/groundtruth.tum" --quiet ${SLAM_ARGS:-} \
       > "$out.log" 2>&1 || { echo "| $p | $fps Hz | rgbdi-slam failed: see $out.log |"; continue; }
     /usr/bin/python3 - "$p" "$fps" "$out" << 'PY'
 import json, re, sys

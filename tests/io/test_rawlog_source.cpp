@@ -949,4 +949,55 @@ TEST_F(RawlogSourceTest, DamagedExternalImagesAreReportedWithTheirFileAndSkipped
   EXPECT_EQ(d.warnings[1].substr(d.warnings[1].size() - tail.size()), tail) << d.warnings[1];
 }
 
+TEST_F(RawlogSourceTest, RateLimitSkipsFramesBeforeDecodingThem) {
+  // 20 Hz frames under a 10 Hz limit: every second frame is used. The skipped frames' image
+  // files are damaged: they are never read, so nothing is reported about them.
+  const std::string dir = tempDir("rgbdi_io_ratelimit");
+  const std::string path = dir + "/r.rawlog";
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 100; ++i) {  // 0.5 s of IMU
+    const double t = kT0 + i * kImuDt;
+    if (i % 10 == 5) seq.emplace_back(frameAt(t));  // frames at t0 + 0.025 + k 0.05
+    seq.emplace_back(imuAt(t));
+  }
+  writeAll(path, writerOptions(Layout::Observations, false, true), seq);
+  for (int k : {1, 3, 5, 7, 9}) {
+    const std::string stem = dir + "/r_Images/RGBD_" + std::to_string(k);
+    fs::resize_file(stem + "_color.png", fs::file_size(stem + "_color.png") / 2);
+    fs::remove(stem + "_depth.bin");
+  }
+  StreamConfig cfg = testConfig();
+  cfg.stream.image_rate_limit_hz = 10.0;
+  RawlogSource src(path, cfg);
+  const auto out = readAll(src);
+  std::vector<double> stamps;
+  for (const auto& m : out)
+    if (const auto* f = std::get_if<RgbdFrame>(&m)) {
+      stamps.push_back(f->t);
+      EXPECT_EQ(f->index, stamps.size() - 1);  // delivered frames are numbered without gaps
+    }
+  ASSERT_EQ(stamps.size(), 5u);
+  for (std::size_t k = 0; k < stamps.size(); ++k)
+    EXPECT_NEAR(stamps[k], kT0 + 0.025 + 0.1 * static_cast<double>(k), 1e-6) << k;
+  EXPECT_EQ(countImu(out), 101u);
+  const auto& d = src.diagnostics();
+  EXPECT_EQ(d.frames_rate_limited, 5u);
+  EXPECT_EQ(d.images.delivered, 5u);
+  EXPECT_EQ(d.unusable, 0u);
+  EXPECT_TRUE(d.warnings.empty()) << joined(d.warnings);
+  EXPECT_NE(d.report().find("skipped by [stream] image_rate_limit_hz (not decoded): 5"),
+            std::string::npos)
+      << d.report();
+  EXPECT_NE(d.toJson().find("\"frames_rate_limited\": 5"), std::string::npos);
+
+  // Inspection (rawlog-convert --info) reads every frame: the damaged ones are reported.
+  StreamConfig inspect = cfg;
+  inspect.report_only = true;
+  RawlogSource all(path, inspect);
+  const auto every = readAll(all);
+  EXPECT_EQ(all.diagnostics().frames_rate_limited, 0u);
+  EXPECT_EQ(all.diagnostics().unusable, 5u);
+  EXPECT_EQ(all.diagnostics().images.delivered, 5u);
+}
+
 }  // namespace rgbdi::io

@@ -29,6 +29,7 @@ TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.time_jump_back_s, d.time_jump_back_s);
   EXPECT_EQ(o.constant_image_max_range, d.constant_image_max_range);
   EXPECT_EQ(o.image_check_step_px, d.image_check_step_px);
+  EXPECT_EQ(o.image_rate_limit_hz, d.image_rate_limit_hz);
   // Every key of [stream] is one that StreamOptions reads.
   ini.acceptConfigSectionsExcept({"stream"});
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());
@@ -74,6 +75,17 @@ TEST(StreamOptions, LoadsValuesAndRejectsBadOnes) {
     EXPECT_STREQ(
         e.what(),
         "bad.ini [stream] image_gap_factor: value 0.5 is out of the accepted range [1, 1000]");
+  }
+  IniReader limited = IniReader::fromText("[stream]\nimage_rate_limit_hz = 15\n", "l.ini");
+  EXPECT_EQ(StreamOptions::load(limited).image_rate_limit_hz, 15.0);
+  IniReader negative = IniReader::fromText("[stream]\nimage_rate_limit_hz = -1\n", "n.ini");
+  try {
+    StreamOptions::load(negative);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(),
+                 "n.ini [stream] image_rate_limit_hz: value -1 is out of the accepted range [0, "
+                 "1000]");
   }
   IniReader inverted = IniReader::fromText("[stream]\ndepth_median_min_m = 30\n", "inv.ini");
   try {

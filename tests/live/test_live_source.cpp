@@ -174,6 +174,28 @@ TEST_F(LiveSourceTest, ReplayReStampsOntoTheWallClockKeepingTheSpacing) {
   EXPECT_GT(st.imu_latency.max_s, 0.0);
 }
 
+TEST_F(LiveSourceTest, RateLimitSkipsTheSameFramesAsTheOfflineReader) {
+  std::size_t n_imu = 0, n_frames = 0;
+  test::writeLiveRawlog(dir + "/seq.rawlog", 1.0, &n_imu, &n_frames);
+  io::StreamConfig stream;
+  stream.stream.image_rate_limit_hz = 15.0;  // the replayed camera runs at 30 Hz
+  LiveSource src(SensorConfig::fromFile(ini(replayIni("speed = 4.0\nstamps = source\n"))), stream);
+  test::CollectingSink sink;
+  src.pump(sink);
+  io::RawlogSource ref(dir + "/seq.rawlog", stream);
+  test::CollectingSink expected;
+  ref.pump(expected);
+  EXPECT_EQ(sink.imu.size(), n_imu);
+  ASSERT_EQ(sink.frames.size(), (n_frames + 1) / 2);
+  ASSERT_EQ(expected.frames.size(), sink.frames.size());
+  for (std::size_t i = 0; i < sink.frames.size(); ++i) {
+    EXPECT_EQ(sink.frames[i].t, expected.frames[i].t) << i;
+    EXPECT_EQ(sink.frames[i].index, i);
+  }
+  EXPECT_EQ(src.diagnostics().frames_rate_limited, n_frames / 2);
+  EXPECT_EQ(src.stats().frames_received, sink.frames.size());  // skipped ones never entered
+}
+
 TEST_F(LiveSourceTest, SlowConsumerMakesImagesDropNeverImuAndQueuesStayBounded) {
   std::size_t n_imu = 0, n_frames = 0;
   test::writeLiveRawlog(dir + "/seq.rawlog", 2.0, &n_imu, &n_frames);

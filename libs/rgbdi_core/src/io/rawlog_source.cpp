@@ -24,6 +24,7 @@
 #include "io/mrpt_aligned_malloc.h"
 #include "io/rawlog_naming.h"
 #include "rgbdi/common/cpu_clock.h"
+#include "rgbdi/io/frame_rate_limiter.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/stream_checker.h"
 #include "rgbdi/io/time_ordering_buffer.h"
@@ -81,7 +82,9 @@ struct RawlogSource::Impl {
         cfg(cfg),
         checker(path_, cfg,
                 [this](const std::string& w) { self.logStr(mrpt::system::LVL_WARN, w); }),
-        buffer(cfg.stream.imu_reorder_window_s, cfg.stream.image_reorder_window_s) {}
+        buffer(cfg.stream.imu_reorder_window_s, cfg.stream.image_reorder_window_s),
+        // An inspection (rawlog-convert --info) looks at every frame.
+        rate_limiter(cfg.report_only ? 0.0 : cfg.stream.image_rate_limit_hz) {}
 
   void open() {
     namespace fs = std::filesystem;
@@ -267,6 +270,11 @@ struct RawlogSource::Impl {
     if (!o) return;
     ++checker.counters().observations;
     if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) {
+      // Before anything is decoded: a skipped frame costs only its record.
+      if (!rate_limiter.admit(toSeconds(scan->timestamp))) {
+        ++checker.counters().frames_rate_limited;
+        return;
+      }
       try {
         std::optional<Measurement> m;
         {
@@ -393,6 +401,7 @@ struct RawlogSource::Impl {
   std::optional<mrpt::serialization::CArchiveStreamBase<mrpt::io::CStream>> archive;
   StreamChecker checker;
   TimeOrderingBuffer buffer;
+  FrameRateLimiter rate_limiter;
   std::deque<TimeOrderingBuffer::Item> held;  ///< ordered output waiting for the unit check
   std::size_t record = 0;
   std::uint64_t frames_delivered = 0;

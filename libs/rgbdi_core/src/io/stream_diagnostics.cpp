@@ -70,6 +70,9 @@ std::string StreamDiagnostics::report() const {
   }
   os << "       order: " << ordering(imu) << "\n";
   os << "RGB-D: " << timing(images, "frames") << "\n";
+  if (frames_rate_limited > 0)
+    os << "       skipped by [stream] image_rate_limit_hz (not decoded): " << frames_rate_limited
+       << "\n";
   if (images.delivered >= 2) {
     os << "       median period " << num(images.median_period_s, 4) << " s, gaps " << images.gaps
        << " (limit " << num(images.gap_limit_s, 4) << " s, largest dt " << num(images.max_gap_s, 4)
@@ -101,6 +104,7 @@ std::string StreamDiagnostics::toJson(int indent) const {
   j["actions"] = actions;
   j["skipped"] = skipped;
   j["unusable"] = unusable;
+  j["frames_rate_limited"] = frames_rate_limited;
   j["imu"] = statsJson(imu);
   j["images"] = statsJson(images);
   j["frames_with_color"] = frames_with_color;

@@ -36,6 +36,8 @@ StreamOptions StreamOptions::load(IniReader& ini) {
   o.constant_image_max_range =
       ini.getInt(s, "constant_image_max_range", o.constant_image_max_range, 0, 255);
   o.image_check_step_px = ini.getInt(s, "image_check_step_px", o.image_check_step_px, 1, 64);
+  o.image_rate_limit_hz =
+      ini.getDouble(s, "image_rate_limit_hz", o.image_rate_limit_hz, 0.0, 1000.0);
   return o;
 }
 

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "live/mrpt_message.h"
+#include "rgbdi/io/frame_rate_limiter.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/io/stream_checker.h"
@@ -62,12 +63,14 @@ struct LiveSource::Impl {
     Steady::time_point last_frame_arrival, last_imu_arrival;
     double last_imu_stamp = std::numeric_limits<double>::quiet_NaN();
     std::size_t frame_counter = 0;
+    io::FrameRateLimiter rate_limiter{0.0};  ///< [stream] image_rate_limit_hz, per camera
   };
 
   Impl(const SensorConfig& c, const io::StreamConfig& stream)
       : cfg(c),
         file(c.path.empty() ? std::string("<sensors>") : c.path),
         checker("live " + file, stream),
+        image_rate_limit_hz(stream.stream.image_rate_limit_hz),
         buffer(stream.stream.imu_reorder_window_s, stream.stream.image_reorder_window_s),
         imu_latency(kLatencyBinS, kLatencyRangeS),
         frame_latency(kLatencyBinS, kLatencyRangeS) {}
@@ -87,6 +90,7 @@ struct LiveSource::Impl {
     for (const SensorSection& sec : cfg.sensors) {
       auto slot = std::make_unique<Slot>();
       slot->section = sec;
+      slot->rate_limiter = io::FrameRateLimiter(image_rate_limit_hz);
       slot->counts.section = sec.name;
       slot->counts.driver = sec.driver;
       slot->sensor = Sensor::createSensorPtr(sec.driver);
@@ -160,10 +164,15 @@ struct LiveSource::Impl {
 
   void handle(Slot& s, const Sensor::TListObservations& list) {
     std::vector<io::Measurement> ms;
-    std::size_t other = 0, unusable = 0;
+    std::size_t other = 0, unusable = 0, rate_limited = 0;
     std::vector<std::string> problems;
     const auto one = [&](const mrpt::obs::CObservation::Ptr& o) {
       if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) {
+        // Before the conversion: a skipped frame costs nothing further.
+        if (!s.rate_limiter.admit(io::toSeconds(scan->timestamp))) {
+          ++rate_limited;
+          return;
+        }
         try {
           ms.emplace_back(io::fromMrpt(
               *scan, file + " [" + s.section.name + "] frame " + std::to_string(s.frame_counter)));
@@ -196,6 +205,7 @@ struct LiveSource::Impl {
     std::lock_guard<std::mutex> lk(mutex);
     s.counts.other += other;
     s.counts.unusable += unusable;
+    checker.counters().frames_rate_limited += rate_limited;
     for (auto& p : problems) event(p);
     for (auto& m : ms) offer(s, std::move(m));
     drain();
@@ -425,6 +435,7 @@ struct LiveSource::Impl {
   std::condition_variable data_cv;  ///< consumer: data or the end is there
   std::condition_variable stop_cv;  ///< sensor threads and watchdog: stop requested
   io::StreamChecker checker;
+  double image_rate_limit_hz;  ///< [Hz] [stream] image_rate_limit_hz, for each camera's limiter
   io::TimeOrderingBuffer buffer;
   std::deque<io::TimeOrderingBuffer::Item> imu_q, frame_q;
   LiveStats stats;

@@ -36,6 +36,8 @@ struct StreamDiagnostics {
   std::size_t actions = 0;                     ///< CActionCollection entries (ignored)
   std::map<std::string, std::size_t> skipped;  ///< ignored entries by class name
   std::size_t unusable = 0;  ///< RGB-D/IMU observations that could not be converted
+  /// RGB-D frames skipped undecoded by [stream] image_rate_limit_hz (not counted in `images`).
+  std::size_t frames_rate_limited = 0;
 
   SensorStreamStats imu;
   SensorStreamStats images;

@@ -27,6 +27,8 @@ struct StreamOptions {
   double time_jump_back_s = 0.5;         ///< [s] a stamp this much older than the newest: stop
   int constant_image_max_range = 2;      ///< [grey levels] max - min at most this: constant image
   int image_check_step_px = 8;           ///< [px] pixel step of the constant-image sampling
+  /// [Hz] RGB-D frames used per second at most (FrameRateLimiter); 0 = every frame.
+  double image_rate_limit_hz = 0.0;
 
   static StreamOptions load(IniReader& ini);
 };
