@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "rgbdi/common/whole_file.h"
 #include "rgbdi/io/image_decode.h"
 
 using namespace rgbdi::io;
@@ -267,7 +268,7 @@ TEST(ReadMrptRangeFile, EqualsMrptsOwnReader) {
 
   // Not that format, or damaged: left to MRPT.
   std::vector<std::uint8_t> bytes;
-  ASSERT_TRUE(readWholeFile(file, bytes));
+  ASSERT_EQ(rgbdi::readWholeFile(file, bytes), rgbdi::FileReadError::kNone);
   auto write = [&](const std::string& name, const std::vector<std::uint8_t>& b) {
     std::ofstream(dir + "/" + name, std::ios::binary)
         .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));

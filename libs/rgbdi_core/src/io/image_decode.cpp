@@ -2,10 +2,11 @@
 
 #include <libdeflate.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+
+#include "rgbdi/common/whole_file.h"
 
 namespace rgbdi::io {
 namespace {
@@ -90,20 +91,6 @@ bool unfilterRow(int type, const std::uint8_t* in, std::uint8_t* out, const std:
 }
 
 }  // namespace
-
-bool readWholeFile(const std::string& path, std::vector<std::uint8_t>& out) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return false;
-  bool ok = std::fseek(f, 0, SEEK_END) == 0;
-  const long size = ok ? std::ftell(f) : -1;
-  ok = ok && size >= 0 && std::fseek(f, 0, SEEK_SET) == 0;
-  if (ok) {
-    out.resize(static_cast<std::size_t>(size));
-    ok = size == 0 || std::fread(out.data(), 1, out.size(), f) == out.size();
-  }
-  std::fclose(f);
-  return ok;
-}
 
 bool isPngData(const std::uint8_t* data, std::size_t size) {
   static const std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
@@ -196,7 +183,8 @@ std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size
 
 std::optional<cv::Mat> readMrptRangeFile(const std::string& path) {
   thread_local std::vector<std::uint8_t> file;
-  if (!readWholeFile(path, file) || file.size() < 2 || file[0] != 0x1F || file[1] != 0x8B)
+  if (readWholeFile(path, file) != FileReadError::kNone || file.size() < 2 || file[0] != 0x1F ||
+      file[1] != 0x8B)
     return std::nullopt;  // unreadable (MRPT reports it) or not gzip
   const auto damaged = [&](const std::string& what) {
     return ImageDecodeError("range file " + path + " is damaged: " + what);

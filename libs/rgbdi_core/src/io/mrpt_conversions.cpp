@@ -17,6 +17,7 @@
 #include <sstream>
 #include <vector>
 
+#include "rgbdi/common/whole_file.h"
 #include "rgbdi/io/image_decode.h"
 
 namespace rgbdi::io {
@@ -77,7 +78,7 @@ cv::Mat colorToRgb(const mrpt::img::CImage& img, bool external, const std::strin
   if (external) {
     thread_local std::vector<std::uint8_t> bytes;
     const std::string file = img.getExternalStorageFileAbsolutePath();
-    if (readWholeFile(file, bytes)) {
+    if (readWholeFile(file, bytes) == FileReadError::kNone) {
       try {
         if (auto rgb = decodePngToRgb(bytes.data(), bytes.size())) return std::move(*rgb);
       } catch (const ImageDecodeError& e) {

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "rgbdi/common/whole_file.h"
 #include "rgbdi/map/map_directory.h"
 
 namespace rgbdi::map::detail {
@@ -105,26 +106,15 @@ void fsyncPath(const std::string& path) {
 }
 
 std::vector<char> readWholeFile(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) fail(path, "cannot open");
   std::vector<char> data;
-  const off_t size = ::lseek(fd, 0, SEEK_END);
-  if (size > 0) data.reserve(static_cast<std::size_t>(size));
-  ::lseek(fd, 0, SEEK_SET);
-  std::vector<char> buffer(1 << 20);
-  for (;;) {
-    const ssize_t n = ::read(fd, buffer.data(), buffer.size());
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int err = errno;
-      ::close(fd);
-      errno = err;
+  switch (rgbdi::readWholeFile(path, data)) {
+    case FileReadError::kOpen:
+      fail(path, "cannot open");
+    case FileReadError::kRead:
       fail(path, "read error");
-    }
-    if (n == 0) break;
-    data.insert(data.end(), buffer.data(), buffer.data() + n);
+    case FileReadError::kNone:
+      break;
   }
-  ::close(fd);
   return data;
 }
 

@@ -21,6 +21,7 @@
 #include "mapping/descriptor_codec.h"
 #include "mapping/pose_check.h"
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/common/whole_file.h"
 #include "rgbdi/mapping/keyframe_store.h"
 
 namespace rgbdi::mapping {
@@ -57,11 +58,16 @@ void writeKeyframe(detail::ByteWriter& w, const Keyframe& k) {
   }
 }
 
-std::vector<char> readWholeFile(const std::string& path) {
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw KeyframeFileError(path + ": cannot open keyframe file: " + std::strerror(errno));
-  std::vector<char> data((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
-  if (is.bad()) throw KeyframeFileError(path + ": read error");
+std::vector<char> readKeyframeFile(const std::string& path) {
+  std::vector<char> data;
+  switch (readWholeFile(path, data)) {
+    case FileReadError::kOpen:
+      throw KeyframeFileError(path + ": cannot open keyframe file: " + std::strerror(errno));
+    case FileReadError::kRead:
+      throw KeyframeFileError(path + ": read error: " + std::strerror(errno));
+    case FileReadError::kNone:
+      break;
+  }
   return data;
 }
 
@@ -100,7 +106,7 @@ void KeyframeStore::save(const std::string& path, const std::vector<const Keyfra
 }
 
 KeyframeStore KeyframeStore::load(const std::string& path) {
-  const std::vector<char> data = readWholeFile(path);
+  const std::vector<char> data = readKeyframeFile(path);
   std::string context = "header";
   detail::ByteReader r(data, [&](const std::string& what) {
     throw KeyframeFileError(path + ": " + context + ": " + what);

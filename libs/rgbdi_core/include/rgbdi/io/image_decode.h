@@ -48,7 +48,4 @@ std::optional<cv::Mat> decodePngToRgb(const std::uint8_t* data, std::size_t size
 /// (truncated, CRC or size mismatch, or a trailer size above 256 MB).
 std::optional<cv::Mat> readMrptRangeFile(const std::string& path);
 
-/// Reads a whole file into `out` (reusing its capacity); false when it cannot be read.
-bool readWholeFile(const std::string& path, std::vector<std::uint8_t>& out);
-
 }  // namespace rgbdi::io
