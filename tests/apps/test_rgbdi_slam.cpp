@@ -100,6 +100,42 @@ TEST(RgbdiSlam, RunWritesEveryOutputAndMeetsAccuracy) {
   EXPECT_NEAR(ev["ate_rmse"].get<double>(), summary["evaluation"]["ate_rmse"].get<double>(), 1e-9);
 }
 
+TEST(RgbdiSlam, FrameRateLimitHalvesA30HzStreamAndSaysSo) {
+  const std::string seq = sequenceDir();  // 30 Hz
+  const std::string out = makeTempDir("rgbdi_slam_limit");
+  const std::string config = out + "_config.ini";
+  {
+    std::ifstream in(seq + "/config.ini");
+    std::ofstream o(config);
+    o << in.rdbuf() << "\n[stream]\nimage_rate_limit_hz = 15\n";
+  }
+  std::string log;
+  ASSERT_EQ(runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " +
+                           config + " --gt " + seq + "/groundtruth.tum --out " + out + " --quiet",
+                       &log),
+            0)
+      << log;
+  std::size_t recorded = 0;  // frames in the sequence: one colour image each
+  for (const auto& e : fs::directory_iterator(seq + "/sequence_Images"))
+    recorded += e.path().string().find("_color.png") != std::string::npos;
+  const auto summary = readJson(out + "/summary.json");
+  const auto skipped = summary["stream_diagnostics"]["frames_rate_limited"].get<std::size_t>();
+  const auto used = summary["frames"].get<std::size_t>();
+  EXPECT_EQ(used + skipped, recorded);
+  EXPECT_EQ(skipped, recorded / 2);  // every second frame of the 30 Hz camera
+  EXPECT_NE(log.find("Skipped " + std::to_string(skipped) +
+                     " frames undecoded ([stream] image_rate_limit_hz): they have no pose"),
+            std::string::npos)
+      << log;
+  const auto traj = rgbdi::eval::readTum(out + "/trajectory.tum");
+  EXPECT_LE(traj.size(), used);
+  EXPECT_GT(traj.size(), 250u);  // 20 s at 15 Hz, from the static start on
+  for (std::size_t i = 1; i < traj.size(); ++i)
+    ASSERT_GT(traj[i].t - traj[i - 1].t, 0.06) << "pose " << i;  // no two frames 33 ms apart
+  EXPECT_LT(summary["evaluation"]["ate_rmse"].get<double>(), 0.05);
+  EXPECT_GT(summary["evaluation"]["coverage"].get<double>(), 0.95);
+}
+
 TEST(RgbdiSlam, CtrlCStillWritesOutputsOfThePartProcessed) {
   const std::string seq = sequenceDir();
   const std::string out = makeTempDir("rgbdi_slam_int");
