@@ -7,6 +7,10 @@
 # DURATION (seconds of data) shortens the sequences; unset = each profile's default length.
 # EXTRA_CONFIG: INI text appended to each sequence's config.ini for the run (e.g. a [stream]
 # section with image_rate_limit_hz = 15).
+# LAYOUT=files (default): images in sequence_Images/ (a PNG and a compressed range file per frame
+# to decode, MRPT's layout for large datasets); LAYOUT=embedded: raw images inside the rawlog
+# (rgbdi-sim --embedded-images: nothing to decode, as from a live camera or a bag; 1.5 MB per
+# frame on disk).
 # Prints a markdown table (doc/performance.md explains the columns). On a shared machine compare
 # CPU seconds, not wall time: the wall-clock rate depends on what else runs.
 set -euo pipefail
@@ -17,6 +21,12 @@ seq_dir=${SEQ_DIR:-out/bench-cpu/seq}
 run_dir=${RUN_DIR:-out/bench-cpu/run}
 rates=${RATES:-15 30}
 duration=${DURATION:-}
+layout=${LAYOUT:-files}
+case $layout in
+  files) sim_layout=() ;;
+  embedded) sim_layout=(--embedded-images) ;;
+  *) echo "bench-cpu: LAYOUT must be files or embedded, got '$layout'" >&2; exit 1 ;;
+esac
 for tool in rgbdi-sim rgbdi-slam; do
   [ -x "$build/bin/$tool" ] || { echo "bench-cpu: $build/bin/$tool not found (build first)" >&2; exit 1; }
 done
@@ -27,11 +37,12 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for p in $profiles; do
   for fps in $rates; do
     name="${p}_${fps}hz${duration:+_${duration}s}"
+    [ "$layout" = files ] || name="${name}_$layout"
     seq="$seq_dir/$name"
     if [ ! -f "$seq/sequence.rawlog" ]; then
       rm -rf "$seq.tmp"
       "$build/bin/rgbdi-sim" --profile "$p" --fps "$fps" ${duration:+--duration "$duration"} \
-        --out "$seq.tmp" > /dev/null
+        "${sim_layout[@]}" --out "$seq.tmp" > /dev/null
       mv "$seq.tmp" "$seq"
     fi
     out="$run_dir/$name"

@@ -31,7 +31,7 @@ const char* const kUsage =
     "                 [--fps N] [--seed N] [--variant N] [--config FILE] [--time-offset S]\n"
     "                 [--aliased-walls] [--blackout START:DURATION[:KIND]]\n"
     "                 [--spin START:DURATION[:TURNS]]\n"
-    "                 [--bag [--bag-compression none|bz2|lz4]]\n"
+    "                 [--bag [--bag-compression none|bz2|lz4]] [--embedded-images]\n"
     "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
     "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag])\n"
@@ -57,6 +57,9 @@ const char* const kUsage =
     "                     20:1.5 (9.2 rad/s)\n"
     "  --bag              also write sequence.bag (ROS1, the published dataset's layout)\n"
     "  --bag-compression  chunk compression of the bag (default none)\n"
+    "  --embedded-images  raw images inside sequence.rawlog (as a live camera delivers them:\n"
+    "                     nothing to decode, 1.5 MB per 640x480 frame) instead of PNG and\n"
+    "                     compressed range files in sequence_Images/\n"
     "  --version          print the version\n"
     "  -h, --help         this help\n"
     "Options take their value as '--opt VALUE' or '--opt=VALUE'. Status 3 is not used by this "
@@ -109,7 +112,7 @@ struct Arguments {
   std::string blackout_kind;                                       ///< empty: the configuration's
   long long seed = -1;
   int variant = -1;
-  bool has_time_offset = false, bag = false, aliased_walls = false;
+  bool has_time_offset = false, bag = false, aliased_walls = false, embedded_images = false;
 };
 
 /// Throws UsageError.
@@ -165,6 +168,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     a.spin_duration = span.duration;
   });
   cl.flag("--bag", &a.bag);
+  cl.flag("--embedded-images", &a.embedded_images);
   cl.value("--bag-compression", &a.bag_compression);
   const auto outcome = cl.parse(argc, argv);
   if (outcome != rgbdi::CommandLine::Outcome::Run) return outcome;
@@ -245,6 +249,7 @@ int main(int argc, char** argv) {
   try {
     const rgbdi::sim::SimulatedSequence sequence(opt);
     wo.write_bag = args.bag;
+    wo.external_images = !args.embedded_images;
     wo.progress = &std::cerr;
     const rgbdi::sim::SequenceWriteSummary s =
         rgbdi::sim::writeSequence(sequence, args.out, wo, &g_stop);

@@ -8,6 +8,7 @@
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/sensor_options.h"
+#include "rgbdi/io/rawlog_source.h"
 #include "testing/fixtures.h"
 
 namespace {
@@ -64,6 +65,45 @@ TEST(RgbdiSim, WritesASequenceThatMrptToolsRead) {
   EXPECT_TRUE(std::regex_search(info, std::regex("RGBD /\\s+31 /"))) << info;
   EXPECT_NE(info.find("Found external storage directory: sequence_Images"), std::string::npos)
       << info;
+}
+
+TEST(RgbdiSim, EmbeddedImagesHoldTheSameFramesAsTheImageFiles) {
+  const std::string base = rgbdi::test::makeTempDir("rgbdi_sim_layouts");
+  const std::string args = " --profile tracked_slopes --duration 10 --fps 3 --seed 4";
+  std::string out;
+  ASSERT_EQ(runCommand(sim() + args + " --out " + base + "/files", &out), 0) << out;
+  ASSERT_EQ(runCommand(sim() + args + " --embedded-images --out " + base + "/embedded", &out), 0)
+      << out;
+  EXPECT_TRUE(fs::exists(base + "/files/sequence_Images"));
+  EXPECT_FALSE(fs::exists(base + "/embedded/sequence_Images"));
+  // Raw 640x480 images: colour 3 bytes and depth 2 bytes per pixel in each of the 31 frames.
+  EXPECT_GT(fs::file_size(base + "/embedded/sequence.rawlog"), 31u * 640u * 480u * 5u);
+  const auto read = [](const std::string& path) {
+    rgbdi::io::RawlogSource src(path);
+    std::vector<rgbdi::io::Measurement> all;
+    rgbdi::io::Measurement m;
+    while (src.next(m)) all.push_back(m);
+    EXPECT_TRUE(src.diagnostics().warnings.empty()) << path;
+    return all;
+  };
+  const auto files = read(base + "/files/sequence.rawlog");
+  const auto embedded = read(base + "/embedded/sequence.rawlog");
+  ASSERT_EQ(files.size(), embedded.size());
+  std::size_t frames = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    ASSERT_EQ(rgbdi::io::measurementTime(files[i]), rgbdi::io::measurementTime(embedded[i])) << i;
+    const auto* a = std::get_if<rgbdi::RgbdFrame>(&files[i]);
+    const auto* b = std::get_if<rgbdi::RgbdFrame>(&embedded[i]);
+    ASSERT_EQ(a == nullptr, b == nullptr) << i;
+    if (!a) continue;
+    ++frames;
+    ASSERT_EQ(a->rgb.size(), b->rgb.size());
+    EXPECT_EQ(cv::norm(a->rgb, b->rgb, cv::NORM_INF), 0.0) << "frame " << a->index;
+    EXPECT_EQ(cv::norm(a->depth, b->depth, cv::NORM_INF), 0.0) << "frame " << a->index;
+    EXPECT_EQ(a->depth_unit_m, b->depth_unit_m);
+    EXPECT_EQ(a->cam_color.fx, b->cam_color.fx);
+  }
+  EXPECT_EQ(frames, 31u);
 }
 
 TEST(RgbdiSim, UsageAndConfigurationErrors) {

@@ -3,7 +3,8 @@
 //   DIR/sequence.rawlog        observations-only rawlog: CObservation3DRangeScan (colour +
 //                              depth in mm, both cameras' intrinsics, cameras coincide) and
 //                              CObservationIMU, in time order
-//   DIR/sequence_Images/       colour as PNG, depth as MRPT external range files
+//   DIR/sequence_Images/       colour as PNG, depth as MRPT external range files (unless the
+//                              images are embedded in the rawlog: external_images = false)
 //   DIR/groundtruth.tum        body (IMU) frame at every IMU sample (IMU clock)
 //   DIR/groundtruth_cam.tum    colour camera frame at every image (image stamps)
 //   DIR/config.ini             [camera] [imu] [extrinsic] for rgbdi-slam: the camera and
@@ -26,6 +27,10 @@ namespace rgbdi::sim {
 
 struct SequenceWriterOptions {
   bool write_bag = false;
+  /// Images as files beside the rawlog (MRPT's layout for large datasets: the reader decodes a
+  /// PNG and a compressed range file per frame), or raw inside the rawlog (as a live camera or
+  /// a bag delivers them: nothing to decode; 1.5 MB per 640x480 frame).
+  bool external_images = true;
   bag::Compression bag_compression = bag::Compression::None;
   /// Where the progress line goes (nullptr: silent), and how often [s of wall-clock time].
   std::ostream* progress = nullptr;

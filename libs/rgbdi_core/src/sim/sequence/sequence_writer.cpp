@@ -233,7 +233,7 @@ SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::stri
 
   io::RawlogWriterOptions ro;
   ro.layout = io::RawlogWriterOptions::Layout::Observations;
-  ro.external_images = true;
+  ro.external_images = options.external_images;
   ro.T_body_cam = seq.options().extrinsic.T_body_cam;
   io::RawlogWriter rawlog(s.rawlog_path, ro);
   std::unique_ptr<bag::BagWriter> bag;
