@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
+#include <string_view>
 
 #include "rgbdi/io/image_decode.h"
 
@@ -43,8 +44,8 @@ bool storedClassIs(const std::uint8_t* name, std::size_t size, const std::string
   // MRPT also takes the stored name as a C string: it ends at the first NUL byte (fuzz_rawlog,
   // 2026-12-03 night: "=rpt::obs::CActionCollection\0\0\0" was read as a CActionCollection).
   const auto* chars = reinterpret_cast<const char*>(name);
-  const std::string n(chars,
-                      static_cast<std::size_t>(std::find(chars, chars + size, '\0') - chars));
+  const std::string_view n(chars,
+                           static_cast<std::size_t>(std::find(chars, chars + size, '\0') - chars));
   return n == cls ||
          (n.size() > cls.size() + 1 && n.compare(n.size() - cls.size(), cls.size(), cls) == 0 &&
           n.compare(n.size() - cls.size() - 2, 2, "::") == 0);
@@ -92,10 +93,15 @@ void CImageGuard::startPayload(int version) {
 }
 
 void CImageGuard::watchHeader(const std::uint8_t* data, std::size_t n, std::size_t count) {
-  // MRPT 2 stores the class name with its namespace, MRPT 1 without.
-  const bool image = n == count && storedClassIs(data, n, "CImage");
-  const bool frame = n == count && storedClassIs(data, n, "CSensoryFrame");
-  const bool actions = n == count && storedClassIs(data, n, "CActionCollection");
+  // MRPT 2 stores the class name with its namespace, MRPT 1 without. The name's length is stored
+  // in one byte (0x80 | length) or in four whose upper three are zero (the two cases below), so a
+  // longer read is no class name: pixel and range data (a megabyte per frame when embedded) are
+  // not searched for one.
+  constexpr std::size_t kMaxStoredNameBytes = 255;
+  const bool name_sized = n == count && count <= kMaxStoredNameBytes;
+  const bool image = name_sized && storedClassIs(data, n, "CImage");
+  const bool frame = name_sized && storedClassIs(data, n, "CSensoryFrame");
+  const bool actions = name_sized && storedClassIs(data, n, "CActionCollection");
   if (image || frame || actions) {
     nested_container_ = frame ? "a sensory frame" : actions ? "an action collection" : "";
     if (last_count_ == 1 && last_bytes_ == (0x80u | count)) {
