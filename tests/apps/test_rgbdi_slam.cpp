@@ -27,6 +27,15 @@ std::string sequenceDir() {
   return rgbdi::test::cachedSimSequence("--profile wheeled_slopes --duration 20");
 }
 
+/// The sequence's configuration with `extra` INI text appended, written beside `out`.
+std::string configWith(const std::string& seq, const std::string& out, const std::string& extra) {
+  const std::string config = out + "_config.ini";
+  std::ifstream in(seq + "/config.ini");
+  std::ofstream o(config);
+  o << in.rdbuf() << "\n" << extra;
+  return config;
+}
+
 nlohmann::json readJson(const std::string& path) {
   std::ifstream f(path);
   return nlohmann::json::parse(f);
@@ -40,12 +49,7 @@ TEST(RgbdiSlam, RunWritesEveryOutputAndMeetsAccuracy) {
   // The sequence's configuration plus a live-mode solver budget far too small for any solve:
   // an offline run ignores it and says so (its result must not depend on the machine's load),
   // so the accuracy below is that of an unbounded solver.
-  const std::string config = out + "_config.ini";
-  {
-    std::ifstream in(seq + "/config.ini");
-    std::ofstream o(config);
-    o << in.rdbuf() << "\n[estimator]\nmax_solver_time_s = 0.000001\n";
-  }
+  const std::string config = configWith(seq, out, "[estimator]\nmax_solver_time_s = 0.000001\n");
   std::string log;
   const int rc =
       runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " + config +
@@ -103,12 +107,7 @@ TEST(RgbdiSlam, RunWritesEveryOutputAndMeetsAccuracy) {
 TEST(RgbdiSlam, FrameRateLimitHalvesA30HzStreamAndSaysSo) {
   const std::string seq = sequenceDir();  // 30 Hz
   const std::string out = makeTempDir("rgbdi_slam_limit");
-  const std::string config = out + "_config.ini";
-  {
-    std::ifstream in(seq + "/config.ini");
-    std::ofstream o(config);
-    o << in.rdbuf() << "\n[stream]\nimage_rate_limit_hz = 15\n";
-  }
+  const std::string config = configWith(seq, out, "[stream]\nimage_rate_limit_hz = 15\n");
   std::string log;
   ASSERT_EQ(runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " +
                            config + " --gt " + seq + "/groundtruth.tum --out " + out + " --quiet",
