@@ -261,7 +261,7 @@ std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,
      << s["keyframes"].get<std::size_t>() << " keyframes, " << s["resets"].get<int>() << " resets, "
      << (s["loop"].contains("active_loops") ? s["loop"]["active_loops"].get<std::uint64_t>() : 0)
      << " loops" << (s["interrupted"].get<bool>() ? " (interrupted)" : "") << "\n";
-  if (s.contains("stream_diagnostics") &&
+  if (s.contains("stream_diagnostics") && s["stream_diagnostics"].is_object() &&
       s["stream_diagnostics"].value("frames_rate_limited", std::size_t{0}) > 0)
     os << "Skipped " << s["stream_diagnostics"]["frames_rate_limited"].get<std::size_t>()
        << " frames undecoded ([stream] image_rate_limit_hz): they have no pose\n";
