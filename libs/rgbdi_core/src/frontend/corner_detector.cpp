@@ -264,9 +264,9 @@ std::vector<cv::Point2f> CornerDetector::detect(const cv::Mat& mask, int max_cor
   if (!(strongest > 0.0) || strongest < floor) return corners;  // flat, bare, or nothing allowed
   const float threshold = static_cast<float>(std::max(quality * strongest, floor));
 
-  // Candidates: allowed 3x3 local maxima at or above the threshold, strongest first.
+  // Candidates: allowed 3x3 local maxima at or above the threshold, in scan order; detectMore()
+  // takes them strongest first (none is sorted yet: sorted_end_ was reset above).
   collector_.collect(response_, threshold, &mask, candidates_);
-  sorted_end_ = 0;
   return detectMore(max_corners, spacing);
 }
 
