@@ -7,6 +7,17 @@
 namespace rgbdi::io {
 namespace {
 
+/// The ConfigError StreamOptions::load() raises for the INI `text` (named `file`), or "no error".
+std::string loadError(const std::string& text, const std::string& file) {
+  IniReader ini = IniReader::fromText(text, file);
+  try {
+    StreamOptions::load(ini);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
   IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
   const StreamOptions o = StreamOptions::load(ini);
@@ -41,23 +52,11 @@ TEST(StreamOptions, AccelScaleAndTimeJumpAreValidated) {
   const StreamOptions o = StreamOptions::load(ini);
   EXPECT_EQ(o.accel_scale, 9.80665);
   EXPECT_EQ(o.time_jump_back_s, 2.0);
-  IniReader zero = IniReader::fromText("[stream]\naccel_scale = 0\n", "z.ini");
-  try {
-    StreamOptions::load(zero);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(),
-                 "z.ini [stream] accel_scale: value 0 is out of the accepted range [0.001, 1000]");
-  }
-  IniReader inside = IniReader::fromText("[stream]\ntime_jump_back_s = 0.08\n", "j.ini");
-  try {
-    StreamOptions::load(inside);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(),
-                 "j.ini [stream] time_jump_back_s: must be larger than imu_reorder_window_s and "
-                 "image_reorder_window_s");
-  }
+  EXPECT_EQ(loadError("[stream]\naccel_scale = 0\n", "z.ini"),
+            "z.ini [stream] accel_scale: value 0 is out of the accepted range [0.001, 1000]");
+  EXPECT_EQ(loadError("[stream]\ntime_jump_back_s = 0.08\n", "j.ini"),
+            "j.ini [stream] time_jump_back_s: must be larger than imu_reorder_window_s and "
+            "image_reorder_window_s");
 }
 
 TEST(StreamOptions, LoadsValuesAndRejectsBadOnes) {
@@ -67,34 +66,15 @@ TEST(StreamOptions, LoadsValuesAndRejectsBadOnes) {
   EXPECT_EQ(o.imu_reorder_window_s, 0.02);
   EXPECT_EQ(o.max_listed_issues, 0);
 
-  IniReader bad = IniReader::fromText("[stream]\nimage_gap_factor = 0.5\n", "bad.ini");
-  try {
-    StreamOptions::load(bad);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(
-        e.what(),
-        "bad.ini [stream] image_gap_factor: value 0.5 is out of the accepted range [1, 1000]");
-  }
+  EXPECT_EQ(loadError("[stream]\nimage_gap_factor = 0.5\n", "bad.ini"),
+            "bad.ini [stream] image_gap_factor: value 0.5 is out of the accepted range [1, 1000]");
   IniReader limited = IniReader::fromText("[stream]\nimage_rate_limit_hz = 15\n", "l.ini");
   EXPECT_EQ(StreamOptions::load(limited).image_rate_limit_hz, 15.0);
-  IniReader negative = IniReader::fromText("[stream]\nimage_rate_limit_hz = -1\n", "n.ini");
-  try {
-    StreamOptions::load(negative);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(),
-                 "n.ini [stream] image_rate_limit_hz: value -1 is out of the accepted range [0, "
-                 "1000]");
-  }
-  IniReader inverted = IniReader::fromText("[stream]\ndepth_median_min_m = 30\n", "inv.ini");
-  try {
-    StreamOptions::load(inverted);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(),
-                 "inv.ini [stream] depth_median_max_m: must be larger than depth_median_min_m");
-  }
+  EXPECT_EQ(loadError("[stream]\nimage_rate_limit_hz = -1\n", "n.ini"),
+            "n.ini [stream] image_rate_limit_hz: value -1 is out of the accepted range [0, "
+            "1000]");
+  EXPECT_EQ(loadError("[stream]\ndepth_median_min_m = 30\n", "inv.ini"),
+            "inv.ini [stream] depth_median_max_m: must be larger than depth_median_min_m");
 }
 
 TEST(StreamConfig, LoadsStreamImuAndExtrinsic) {
