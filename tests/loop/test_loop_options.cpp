@@ -5,6 +5,7 @@
 #include <string>
 
 #include "rgbdi/loop/loop_features.h"
+#include "rgbdi/loop/loop_options.h"
 #include "rgbdi/loop/place_recognizer.h"
 #include "testing/fixtures.h"
 
@@ -137,4 +138,25 @@ TEST(LoopPlaceOptions, OptionsBuiltInCodeAreValidated) {
     EXPECT_NE(std::string(e.what()).find("[loop] place_index_key_bits"), std::string::npos)
         << e.what();
   }
+}
+
+TEST(LoopJoinCheckOptions, DefaultsEqualTheShippedConfigAndBadValuesAreNamed) {
+  IniReader ini = IniReader::fromFile(rgbdi::test::sourceDir() + "/share/config.ini");
+  const rgbdi::loop::LoopOptions shipped = rgbdi::loop::LoopOptions::load(ini);
+  const rgbdi::loop::LoopOptions code;
+  EXPECT_EQ(shipped.relocalize_check_keyframes, code.relocalize_check_keyframes);
+  EXPECT_EQ(shipped.relocalize_check_radius_m, code.relocalize_check_radius_m);
+  EXPECT_EQ(shipped.relocalize_check_max_conflict_fraction,
+            code.relocalize_check_max_conflict_fraction);
+  IniReader off = IniReader::fromText("[loop]\nrelocalize_check_keyframes = 0\n", "off.ini");
+  EXPECT_EQ(rgbdi::loop::LoopOptions::load(off).relocalize_check_keyframes, 0);
+  const std::string e1 =
+      loadError<rgbdi::loop::LoopOptions>("[loop]\nrelocalize_check_keyframes = -1\n");
+  EXPECT_NE(e1.find("relocalize_check_keyframes"), std::string::npos) << e1;
+  const std::string e2 =
+      loadError<rgbdi::loop::LoopOptions>("[loop]\nrelocalize_check_radius_m = -2\n");
+  EXPECT_NE(e2.find("relocalize_check_radius_m"), std::string::npos) << e2;
+  const std::string e3 =
+      loadError<rgbdi::loop::LoopOptions>("[loop]\nrelocalize_check_max_conflict_fraction = 1.5\n");
+  EXPECT_NE(e3.find("relocalize_check_max_conflict_fraction"), std::string::npos) << e3;
 }

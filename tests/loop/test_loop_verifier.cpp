@@ -468,3 +468,50 @@ TEST(LoopVerifier, RejectsAJoinWhoseSurfacesLieInTheOtherKeyframesFreeSpace) {
   o.freespace_max_conflict_fraction = 1.0;
   EXPECT_TRUE(verifyPair(p, false, o).accepted);
 }
+
+TEST(LoopVerifier, ComparesTheFreeSpaceOfTwoKeyframesPlacedAtGivenPoses) {
+  // The comparison a join's neighbourhood check makes (LoopCloser): the same counts as the
+  // verification's step 7 under the same relative pose, in both argument orders.
+  SyntheticLoopPair p = rgbdi::test::makeSyntheticLoopPair(rgbdi::test::defaultLoopPairOptions());
+  addWallGrids(p, 4.0);
+  const LoopVerifier verifier({}, p.camera, p.T_body_cam);
+  const Eigen::Isometry3d T_c = p.candidate.T_world_body, T_q = p.query.T_world_body;
+  const rgbdi::loop::FreeSpaceTally t = verifier.compareFreeSpace(p.query, T_q, p.candidate, T_c);
+  EXPECT_GT(t.compared, 300);
+  EXPECT_EQ(t.conflicts, 0);
+  const rgbdi::loop::FreeSpaceTally back =
+      verifier.compareFreeSpace(p.candidate, T_c, p.query, T_q);
+  EXPECT_EQ(back.compared, t.compared);
+  EXPECT_EQ(back.conflicts, t.conflicts);
+  const LoopVerification v = verifier.verify(p.query, p.candidate, /*related=*/false);
+  ASSERT_TRUE(v.accepted) << v.detail;
+  EXPECT_EQ(v.constraint.freespace_compared, t.compared);
+
+  // Only the relative pose counts: both moved by the same rigid motion give the same tally.
+  Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+  M.linear() = Eigen::AngleAxisd(1.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  M.translation() = Eigen::Vector3d(-7.0, 3.0, 0.5);
+  const rgbdi::loop::FreeSpaceTally moved =
+      verifier.compareFreeSpace(p.query, M * T_q, p.candidate, M * T_c);
+  EXPECT_EQ(moved.compared, t.compared);
+  EXPECT_EQ(moved.conflicts, 0);
+
+  // The query placed 2 m nearer the wall along the candidate's optical axis: its wall samples
+  // land 2 m beyond the candidate's wall (hidden from the candidate: no evidence), and the
+  // candidate's wall samples lie 2 m in front of the query's wall, in the query's free space:
+  // every compared sample conflicts (fewer overlap than before).
+  const Eigen::Vector3d forward = (T_c * p.T_body_cam).linear().col(2);
+  Eigen::Isometry3d T_q_near = T_q;
+  T_q_near.translation() += 2.0 * forward;
+  const rgbdi::loop::FreeSpaceTally near =
+      verifier.compareFreeSpace(p.query, T_q_near, p.candidate, T_c);
+  EXPECT_GT(near.compared, 100);
+  EXPECT_EQ(near.conflicts, near.compared);
+
+  // A keyframe without depth says nothing.
+  p.candidate.depth_grid = {};
+  const rgbdi::loop::FreeSpaceTally none =
+      verifier.compareFreeSpace(p.query, T_q, p.candidate, T_c);
+  EXPECT_EQ(none.compared, 0);
+  EXPECT_EQ(none.conflicts, 0);
+}

@@ -196,6 +196,7 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
   // The matches agreeing with one of kf's own matches, counted by distinct query keyframe: the
   // confirmations must come from other keyframes. The best such cluster is the candidate join.
   std::vector<std::size_t> best;
+  std::size_t best_own = 0;  // kf's own match in the best cluster
   int best_keyframes = 0;
   for (std::size_t i = 0; i < pending_joins_.size(); ++i) {
     if (pending_joins_[i].query_index != stats_.keyframes) continue;  // not one of kf's
@@ -210,6 +211,7 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
     if (static_cast<int>(queries.size()) > best_keyframes) {
       best_keyframes = static_cast<int>(queries.size());
       best = std::move(cluster);
+      best_own = i;
     }
   }
   if (best_keyframes < options_.relocalize_consistent_keyframes) return false;
@@ -222,7 +224,24 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
       return false;
     }
 
+  // The whole neighbourhood must agree, not only the matched views.
   JoinRecord j;
+  if (options_.relocalize_check_keyframes > 0) {
+    const PendingJoin& own = pending_joins_[best_own];
+    const FreeSpaceTally tally = joinFreeSpace(kf, own.A, own.target_component);
+    j.check_compared = tally.compared;
+    j.check_conflicts = tally.conflicts;
+    if (tally.compared >= options_.verify.freespace_min_samples &&
+        tally.conflicts > options_.relocalize_check_max_conflict_fraction * tally.compared) {
+      ++stats_.joins_refused_free_space;
+      stats_.join_matches_dropped += best.size();
+      std::vector<PendingJoin> kept;
+      for (std::size_t k = 0; k < pending_joins_.size(); ++k)
+        if (std::find(best.begin(), best.end(), k) == best.end()) kept.push_back(pending_joins_[k]);
+      pending_joins_ = std::move(kept);
+      return false;
+    }
+  }
   j.segment = kf.segment;
   j.to_segment = pending_joins_[best.front()].target_component;
   j.t_query = kf.t - t_shift_;
@@ -245,6 +264,34 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
   solve_pending_ = true;
   keyframes_since_solve_ = static_cast<std::uint64_t>(options_.solve_interval_keyframes);
   return true;
+}
+
+FreeSpaceTally LoopCloser::joinFreeSpace(const LoopKeyframe& kf, const Eigen::Isometry3d& A,
+                                         int target_component) const {
+  std::vector<int> target_segments;
+  for (const SegmentState& s : graph_.segments())
+    if (s.component == target_component) target_segments.push_back(s.segment);
+  const auto in_target = [&](const LoopKeyframe& k) {
+    return std::find(target_segments.begin(), target_segments.end(), k.segment) !=
+           target_segments.end();
+  };
+  // The part's latest keyframes, kf first (it is not stored yet), at the poses A gives them.
+  std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>> part{{&kf, A * kf.T_world_body}};
+  for (auto it = keyframes_.rbegin();
+       it != keyframes_.rend() &&
+       part.size() < static_cast<std::size_t>(options_.relocalize_check_keyframes);
+       ++it)
+    if (it->segment == kf.segment) part.emplace_back(&*it, A * graph_.pose(it->id));
+  const double r2 = options_.relocalize_check_radius_m * options_.relocalize_check_radius_m;
+  FreeSpaceTally tally;
+  for (const LoopKeyframe& t : keyframes_) {
+    if (!in_target(t)) continue;
+    const Eigen::Isometry3d T_t = graph_.pose(t.id);
+    for (const auto& [p, T_p] : part)
+      if ((T_t.translation() - T_p.translation()).squaredNorm() <= r2)
+        tally += verifier_.compareFreeSpace(*p, T_p, t, T_t);
+  }
+  return tally;
 }
 
 LoopUpdate LoopCloser::finish() {

@@ -30,6 +30,13 @@ LoopOptions LoopOptions::load(IniReader& ini) {
   o.relocalize_window_keyframes =
       ini.getInt(s, "relocalize_window_keyframes", o.relocalize_window_keyframes, 1, 1000);
   o.relocalize_from_window = ini.getBool(s, "relocalize_from_window", o.relocalize_from_window);
+  o.relocalize_check_keyframes =
+      ini.getInt(s, "relocalize_check_keyframes", o.relocalize_check_keyframes, 0, 1000);
+  o.relocalize_check_radius_m =
+      ini.getDouble(s, "relocalize_check_radius_m", o.relocalize_check_radius_m, 0.0, 100.0);
+  o.relocalize_check_max_conflict_fraction =
+      ini.getDouble(s, "relocalize_check_max_conflict_fraction",
+                    o.relocalize_check_max_conflict_fraction, 0.0, 1.0);
   if (o.relocalize_window_keyframes < o.relocalize_consistent_keyframes)
     ini.fail(s, "relocalize_window_keyframes",
              std::to_string(o.relocalize_window_keyframes) +

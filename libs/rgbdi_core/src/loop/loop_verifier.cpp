@@ -61,15 +61,9 @@ constexpr int kRefineIterations = 5;
 /// nearer than all four surrounding samples of `to` by more than the margin conflicts (`to` saw
 /// farther along that ray); one within the margin of them agrees; one behind them was hidden
 /// from `to` and says nothing. Samples landing beside a hole of `to` are not compared.
-struct FreeSpaceCount {
-  int compared = 0;
-  int conflicts = 0;
-};
-
-void compareFreeSpace(const DepthGrid& from, const DepthGrid& to,
-                      const Eigen::Isometry3d& T_to_from, const PinholeCamera& cam,
-                      const Eigen::Vector2d& max_xn, const LoopVerificationOptions& o,
-                      FreeSpaceCount& count) {
+void compareGrids(const DepthGrid& from, const DepthGrid& to, const Eigen::Isometry3d& T_to_from,
+                  const PinholeCamera& cam, const Eigen::Vector2d& max_xn,
+                  const LoopVerificationOptions& o, FreeSpaceTally& count) {
   for (int r = 0; r < from.rows; ++r)
     for (int c = 0; c < from.cols; ++c) {
       const double z_from = from.at(c, r);
@@ -146,6 +140,20 @@ LoopVerifier::LoopVerifier(const LoopVerificationOptions& options, const Pinhole
        {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(cam_.width, 0.0),
         Eigen::Vector2d(0.0, cam_.height), Eigen::Vector2d(cam_.width, cam_.height)})
     max_xn_ = max_xn_.cwiseMax(1.1 * cam_.pixelToNormalized(corner).cwiseAbs());
+}
+
+FreeSpaceTally LoopVerifier::compareFreeSpace(const LoopKeyframe& a,
+                                              const Eigen::Isometry3d& T_world_body_a,
+                                              const LoopKeyframe& b,
+                                              const Eigen::Isometry3d& T_world_body_b) const {
+  FreeSpaceTally count;
+  if (a.depth_grid.empty() || b.depth_grid.empty()) return count;
+  // Camera b <- camera a.
+  const Eigen::Isometry3d T_bc_ac =
+      T_cam_body_ * T_world_body_b.inverse() * T_world_body_a * T_body_cam_;
+  compareGrids(a.depth_grid, b.depth_grid, T_bc_ac, cam_, max_xn_, options_, count);
+  compareGrids(b.depth_grid, a.depth_grid, T_bc_ac.inverse(), cam_, max_xn_, options_, count);
+  return count;
 }
 
 LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyframe& candidate,
@@ -342,9 +350,9 @@ LoopVerification LoopVerifier::verify(const LoopKeyframe& query, const LoopKeyfr
   // --- free space: neither keyframe's surfaces where the other saw through ---
   if ((!frames_related || o.freespace_for_loops) && !query.depth_grid.empty() &&
       !candidate.depth_grid.empty()) {
-    FreeSpaceCount count;
-    compareFreeSpace(query.depth_grid, candidate.depth_grid, T_cc_qc, cam_, max_xn_, o, count);
-    compareFreeSpace(candidate.depth_grid, query.depth_grid, T_qc_cc, cam_, max_xn_, o, count);
+    FreeSpaceTally count;
+    compareGrids(query.depth_grid, candidate.depth_grid, T_cc_qc, cam_, max_xn_, o, count);
+    compareGrids(candidate.depth_grid, query.depth_grid, T_qc_cc, cam_, max_xn_, o, count);
     c.freespace_compared = count.compared;
     c.freespace_conflicts = count.conflicts;
     if (count.compared >= o.freespace_min_samples &&

@@ -133,11 +133,14 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
                        {"joined_segment", jr.to_segment},
                        {"time_s", have_t ? jr.t_query - run.stream_t0 : jr.t_query},
                        {"keyframe", jr.query_id},
-                       {"loop_edges", jr.loop_edges}});
+                       {"loop_edges", jr.loop_edges},
+                       {"free_space_compared", jr.check_compared},
+                       {"free_space_conflicts", jr.check_conflicts}});
   j["joins"] = joins;
   if (lc)
     j["join_matches"] = {{"too_few_inliers", lc->stats().join_matches_weak},
                          {"ambiguous_decisions", lc->stats().joins_ambiguous},
+                         {"refused_by_free_space", lc->stats().joins_refused_free_space},
                          {"unconfirmed", lc->stats().join_matches_dropped}};
   j["first_keyframe_id"] = sys.firstKeyframeId();
   j["saved_to"] = run.map_saved_to.empty() ? nlohmann::json() : nlohmann::json(run.map_saved_to);

@@ -46,6 +46,10 @@ struct JoinRecord {
   double t_query = 0.0;  ///< [s] stamp (run clock) of the keyframe that completed the join
   std::uint64_t query_id = 0;
   int loop_edges = 0;  ///< loop edges added by the join
+  /// The neighbourhood free-space check of the join (LoopOptions::relocalize_check_*): depth
+  /// samples compared and conflicting (0 / 0 when the check is off or nothing was in view).
+  int check_compared = 0;
+  int check_conflicts = 0;
 };
 
 struct LoopStats {
@@ -66,6 +70,8 @@ struct LoopStats {
   std::uint64_t join_matches_dropped = 0;  ///< joining matches that no later keyframe confirmed
   /// Join decisions refused because pending matches put the part in two places (aliasing).
   std::uint64_t joins_ambiguous = 0;
+  /// Joins refused by the neighbourhood free-space check (their matches were dropped).
+  std::uint64_t joins_refused_free_space = 0;
   double features_ms_total = 0.0;     ///< ORB extraction (done by the caller, added by it)
   double recognition_ms_total = 0.0;  ///< index query + insertion
   double verification_ms_total = 0.0;
@@ -175,6 +181,11 @@ class LoopCloser {
   /// After kf's joining matches were added: joins kf's part when enough of its keyframes agree
   /// on one alignment and no pending match points elsewhere; true when it joined.
   bool tryJoin(const LoopKeyframe& kf, LoopUpdate& update);
+  /// Free-space evidence of placing kf's part by A (part frame -> target frame): the part's
+  /// latest keyframes (kf first) against every keyframe of target_component near where A puts
+  /// them (LoopOptions::relocalize_check_*).
+  FreeSpaceTally joinFreeSpace(const LoopKeyframe& kf, const Eigen::Isometry3d& A,
+                               int target_component) const;
 };
 
 }  // namespace rgbdi::loop

@@ -43,6 +43,15 @@ struct LoopOptions {
   /// closing as soon as they are sure to stay keyframes, with the window's current pose, not
   /// when they leave the window: relocalisation a window (about 10 keyframes) earlier.
   bool relocalize_from_window = true;
+  /// Before a join is made, the depth of the part's latest keyframes is compared (free space,
+  /// as in verification step 7) with every keyframe of the other part within
+  /// relocalize_check_radius_m of where the join puts them, not only with the matched ones: a
+  /// repeated texture matches on one wall, but the furniture around it is elsewhere. More than
+  /// relocalize_check_max_conflict_fraction of the compared samples conflicting refuses the
+  /// join (its matches are dropped).
+  int relocalize_check_keyframes = 8;                    ///< [count] 0 = check off
+  double relocalize_check_radius_m = 3.0;                ///< [m]
+  double relocalize_check_max_conflict_fraction = 0.05;  ///< [unitless]
 
   /// When accepted loops start correcting the odometry (correction_* keys).
   CorrectionGateOptions correction;

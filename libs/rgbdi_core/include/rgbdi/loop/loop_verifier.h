@@ -124,6 +124,18 @@ struct LoopConstraint {
   int freespace_conflicts = 0;
 };
 
+/// Free-space evidence between two keyframes' depth grids (step 7 of verification): samples
+/// compared (conflicting or agreeing, both directions) and the conflicting ones.
+struct FreeSpaceTally {
+  int compared = 0;
+  int conflicts = 0;
+  FreeSpaceTally& operator+=(const FreeSpaceTally& o) {
+    compared += o.compared;
+    conflicts += o.conflicts;
+    return *this;
+  }
+};
+
 struct LoopVerification {
   bool accepted = false;
   /// Filled as far as verification got: counts up to the failed step; T_from_to from PnP on (the
@@ -147,6 +159,13 @@ class LoopVerifier {
   /// when a descriptor set is inconsistent or the two sets have different descriptor sizes.
   LoopVerification verify(const LoopKeyframe& query, const LoopKeyframe& candidate,
                           bool frames_related) const;
+
+  /// The free-space comparison of step 7 for two keyframes placed at the given body poses (one
+  /// frame), both directions; 0 / 0 when either has no depth grid. Used to check a join against
+  /// the other keyframes around the place it puts a part (LoopCloser).
+  FreeSpaceTally compareFreeSpace(const LoopKeyframe& a, const Eigen::Isometry3d& T_world_body_a,
+                                  const LoopKeyframe& b,
+                                  const Eigen::Isometry3d& T_world_body_b) const;
 
   const LoopVerificationOptions& options() const { return options_; }
 
