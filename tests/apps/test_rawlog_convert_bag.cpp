@@ -139,38 +139,17 @@ TEST_F(RawlogConvertBag, SimulatorBagsConvertToTheSimulatorsRawlog) {
 
 TEST_F(RawlogConvertBag, RgbdiSlamRunsWithTheConfigWrittenFromAVinsYaml) {
   const std::string dir = seq("lz4");
-  // The simulator's calibration and (inflated) noise as a VINS-RGBD user would have it.
+  // rgbdi-sim --bag writes the bag's VINS-RGBD calibration next to it: the simulator's camera,
+  // extrinsic and (inflated) noise as a VINS-RGBD user would have them.
+  ASSERT_TRUE(fs::exists(dir + "/vins_config.yaml"));
   rgbdi::IniReader sim_cfg = rgbdi::IniReader::fromFile(dir + "/config.ini");
-  const rgbdi::CameraOptions cam = rgbdi::CameraOptions::load(sim_cfg);
   const rgbdi::ImuOptions imu = rgbdi::ImuOptions::load(sim_cfg);
   const rgbdi::ExtrinsicOptions ext = rgbdi::ExtrinsicOptions::load(sim_cfg);
-  const double dt = 1.0 / imu.rate_hz;
-  const Eigen::Matrix3d R = ext.T_body_cam.rotation();
-  const Eigen::Vector3d t = ext.T_body_cam.translation();
-  std::ofstream yaml(dir + "/vins.yaml");
-  yaml.precision(17);
-  yaml << "%YAML:1.0\nmodel_type: PINHOLE\nimage_width: " << cam.camera.width
-       << "\nimage_height: " << cam.camera.height
-       << "\ndistortion_parameters:\n   k1: 0.0\n   k2: 0.0\n   p1: 0.0\n   p2: "
-          "0.0\nprojection_parameters:\n   fx: "
-       << cam.camera.fx << "\n   fy: " << cam.camera.fy << "\n   cx: " << cam.camera.cx
-       << "\n   cy: " << cam.camera.cy
-       << "\nextrinsicRotation: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ "
-       << R(0, 0) << ", " << R(0, 1) << ", " << R(0, 2) << ", " << R(1, 0) << ", " << R(1, 1)
-       << ", " << R(1, 2) << ", " << R(2, 0) << ", " << R(2, 1) << ", " << R(2, 2)
-       << " ]\nextrinsicTranslation: !!opencv-matrix\n   rows: 3\n   cols: 1\n"
-       << "   dt: d\n   data: [ " << t.x() << ", " << t.y() << ", " << t.z()
-       << " ]\nacc_n: " << imu.acc_noise_density / std::sqrt(dt / 2)
-       << "\ngyr_n: " << imu.gyr_noise_density / std::sqrt(dt / 2)
-       << "\nacc_w: " << imu.acc_random_walk / std::sqrt(dt)
-       << "\ngyr_w: " << imu.gyr_random_walk / std::sqrt(dt) << "\ng_norm: " << imu.gravity_m_s2
-       << "\ntd: 0.0\n";
-  yaml.close();
 
   std::string out;
   const std::string rawlog = dir + "/vins.rawlog";
   ASSERT_EQ(runCommand(app("rawlog-convert") + " " + dir + "/sequence.bag --out " + rawlog +
-                           " --camera-yaml " + dir + "/vins.yaml --quiet",
+                           " --camera-yaml " + dir + "/vins_config.yaml --quiet",
                        &out),
             0)
       << out;

@@ -109,6 +109,69 @@ TEST(VinsYaml, DatasetCalibrationBecomesTheDefaultConfig) {
   EXPECT_NE(text.find("(VINS acc_n 0.1)"), std::string::npos) << text;
 }
 
+TEST(VinsYaml, NoiseFromDensitiesInvertsTheMapping) {
+  // doc/imu.md's table read backwards: config.ini's default densities at 200 Hz are the
+  // dataset's acc_n 0.1, gyr_n 0.01.
+  ImuOptions imu;
+  imu.rate_hz = 200.0;
+  imu.acc_noise_density = 0.005;
+  imu.gyr_noise_density = 0.0005;
+  imu.acc_random_walk = 0.0002 * std::sqrt(1.0 / 200.0);
+  imu.gyr_random_walk = 2e-5 * std::sqrt(1.0 / 200.0);
+  const VinsImuNoise n = vinsNoiseFromImuOptions(imu);
+  EXPECT_NEAR(n.acc_n, 0.1, 1e-15);
+  EXPECT_NEAR(n.gyr_n, 0.01, 1e-16);
+  EXPECT_NEAR(n.acc_w, 0.0002, 1e-18);
+  EXPECT_NEAR(n.gyr_w, 2e-5, 1e-19);
+  imu.rate_hz = 400.0;  // the same densities at 400 Hz are larger per-sample values
+  EXPECT_NEAR(vinsNoiseFromImuOptions(imu).acc_n, 0.005 / std::sqrt(1.0 / 800.0), 1e-14);
+}
+
+TEST(VinsYaml, WrittenCalibrationReadsBackToTheSameValues) {
+  PinholeCamera cam;
+  cam.width = 640;
+  cam.height = 480;
+  cam.fx = 612.25;
+  cam.fy = 611.0625;
+  cam.cx = 321.7;
+  cam.cy = 238.3;
+  cam.dist = {0.0123, -0.0456, 0.0007, -0.0008, 0.0};
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(-M_PI / 2 + 0.013, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.0123, -0.0149, 0.0031);
+  ImuOptions imu;
+  imu.rate_hz = 200.0;
+  imu.acc_noise_density = 0.04;
+  imu.gyr_noise_density = 0.004;
+  imu.acc_random_walk = 8e-4;
+  imu.gyr_random_walk = 4e-5;
+  imu.gravity_m_s2 = 9.81;
+  const std::string dir = test::makeTempDir("vins_yaml_write");
+  const VinsCalibration v = readVinsYaml(write(dir, "w.yaml", vinsYamlText(cam, T, imu, 0.0125)));
+  EXPECT_EQ(v.camera.width, 640);
+  EXPECT_EQ(v.camera.height, 480);
+  EXPECT_EQ(v.camera.fx, cam.fx);
+  EXPECT_EQ(v.camera.fy, cam.fy);
+  EXPECT_EQ(v.camera.cx, cam.cx);
+  EXPECT_EQ(v.camera.cy, cam.cy);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(v.camera.dist[i], cam.dist[i]) << i;
+  ASSERT_TRUE(v.has_extrinsic);
+  EXPECT_TRUE(v.R_body_cam_as_given.isApprox(T.linear(), 1e-15));
+  EXPECT_TRUE(v.T_body_cam.isApprox(T, 1e-12));
+  EXPECT_EQ(v.g_norm, 9.81);
+  EXPECT_EQ(v.td, 0.0125);
+  const ImuOptions back = imuOptionsFromVins(v.noise, v.g_norm, 200.0);
+  EXPECT_NEAR(back.acc_noise_density, 0.04, 1e-15);
+  EXPECT_NEAR(back.gyr_noise_density, 0.004, 1e-16);
+  EXPECT_NEAR(back.acc_random_walk, 8e-4, 1e-17);
+  EXPECT_NEAR(back.gyr_random_walk, 4e-5, 1e-18);
+  // VINS' model has no k3: refused, not dropped.
+  cam.dist[4] = 0.001;
+  EXPECT_THROW(vinsYamlText(cam, T, imu, 0.0), ConfigError);
+}
+
 TEST(VinsYaml, ErrorsNameFileAndKey) {
   const std::string dir = test::makeTempDir("vins_yaml");
   std::string text = kDatasetYaml;

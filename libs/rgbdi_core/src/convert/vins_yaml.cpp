@@ -227,6 +227,63 @@ ImuOptions imuOptionsFromVins(const VinsImuNoise& n, double g_norm, double rate_
   return o;
 }
 
+VinsImuNoise vinsNoiseFromImuOptions(const ImuOptions& imu) {
+  const double dt = 1.0 / imu.rate_hz;
+  VinsImuNoise n;
+  n.acc_n = imu.acc_noise_density / std::sqrt(dt / 2.0);
+  n.gyr_n = imu.gyr_noise_density / std::sqrt(dt / 2.0);
+  n.acc_w = imu.acc_random_walk / std::sqrt(dt);
+  n.gyr_w = imu.gyr_random_walk / std::sqrt(dt);
+  return n;
+}
+
+std::string vinsYamlText(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_cam,
+                         const ImuOptions& imu, double td) {
+  if (camera.dist[4] != 0.0)
+    throw ConfigError("VINS calibration: the radial-tangential model has no k3 (k3 = " +
+                      iniNumber(camera.dist[4]) + " cannot be written)");
+  const VinsImuNoise n = vinsNoiseFromImuOptions(imu);
+  const auto num = [](double x) { return iniNumber(x); };
+  const Eigen::Matrix3d R = T_body_cam.rotation();
+  const Eigen::Vector3d t = T_body_cam.translation();
+  std::ostringstream os;
+  os << "%YAML:1.0\n"
+     << "# VINS-RGBD calibration of a sequence in the published dataset's layout.\n"
+     << "imu_topic: \"/camera/imu\"\n"
+     << "image_topic: \"/camera/color/image_raw\"\n"
+     << "depth_topic: \"/camera/aligned_depth_to_color/image_raw\"\n"
+     << "model_type: PINHOLE\n"
+     << "camera_name: camera\n"
+     << "image_width: " << camera.width << "\n"
+     << "image_height: " << camera.height << "\n"
+     << "distortion_parameters:\n"
+     << "   k1: " << num(camera.dist[0]) << "\n"
+     << "   k2: " << num(camera.dist[1]) << "\n"
+     << "   p1: " << num(camera.dist[2]) << "\n"
+     << "   p2: " << num(camera.dist[3]) << "\n"
+     << "projection_parameters:\n"
+     << "   fx: " << num(camera.fx) << "\n"
+     << "   fy: " << num(camera.fy) << "\n"
+     << "   cx: " << num(camera.cx) << "\n"
+     << "   cy: " << num(camera.cy) << "\n"
+     << "estimate_extrinsic: 0\n"
+     << "extrinsicRotation: !!opencv-matrix\n"
+     << "   rows: 3\n   cols: 3\n   dt: d\n   data: [";
+  for (int i = 0; i < 9; ++i) os << (i ? ", " : "") << num(R(i / 3, i % 3));
+  os << "]\n"
+     << "extrinsicTranslation: !!opencv-matrix\n"
+     << "   rows: 3\n   cols: 1\n   dt: d\n   data: [" << num(t.x()) << ", " << num(t.y()) << ", "
+     << num(t.z()) << "]\n"
+     << "acc_n: " << num(n.acc_n) << "\n"
+     << "gyr_n: " << num(n.gyr_n) << "\n"
+     << "acc_w: " << num(n.acc_w) << "\n"
+     << "gyr_w: " << num(n.gyr_w) << "\n"
+     << "g_norm: " << num(imu.gravity_m_s2) << "\n"
+     << "estimate_td: 1\n"
+     << "td: " << num(td) << "\n";
+  return os.str();
+}
+
 std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz,
                                 const std::string& rate_note) {
   const ImuOptions imu = imuOptionsFromVins(v.noise, v.g_norm, imu_rate_hz);

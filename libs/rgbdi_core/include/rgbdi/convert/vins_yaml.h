@@ -38,6 +38,18 @@ VinsCalibration readVinsYaml(const std::string& path);
 ///   acc_random_walk = acc_w * sqrt(dt),       gyr_random_walk = gyr_w * sqrt(dt),  dt = 1/rate.
 ImuOptions imuOptionsFromVins(const VinsImuNoise& noise, double g_norm, double rate_hz);
 
+/// The inverse of imuOptionsFromVins: the VINS per-sample values of [imu] densities at the
+/// sample rate imu.rate_hz (acc_n = nd / sqrt(dt / 2), acc_w = rw / sqrt(dt), dt = 1/rate).
+VinsImuNoise vinsNoiseFromImuOptions(const ImuOptions& imu);
+
+/// What a VINS-RGBD user has for a sensor: the calibration file (OpenCV "%YAML:1.0") of the
+/// published dataset's layout, with the topics of that layout (SPEC section 6), the camera,
+/// the extrinsic (camera in the IMU frame), the IMU noise of `imu` as VINS per-sample values
+/// and `td` [s] (t_imu = t_cam + td). readVinsYaml reads it back to the same values (the
+/// numbers are written in round-trip precision).
+std::string vinsYamlText(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_cam,
+                         const ImuOptions& imu, double td);
+
 /// The rgbdi configuration text ([camera] [imu] [extrinsic]) for `v` with the IMU sampled at
 /// `imu_rate_hz`; `rate_note` says where that rate comes from. The text is loaded back through
 /// the option loaders before it is returned; throws ConfigError naming the yaml when a value is

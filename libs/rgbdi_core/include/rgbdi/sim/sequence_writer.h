@@ -12,6 +12,9 @@
 //   DIR/simulation.ini         every setting used ([sim] [camera] [extrinsic]; pass it back as
 //                              --config to regenerate the sequence) and the true initial biases
 //   DIR/sequence.bag           optional ROS1 bag in the published dataset layout
+//   DIR/vins_config.yaml       with the bag: its VINS-RGBD calibration file (camera, extrinsic,
+//                              the config.ini IMU noise as VINS values, td 0), which
+//                              `rawlog-convert --camera-yaml` turns into an rgbdi configuration
 //
 // Rawlog and bag are written under temporary names and renamed when complete.
 #pragma once
@@ -42,11 +45,13 @@ struct SequenceWriteSummary {
   std::size_t frames = 0, imu_samples = 0;
   double wall_time_s = 0.0;
   std::string rawlog_path, bag_path, groundtruth_path, groundtruth_cam_path, config_path,
-      simulation_path;
+      simulation_path, vins_config_path;
 };
 
 /// The content of DIR/config.ini for a sequence (see above).
 std::string slamConfigText(const SimulatedSequence& sequence);
+/// The content of DIR/vins_config.yaml for a sequence (see above).
+std::string vinsConfigText(const SimulatedSequence& sequence);
 /// The content of DIR/simulation.ini for a sequence (see above).
 std::string simulationSettingsText(const SimulatedSequence& sequence);
 

@@ -9,6 +9,7 @@
 
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/common/ini_text.h"
+#include "rgbdi/convert/vins_yaml.h"
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/output/tum_writer.h"
 
@@ -134,6 +135,21 @@ std::string slamConfigText(const SimulatedSequence& seq) {
   return os.str();
 }
 
+std::string vinsConfigText(const SimulatedSequence& seq) {
+  const SimOptions& o = seq.options();
+  // The IMU noise of config.ini (slamConfigText): the truth inflated.
+  const double k = o.config_noise_inflation;
+  ImuOptions imu;
+  imu.rate_hz = o.imu.rate_hz;
+  imu.gravity_m_s2 = o.imu.gravity_m_s2;
+  imu.acc_noise_density = k * o.imu.acc_noise_density;
+  imu.gyr_noise_density = k * o.imu.gyr_noise_density;
+  imu.acc_random_walk = k * o.imu.acc_random_walk;
+  imu.gyr_random_walk = k * o.imu.gyr_random_walk;
+  // td 0, as in config.ini: a user does not know the offset.
+  return convert::vinsYamlText(o.camera.camera, o.extrinsic.T_body_cam, imu, 0.0);
+}
+
 std::string simulationSettingsText(const SimulatedSequence& seq) {
   const SimOptions& o = seq.options();
   const ProfileOptions& p = o.profile;
@@ -218,12 +234,19 @@ SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::stri
   s.groundtruth_cam_path = (dir / "groundtruth_cam.tum").string();
   s.config_path = (dir / "config.ini").string();
   s.simulation_path = (dir / "simulation.ini").string();
-  if (options.write_bag) s.bag_path = (dir / "sequence.bag").string();
+  if (options.write_bag) {
+    s.bag_path = (dir / "sequence.bag").string();
+    s.vins_config_path = (dir / "vins_config.yaml").string();
+  }
 
   // Small files first: they document the run even if it is interrupted.
   const std::string config = slamConfigText(seq), settings = simulationSettingsText(seq);
   writeFileAtomically(s.config_path, [&](std::ostream& os) { os << config; });
   writeFileAtomically(s.simulation_path, [&](std::ostream& os) { os << settings; });
+  if (options.write_bag) {
+    const std::string vins = vinsConfigText(seq);
+    writeFileAtomically(s.vins_config_path, [&](std::ostream& os) { os << vins; });
+  }
   output::writeTum(s.groundtruth_path, seq.bodyTrajectory(),
                    "ground truth: body (IMU) frame in the world frame; IMU clock (the rawlog's "
                    "IMU stamps; image stamps are t_imu - [sim] time_offset_s)");
