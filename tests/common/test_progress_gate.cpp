@@ -12,12 +12,12 @@ namespace {
 
 TEST(ProgressGate, TerminalPrintsOncePerInterval) {
   ProgressGate g(true, 1.0);
-  EXPECT_FALSE(g.due(0.0, 5.0));   // starts the clock
-  EXPECT_FALSE(g.due(0.5, 5.9));   // 0.9 s later
-  EXPECT_TRUE(g.due(0.5, 6.0));    // one interval
+  EXPECT_FALSE(g.due(0.0, 5.0));  // starts the clock
+  EXPECT_FALSE(g.due(0.5, 5.9));  // 0.9 s later
+  EXPECT_TRUE(g.due(0.5, 6.0));   // one interval
   EXPECT_FALSE(g.due(0.6, 6.5));
   EXPECT_TRUE(g.due(0.6, 7.25));
-  EXPECT_TRUE(g.due(0.6, 9.0));    // the fraction does not matter on a terminal
+  EXPECT_TRUE(g.due(0.6, 9.0));  // the fraction does not matter on a terminal
 }
 
 TEST(ProgressGate, LogPrintsEachTenthOnceWhateverTheWallTime) {
@@ -36,9 +36,9 @@ TEST(ProgressGate, LogSkipsTenthsJumpedOverAndIgnoresUnknownFractions) {
   EXPECT_FALSE(g.due(0.0999, 0.0));
   EXPECT_TRUE(g.due(0.35, 0.0));  // from nothing to 35 %: one line, not three
   EXPECT_FALSE(g.due(0.39, 0.0));
-  EXPECT_TRUE(g.due(0.7, 0.0));  // 0.7 / 0.1 = 6.999999999999999: still the 70 % step
-  EXPECT_FALSE(g.due(0.2, 0.0));       // going back prints nothing
-  EXPECT_TRUE(g.due(7.0, 0.0));        // clamped to 100 %
+  EXPECT_TRUE(g.due(0.7, 0.0));   // 0.7 / 0.1 = 6.999999999999999: still the 70 % step
+  EXPECT_FALSE(g.due(0.2, 0.0));  // going back prints nothing
+  EXPECT_TRUE(g.due(7.0, 0.0));   // clamped to 100 %
   EXPECT_FALSE(g.due(1.0, 0.0));
 }
 

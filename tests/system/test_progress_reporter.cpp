@@ -55,8 +55,8 @@ class ReaderAhead : public ::testing::Test {
   SlamProgress odometry;
   double read_fraction = 1.0;
   std::ostringstream os;
-  ProgressReporter reporter{sink, [this] { return odometry; }, os, false, 3600.0,
-                            [this] { return read_fraction; }};
+  ProgressReporter reporter{sink,   [this] { return odometry; },     os, false,
+                            3600.0, [this] { return read_fraction; }};
 };
 
 TEST_F(ReaderAhead, LineFollowsTheOdometryNotTheReader) {
@@ -94,8 +94,8 @@ TEST_F(ReaderAhead, EndOfStreamShowsAllOrWhereTheReaderStopped) {
   // Ctrl-C after 4 s of a stream the reader had read a fifth of: 20 %.
   CountingSink sink2;
   std::ostringstream os2;
-  ProgressReporter stopped(sink2, [this] { return odometry; }, os2, false, 3600.0,
-                           [] { return 0.2; });
+  ProgressReporter stopped(
+      sink2, [this] { return odometry; }, os2, false, 3600.0, [] { return 0.2; });
   readStream(stopped);
   stopped.endOfStream();
   EXPECT_EQ(os2.str().rfind("\r[rgbdi-slam] 20.0 %, 41 frames, ", 0), 0u) << os2.str();
