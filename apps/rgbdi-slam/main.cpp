@@ -2,6 +2,7 @@
 // (--input) or on live sensors described by a sensors INI (--live). Options are parsed by
 // rgbdi::CommandLine (the tools' shared parser); the runs are system::runSlam / runLive.
 #include <malloc.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <csignal>
@@ -122,6 +123,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     throw rgbdi::UsageError("--load-map needs loop closure (relocalisation is a loop to the map)");
   o.map.save = !no_save_map;
   o.threaded = !a.sequential;
+  o.progress_interactive = ::isatty(STDERR_FILENO) != 0;
   l.map = o.map;
   l.out_dir = o.out_dir;
   l.config_path = o.config_path;

@@ -3,6 +3,7 @@
 // queues; known answers of odometryFraction and the printed line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -99,6 +100,39 @@ TEST_F(ReaderAhead, EndOfStreamShowsAllOrWhereTheReaderStopped) {
   readStream(stopped);
   stopped.endOfStream();
   EXPECT_EQ(os2.str().rfind("\r[rgbdi-slam] 20.0 %, 41 frames, ", 0), 0u) << os2.str();
+}
+
+TEST(ProgressReporter, ALogGetsOneLinePerTenthOfTheStreamAndTheFinalOneOnce) {
+  // stderr redirected to a file: lines of their own (no '\r'), one per tenth however short the
+  // interval, as rgbdi-sim and rawlog-convert do; before, a '\r' line every interval.
+  CountingSink sink;
+  SlamProgress odometry;  // keeps up with the reader
+  double read_fraction = 0.0;
+  std::ostringstream os;
+  ProgressReporter r(
+      sink, [&] { return odometry; }, os, false, 1e-9, [&] { return read_fraction; });
+  r.setInteractive(false);
+  for (int i = 0; i <= 400; ++i) {
+    ImuSample s;
+    s.t = 0.01 * i;
+    r.feedImu(s);
+    read_fraction = i / 400.0;
+    if (i % 10 == 0) {
+      RgbdFrame f;
+      f.t = s.t;
+      odometry.frames = static_cast<std::size_t>(i / 10 + 1);
+      odometry.last_frame_t = f.t;
+      r.feedRgbd(f);
+    }
+  }
+  r.endOfStream();
+  const std::string log = os.str();
+  EXPECT_EQ(log.find('\r'), std::string::npos) << log;
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 10) << log;
+  EXPECT_EQ(log.rfind("[rgbdi-slam] 10.0 %, 5 frames, ", 0), 0u) << log;
+  EXPECT_NE(log.find("\n[rgbdi-slam] 100.0 %, 41 frames, "), std::string::npos) << log;
+  r.endLine();  // nothing left to end
+  EXPECT_EQ(os.str(), log);
 }
 
 }  // namespace

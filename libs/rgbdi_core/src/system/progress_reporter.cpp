@@ -24,6 +24,7 @@ ProgressReporter::ProgressReporter(MeasurementSink& sink, std::function<SlamProg
       fraction_(std::move(fraction)),
       start_(Clock::now()),
       last_(start_),
+      log_gate_(false, interval_s > 0.0 ? interval_s : 1.0),
       t0_(NAN),
       t_last_(NAN) {}
 
@@ -41,6 +42,8 @@ double ProgressReporter::odometryFraction(double t0, double t_odometry, double t
 void ProgressReporter::setLiveStatus(std::function<std::string()> status) {
   live_status_ = std::move(status);
 }
+
+void ProgressReporter::setInteractive(bool interactive) { interactive_ = interactive; }
 
 void ProgressReporter::feedImu(const ImuSample& imu) {
   if (std::isnan(t0_)) t0_ = imu.t;
@@ -70,17 +73,24 @@ void ProgressReporter::update(bool force) {
   last_ = now;
   const double wall = std::chrono::duration<double>(now - start_).count();
   const SlamProgress p = snapshot_();
+  // At the end the odometry has processed all that was read: the whole input, or up to where a
+  // Ctrl-C stopped the reader.
+  const double read = fraction_ ? fraction_() : 0.0;
+  const double fraction =
+      ended_ && read >= 1.0 ? 1.0 : odometryFraction(t0_, p.last_frame_t, t_last_, read);
+  const bool log_lines = !interactive_ && !live_status_;
+  if (log_lines) {
+    // A line per tenth; the final one unless that tenth's line said the same.
+    const bool due = log_gate_.due(fraction, wall);
+    if (!due && !(force && fraction != logged_fraction_)) return;
+    logged_fraction_ = fraction;
+  }
   std::ostringstream line;
-  line << std::fixed << std::setprecision(1) << "\r[rgbdi-slam] ";
+  line << std::fixed << std::setprecision(1) << (log_lines ? "" : "\r") << "[rgbdi-slam] ";
   if (live_status_) {
     line << "live " << wall << " s, " << estimator::toString(p.status) << ", " << p.keyframes
          << " keyframes, " << p.loops_accepted << " loops, " << live_status_();
   } else {
-    // At the end the odometry has processed all that was read: the whole input, or up to
-    // where a Ctrl-C stopped the reader.
-    const double read = fraction_ ? fraction_() : 0.0;
-    const double fraction =
-        ended_ && read >= 1.0 ? 1.0 : odometryFraction(t0_, p.last_frame_t, t_last_, read);
     line << 100.0 * fraction << " %, " << p.frames << " frames, "
          << (wall > 0 ? p.frames / wall : 0.0) << " frames/s, ETA ";
     if (fraction > 0.01)
@@ -94,7 +104,11 @@ void ProgressReporter::update(bool force) {
          << p.loops_accepted << " loops";
   }
   if (p.map_state != MapState::kNoMap) line << ", map: " << toString(p.map_state);
-  line << "   ";
+  if (log_lines) {
+    os_ << line.str() << "\n" << std::flush;  // a line of its own: nothing to end later
+    return;
+  }
+  line << "   ";  // covers the end of a longer previous line
   os_ << line.str() << std::flush;
   on_screen_ = true;
 }

@@ -9,6 +9,10 @@
 // stream when the odometry was at 74 %), so the percentage, frame count, rate and ETA follow the
 // odometry: the stamp of the last frame it finished against the stream's span, and the frames it
 // finished per second of wall time. "stream" is the stream time the odometry has reached.
+//
+// A log that is not a terminal (setInteractive(false)) keeps every line: there an offline run
+// prints one line per tenth of the stream (ProgressGate) and the final one, each ended by '\n',
+// as rgbdi-sim and rawlog-convert do. A live run has no fraction and keeps its redrawn line.
 #pragma once
 
 #include <chrono>
@@ -17,6 +21,7 @@
 #include <string>
 
 #include "rgbdi/common/measurement_sink.h"
+#include "rgbdi/common/progress_gate.h"
 #include "rgbdi/system/slam_system.h"
 
 namespace rgbdi::system {
@@ -33,6 +38,8 @@ class ProgressReporter : public MeasurementSink {
   /// Live mode: the line shows the wall time since the start and `status()` instead of the
   /// percentage and the ETA. `status` is called from the feeding thread.
   void setLiveStatus(std::function<std::string()> status);
+  /// false: the stream is a log, not a terminal (see above). Default true.
+  void setInteractive(bool interactive);
 
   void feedImu(const ImuSample& imu) override;
   void feedRgbd(const RgbdFrame& frame) override;
@@ -64,6 +71,9 @@ class ProgressReporter : public MeasurementSink {
   std::function<double()> fraction_;
   std::function<std::string()> live_status_;
   Clock::time_point start_, last_;
+  bool interactive_ = true;
+  ProgressGate log_gate_;          ///< when a log line is due (not interactive)
+  double logged_fraction_ = -1.0;  ///< of the last log line (-1: none)
   bool on_screen_ = false;
   bool ended_ = false;  ///< endOfStream has returned: the odometry has processed all it read
   double t0_, t_last_;
