@@ -4,6 +4,8 @@
 // Simulates an RGB-D-inertial sequence (doc/simulator.md) and writes it to DIR. Exit codes:
 // 0 ok, 1 error (files, a sequence that cannot be made), 2 bad usage or configuration,
 // 130 interrupted (Ctrl-C). Options are parsed by rgbdi::CommandLine.
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -251,6 +253,7 @@ int main(int argc, char** argv) {
     wo.write_bag = args.bag;
     wo.external_images = !args.embedded_images;
     wo.progress = &std::cerr;
+    wo.progress_interactive = ::isatty(STDERR_FILENO) != 0;
     const rgbdi::sim::SequenceWriteSummary s =
         rgbdi::sim::writeSequence(sequence, args.out, wo, &g_stop);
     if (!s.completed) {

@@ -2,6 +2,7 @@
 // (--input) or on live sensors described by a sensors INI (--live). Options are parsed by
 // rgbdi::CommandLine (the tools' shared parser); the runs are system::runSlam / runLive.
 #include <malloc.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <csignal>
@@ -63,7 +64,10 @@ const char* const kUsage =
     "Ctrl-C (or SIGTERM) stops reading and still writes all outputs for the part processed.\n"
     "Status 3 also ends a --live run whose sensor stopped (camera gone: no frame for\n"
     "live_camera_timeout_s, sensor failure, overload); the outputs of the part received are\n"
-    "written. A --live run stopped by --duration or the end of a replay ends with 0.\n";
+    "written. A --live run stopped by --duration or the end of a replay ends with 0.\n"
+    "Status 4: the run estimated no pose (no colour+depth frame could be read, no IMU sample,\n"
+    "or the odometry never initialised): one line on stderr says why, summary.json\n"
+    "(no_pose_reason) too, and no other output is written.\n";
 
 struct Arguments {
   rgbdi::system::SlamRunOptions offline;
@@ -119,6 +123,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     throw rgbdi::UsageError("--load-map needs loop closure (relocalisation is a loop to the map)");
   o.map.save = !no_save_map;
   o.threaded = !a.sequential;
+  o.progress_interactive = ::isatty(STDERR_FILENO) != 0;
   l.map = o.map;
   l.out_dir = o.out_dir;
   l.config_path = o.config_path;
@@ -132,11 +137,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
 int runOffline(rgbdi::system::SlamRunOptions& opt) {
   opt.stop = &g_stop;
   const nlohmann::json summary = rgbdi::system::runSlam(opt, std::cerr);
-  if (summary["stream_diagnostics"].value("refused", false))
-    return rgbdi::kExitError;  // nothing usable was delivered
-  if (!summary["read_error"].is_null())
-    return g_stop.load() ? rgbdi::kExitInterrupted : rgbdi::kExitDamaged;  // outputs written
-  return g_stop.load() ? rgbdi::kExitInterrupted : rgbdi::kExitOk;
+  return rgbdi::system::offlineExitStatus(summary, g_stop.load());  // stop read after the run
 }
 
 int runLive(rgbdi::system::LiveRunOptions& opt) {

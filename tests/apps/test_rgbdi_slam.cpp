@@ -10,8 +10,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <vector>
 
 #include "rgbdi/eval/tum_reader.h"
+#include "rgbdi/io/rawlog_source.h"
+#include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/output/pose_graph.h"
 #include "testing/fixtures.h"
 
@@ -204,19 +207,86 @@ TEST(RgbdiSlam, ARunThatNeverInitialisesSaysWhyOnTheConsoleAndInTheSummary) {
   EXPECT_EQ(runCommand(binDir() + "/rgbdi-slam --quiet --input " + sequenceDir() +
                            "/sequence.rawlog --config " + cfg + " --out " + out + "/run",
                        &log),
-            0);
+            4);  // no pose estimated
   const std::string said =
       "no pose was estimated: the odometry never initialised; it waited for: moving start: IMU "
       "and visual motion disagree (alignment residual above init_max_alignment_rms";
   EXPECT_NE(log.find(said), std::string::npos) << log;
   const auto summary = readJson(out + "/run/summary.json");
   EXPECT_EQ(summary["poses"].get<int>(), 0);
+  EXPECT_EQ(summary["no_pose_reason"].get<std::string>().rfind(
+                "the odometry never initialised; it waited for: moving start: ", 0),
+            0u);
   int waits = 0;
   for (const auto& [reason, n] : summary["initialisation_waits"].items()) {
     EXPECT_EQ(reason.rfind("moving start: ", 0), 0u) << reason;  // the static start is off
     waits += n.get<int>();
   }
   EXPECT_EQ(waits, summary["frames"].get<int>());
+}
+
+TEST(RgbdiSlam, ARunWithoutAnyPoseExitsWithStatus4AndNamesTheCause) {
+  // Three inputs a user may meet: an empty rawlog, one without IMU samples, and one whose
+  // external images folder is missing. Each run exits with status 4, says why in one line (the
+  // cause, not the odometry's waits), stores the reason in summary.json and writes nothing else:
+  // before, each exited 0 and listed twelve empty outputs.
+  const std::string dir = makeTempDir("rgbdi_slam_nopose");
+  const std::string seq = sequenceDir();
+
+  const std::string empty = dir + "/empty.rawlog";
+  std::ofstream(empty).close();
+
+  const std::string no_imu = dir + "/no_imu/no_imu.rawlog";
+  {
+    fs::create_directories(dir + "/no_imu");
+    rgbdi::io::RawlogSource src(seq + "/sequence.rawlog");
+    rgbdi::io::RawlogWriterOptions wo;
+    wo.external_images = true;
+    rgbdi::io::RawlogWriter writer(no_imu, wo);
+    rgbdi::io::Measurement m;
+    int frames = 0;
+    while (frames < 60 && src.next(m)) {
+      if (rgbdi::io::isImu(m)) continue;
+      writer.write(std::get<rgbdi::RgbdFrame>(m));
+      ++frames;
+    }
+    writer.close();
+  }
+
+  const std::string no_images = dir + "/no_images/sequence.rawlog";  // without sequence_Images/
+  fs::create_directories(dir + "/no_images");
+  fs::copy_file(seq + "/sequence.rawlog", no_images);
+
+  struct Case {
+    std::string input, reason;
+  };
+  const std::vector<Case> cases = {
+      {empty, "the input has no colour+depth frame (CObservation3DRangeScan)"},
+      {no_imu, "the input has no IMU samples (CObservationIMU): the odometry needs them to start"},
+      {no_images,
+       "no colour+depth frame could be read: 601 observations were unusable, the "
+       "rawlog's external images folder does not exist (looked for " +
+           dir + "/no_images/sequence_Images and " + dir + "/no_images/Images)"}};
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string out = dir + "/run" + std::to_string(i);
+    std::string log;
+    EXPECT_EQ(
+        runCommand(binDir() + "/rgbdi-slam --quiet --input " + cases[i].input + " --out " + out,
+                   &log),
+        4)
+        << log;
+    EXPECT_NE(log.find("rgbdi-slam: no pose was estimated: " + cases[i].reason), std::string::npos)
+        << log;
+    EXPECT_EQ(log.find("no frame reached a start"), std::string::npos) << log;
+    EXPECT_NE(log.find("Outputs:\n  " + out + "/summary.json\n"), std::string::npos) << log;
+    const auto summary = readJson(out + "/summary.json");
+    EXPECT_EQ(summary["poses"].get<int>(), 0);
+    EXPECT_EQ(summary["no_pose_reason"].get<std::string>().rfind(cases[i].reason, 0), 0u)
+        << summary["no_pose_reason"];
+    std::set<std::string> written;
+    for (const auto& e : fs::directory_iterator(out)) written.insert(e.path().filename().string());
+    EXPECT_EQ(written, std::set<std::string>{"summary.json"}) << log;
+  }
 }
 
 TEST(RgbdiSlam, VersionPrintsTheVersionLineAndExitsZero) {

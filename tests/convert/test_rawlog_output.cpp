@@ -6,6 +6,7 @@
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "rgbdi/convert/progress_meter.h"
@@ -120,12 +121,27 @@ TEST(ProgressMeter, LineShowsFractionMegabytesRateAndEta) {
   EXPECT_EQ(ProgressMeter::line("x", 1.0, 1000000, 2.0),
             "x: [####################] 100.0 %  1.0/1.0 MB  0.5 MB/s  2.0 s");
   std::ostringstream os;
-  ProgressMeter meter(&os, false, 3600.0, 1000000);
-  meter.update(0.5);  // within the interval: nothing printed
+  ProgressMeter meter(&os, true, 3600.0, 1000000);
+  meter.update(0.5);  // a terminal, within the interval: nothing printed
   EXPECT_TRUE(os.str().empty());
   meter.update(1.0);
   meter.finish();
+  EXPECT_EQ(os.str().rfind("\r", 0), 0u) << os.str();  // redrawn in place
   EXPECT_NE(os.str().find("100.0 %"), std::string::npos) << os.str();
+}
+
+TEST(ProgressMeter, LogGetsOneLinePerTenthWhateverTheInterval) {
+  // stderr redirected to a file: a line per tenth of the input, however short the interval
+  // (one line per interval filled logs of long conversions); no copy of the last line.
+  std::ostringstream os;
+  ProgressMeter meter(&os, false, 0.05, 1000000);
+  for (int i = 0; i <= 1000; ++i) meter.update(i / 1000.0);
+  meter.finish();
+  const std::string log = os.str();
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 10) << log;
+  EXPECT_EQ(log.find('\r'), std::string::npos) << log;
+  EXPECT_EQ(log.rfind("rawlog-convert: [##------------------]  10.0 %", 0), 0u) << log;
+  EXPECT_NE(log.find(" 100.0 %"), std::string::npos) << log;
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
 
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -87,7 +89,17 @@ TEST(OccupancyMap, MapBtIsReadBackByOctomapWithTheSameCells) {
   T.translation() = Eigen::Vector3d(0.3, 0.0, -0.5);
   map.insert(planeFrame(2500), T);
   const std::string path = rgbdi::test::makeTempDir("rgbdi_bt") + "/map.bt";
+  // Nothing on the console (OctoMap's own writer prints " done." on stderr: rgbdi-slam printed
+  // it once per .bt file after its progress line), and the bytes of OctoMap's own writer.
+  testing::internal::CaptureStderr();
   map.write(path);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  std::ostringstream octomap_bytes;
+  testing::internal::CaptureStderr();
+  ASSERT_TRUE(map.tree().writeBinaryConst(octomap_bytes));
+  testing::internal::GetCapturedStderr();
+  std::ifstream written(path, std::ios::binary);
+  EXPECT_TRUE(std::string(std::istreambuf_iterator<char>(written), {}) == octomap_bytes.str());
   octomap::OcTree read(0.1);
   ASSERT_TRUE(read.readBinary(path));
   EXPECT_DOUBLE_EQ(read.getResolution(), 0.05);

@@ -5,6 +5,7 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -69,12 +70,19 @@ TEST(SequenceWriter, WritesReadableRawlogGroundTruthConfigAndBag) {
   wo.bag_compression = bag::Compression::Lz4;
   std::ostringstream progress;
   wo.progress = &progress;
+  // Not a terminal (a log): one line per tenth of the frames however short the interval (one
+  // per interval filled logs), the last one once.
+  wo.progress_interactive = false;
+  wo.progress_interval_s = 1e-6;
   const SequenceWriteSummary s = writeSequence(seq, dir, wo);
   ASSERT_TRUE(s.completed);
   EXPECT_EQ(s.frames, 37u);
   EXPECT_EQ(s.imu_samples, 1801u);
-  EXPECT_NE(progress.str().find("rgbdi-sim: frame 37/37 (100.0 %)"), std::string::npos)
-      << progress.str();
+  const std::string log = progress.str();
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 10) << log;
+  EXPECT_EQ(log.find('\r'), std::string::npos) << log;
+  EXPECT_EQ(log.rfind("rgbdi-sim: frame 4/37 (10.8 %)", 0), 0u) << log;
+  EXPECT_EQ(log.find("rgbdi-sim: frame 37/37 (100.0 %)"), log.rfind("rgbdi-sim: frame ")) << log;
   for (const char* f : {"sequence.rawlog", "groundtruth.tum", "groundtruth_cam.tum", "config.ini",
                         "simulation.ini", "sequence.bag"})
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;

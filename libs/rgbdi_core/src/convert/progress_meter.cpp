@@ -11,11 +11,10 @@ ProgressMeter::ProgressMeter(std::ostream* os, bool interactive, double interval
                              std::uint64_t total_bytes, std::string prefix)
     : os_(os),
       interactive_(interactive),
-      interval_s_(interval_s),
+      gate_(interactive, interval_s),
       total_(total_bytes),
       prefix_(std::move(prefix)),
-      start_(std::chrono::steady_clock::now()),
-      last_(start_) {}
+      start_(std::chrono::steady_clock::now()) {}
 
 std::string ProgressMeter::line(const std::string& prefix, double fraction,
                                 std::uint64_t total_bytes, double elapsed_s) {
@@ -48,20 +47,21 @@ void ProgressMeter::print(bool final) {
     *os_ << "\r" << l << "\x1b[K" << (final ? "\n" : "") << std::flush;
   else
     *os_ << l << "\n" << std::flush;
-  printed_ = true;
+  printed_fraction_ = fraction_;
 }
 
 void ProgressMeter::update(double fraction) {
   fraction_ = fraction;
   if (!os_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (std::chrono::duration<double>(now - last_).count() < interval_s_) return;
-  last_ = now;
-  print(false);
+  const double now_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (gate_.due(fraction, now_s)) print(false);
 }
 
 void ProgressMeter::finish() {
   if (!os_) return;
+  // A log that already holds the line of this point gets no copy of it.
+  if (!interactive_ && printed_fraction_ == fraction_) return;
   print(true);
 }
 

@@ -173,6 +173,7 @@ int liveExitStatus(const LiveRunResult& result) {
     return kExitError;
   if (isFault(result.stop_reason)) return kExitDamaged;  // outputs written
   if (result.stop_reason == LiveStopReason::Interrupted) return kExitInterrupted;
+  if (s.contains("no_pose_reason")) return kExitNoPose;
   return kExitOk;
 }
 

@@ -137,8 +137,19 @@ void OccupancyMap::clear() {
 
 void OccupancyMap::write(const std::string& path) const {
   writeFileAtomically(path, [&](std::ostream& os) {
-    if (!impl_->finish().writeBinaryConst(os))
-      throw IoError(path + ": OctoMap could not write the tree");
+    // OctoMap's writeBinaryConst writes this header and the nodes, then prints " done." on
+    // stderr (Debian's liboctomap is built with its debug messages on): one stray line per .bt
+    // file on the console. The header of the .bt format is written here and the nodes by
+    // writeBinaryData, which prints nothing; the bytes are writeBinaryConst's (test).
+    const octomap::OcTree& t = impl_->finish();
+    os << "# Octomap OcTree binary file\n"
+       << "# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+       << "id " << t.getTreeType() << "\n"
+       << "size " << t.size() << "\n"
+       << "res " << t.getResolution() << "\n"
+       << "data\n";
+    t.writeBinaryData(os);
+    if (!os.good()) throw IoError(path + ": OctoMap could not write the tree");
   });
 }
 

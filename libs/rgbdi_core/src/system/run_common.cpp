@@ -136,24 +136,25 @@ nlohmann::json finishRun(const SlamSystem& system, RunInfo run,
   saveRunMap(system, options, evaluation, run, log);
   run.map_loaded_from = options.map.load_dir;
   const Trajectory gt_in_est = groundTruthInEstimateFrame(gt, evaluation);
-  nlohmann::json outputs = writeSlamOutputs(
-      system, options.out_dir, gt_in_est.empty() ? nullptr : &gt_in_est, options.save_simplemap);
+  // Without a pose every trajectory, map and plot would be an empty file: only summary.json,
+  // which says why, is written.
+  const bool no_pose = system.frames().empty();
+  nlohmann::json outputs =
+      no_pose ? nlohmann::json::object()
+              : writeSlamOutputs(system, options.out_dir, gt_in_est.empty() ? nullptr : &gt_in_est,
+                                 options.save_simplemap);
   // CPU time of writing the map directory and every output file (summary.json itself excluded).
   const double output_ms = 1e3 * (threadCpuSeconds() - output_t0);
   const std::string summary_path = options.out_dir + "/summary.json";
   outputs["summary"] = summary_path;
   nlohmann::json summary = slamSummary(system, run, evaluation, outputs);
   summary["timing_ms_total"] = {{"output", output_ms}};
+  if (no_pose) summary["no_pose_reason"] = noPoseReason(run, summary["initialisation_waits"]);
   for (const auto& [key, value] : extra.items()) summary[key] = value;
   output::writeSummaryJson(summary_path, summary);
   log << formatRunReport(summary, evaluation, options.gt_path);
-  if (system.frames().empty())
-    log << "rgbdi-slam: no pose was estimated: "
-        << (run.frames == 0 ? "the input has no colour image"
-                            : "the odometry never initialised; it waited for: " +
-                                  initWaitsLine(summary["initialisation_waits"]) +
-                                  " (summary.json: initialisation_waits, resets, "
-                                  "stream_diagnostics)")
+  if (no_pose)
+    log << "rgbdi-slam: no pose was estimated: " << summary["no_pose_reason"].get<std::string>()
         << "\n";
   return summary;
 }

@@ -43,6 +43,7 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   SlamSystem system(cfg, so);
   ProgressReporter progress(system, log, opt.quiet, cfg.output.progress_interval_s,
                             [&] { return source->progress(); });
+  progress.setInteractive(opt.progress_interactive);
 
   RunInfo run;
   run.input = opt.input;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <set>
 #include <sstream>
@@ -237,6 +238,69 @@ std::string initWaitsLine(const nlohmann::json& waits) {
            (sorted[i].second == 1 ? " frame)" : " frames)");
   }
   return out;
+}
+
+namespace {
+/// True when a stream warning is about an externally stored image (MRPT's lazy-load files).
+bool mentionsExternalImages(const nlohmann::json& diagnostics) {
+  if (!diagnostics.is_object() || !diagnostics.contains("warnings")) return false;
+  for (const auto& w : diagnostics["warnings"])
+    if (w.is_string() && w.get<std::string>().find("external images folder") != std::string::npos)
+      return true;
+  return false;
+}
+}  // namespace
+
+std::string noPoseReason(const RunInfo& run, const nlohmann::json& waits) {
+  const nlohmann::json& d = run.stream_diagnostics;
+  const auto count = [&](const char* key) -> std::size_t {
+    return d.is_object() && d.contains(key) && d[key].is_number() ? d[key].get<std::size_t>() : 0;
+  };
+  const auto stream = [&](const char* kind, const char* key) -> double {
+    return d.is_object() && d.contains(kind) && d[kind].contains(key) ? d[kind][key].get<double>()
+                                                                      : 0.0;
+  };
+  const auto imuSamples = [&]() -> std::size_t {
+    return d.is_object() && d.contains("imu") ? d["imu"].value("delivered", std::size_t{0}) : 0;
+  };
+  if (run.frames == 0) {
+    if (run.interrupted) return "stopped (Ctrl-C) before the first colour+depth frame";
+    if (count("unusable") > 0) {
+      std::string why =
+          "no colour+depth frame could be read: " + std::to_string(count("unusable")) +
+          " observations were unusable";
+      // The usual cause: a rawlog copied or moved without its external images folder (the
+      // reader names the folder only when it found one; the per-frame messages say 'external').
+      if (d.value("images_directory", std::string()).empty() && mentionsExternalImages(d)) {
+        namespace fs = std::filesystem;
+        fs::path stem = fs::path(run.input).filename();
+        if (stem.extension() == ".gz") stem = stem.stem();
+        if (stem.extension() == ".rawlog") stem = stem.stem();
+        const fs::path dir = fs::path(run.input).parent_path();
+        why += ", the rawlog's external images folder does not exist (looked for " +
+               (dir / (stem.string() + "_Images")).string() + " and " + (dir / "Images").string() +
+               ")";
+      }
+      return why + " (listed above; summary.json: stream_diagnostics)";
+    }
+    return "the input has no colour+depth frame (CObservation3DRangeScan)";
+  }
+  if (imuSamples() == 0)
+    return "the input has no IMU samples (CObservationIMU): the odometry needs them to start";
+  if (waits.empty()) {
+    // Both kinds present, yet no frame reached a start: their times do not overlap.
+    const double imu0 = stream("imu", "first_t"), imu1 = stream("imu", "last_t");
+    const double img0 = stream("images", "first_t"), img1 = stream("images", "last_t");
+    if (imu1 < img0 || img1 < imu0) {
+      std::ostringstream os;
+      os << std::fixed << std::setprecision(3) << "the IMU samples (" << imu0 << " .. " << imu1
+         << " s) and the colour+depth frames (" << img0 << " .. " << img1
+         << " s) do not overlap in time";
+      return os.str();
+    }
+  }
+  return "the odometry never initialised; it waited for: " + initWaitsLine(waits) +
+         " (summary.json: initialisation_waits, resets, stream_diagnostics)";
 }
 
 std::string formatRunReport(const nlohmann::json& s, const RunEvaluation& ev,

@@ -193,6 +193,7 @@ void SlamSystem::handleMeasurement(OdometryInput& in) {
       vio_.feedRgbd(frame);
     }
     progress_frames_.store(vio_.framesReceived());
+    progress_frame_t_.store(frame.t);
     progress_status_.store(static_cast<int>(vio_.status()));
   }
 }
@@ -349,6 +350,7 @@ void SlamSystem::handleMap(MapPacket& p) {
 SlamProgress SlamSystem::progress() const {
   SlamProgress s;
   s.frames = progress_frames_.load();
+  s.last_frame_t = progress_frame_t_.load();
   s.keyframes = progress_keyframes_.load();
   s.loops_accepted = progress_loops_.load();
   s.status = static_cast<estimator::EstimatorStatus>(progress_status_.load());

@@ -20,6 +20,7 @@ constexpr int kExitOk = 0;       ///< success (warnings included)
 constexpr int kExitError = 1;    ///< unreadable input, failed run, output not written
 constexpr int kExitUsage = 2;    ///< bad command line or configuration
 constexpr int kExitDamaged = 3;  ///< damaged input, processed up to the damage, outputs written
+constexpr int kExitNoPose = 4;   ///< rgbdi-slam: the run estimated no pose (summary.json says why)
 constexpr int kExitInterrupted = 130;  ///< Ctrl-C; what was processed is written
 
 /// The "Exit status:" paragraph every --help ends with.

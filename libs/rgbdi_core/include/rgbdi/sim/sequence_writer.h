@@ -35,8 +35,11 @@ struct SequenceWriterOptions {
   /// a bag delivers them: nothing to decode; 1.5 MB per 640x480 frame).
   bool external_images = true;
   bag::Compression bag_compression = bag::Compression::None;
-  /// Where the progress line goes (nullptr: silent), and how often [s of wall-clock time].
+  /// Where the progress line goes (nullptr: silent). On a terminal (`progress_interactive`) it
+  /// is redrawn in place every progress_interval_s [s of wall-clock time]; otherwise one line
+  /// per tenth of the frames at most (ProgressGate).
   std::ostream* progress = nullptr;
+  bool progress_interactive = false;
   double progress_interval_s = 1.0;
 };
 

@@ -57,7 +57,7 @@ struct LiveRunResult {
 LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log);
 /// rgbdi-slam's exit status of a finished live run: kExitError when the stream was refused,
 /// kExitDamaged after a sensor fault (outputs written), kExitInterrupted after Ctrl-C / SIGTERM,
-/// else kExitOk (--duration, the end of a replay).
+/// kExitNoPose when no pose was estimated, else kExitOk (--duration, the end of a replay).
 int liveExitStatus(const LiveRunResult& result);
 
 }  // namespace rgbdi::system

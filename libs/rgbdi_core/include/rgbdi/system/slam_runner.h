@@ -20,6 +20,9 @@ struct SlamRunOptions {
   bool no_depth = false;    ///< monocular baseline
   bool no_loop = false;     ///< loop closure off (overrides [loop] enable)
   bool quiet = false;       ///< no progress line
+  /// The log is a terminal: the progress line is redrawn in place; otherwise one line per tenth
+  /// of the stream (ProgressReporter::setInteractive).
+  bool progress_interactive = true;
   bool save_simplemap = false;  ///< also write keyframes.simplemap (keyframe observations + poses)
   bool threaded = true;  ///< stages on their own threads (false: sequential, identical outputs)
   MapRunOptions map;     ///< --load-map, --localize-only, --no-save-map

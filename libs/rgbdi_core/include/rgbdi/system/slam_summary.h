@@ -53,6 +53,12 @@ nlohmann::json slamSummary(const SlamSystem& system, const RunInfo& run,
 /// "reason (N frames)" joined by "; " (most frequent first, equal counts in text order).
 std::string initWaitsLine(const nlohmann::json& waits);
 
+/// Why a run estimated no pose, for the console and summary.json "no_pose_reason": the first
+/// missing ingredient (no colour+depth frame read and why, no IMU sample, IMU and frames at
+/// different times) before the reasons the odometry waited (`waits`, "initialisation_waits").
+/// Reads run.frames, run.interrupted and run.stream_diagnostics.
+std::string noPoseReason(const RunInfo& run, const nlohmann::json& waits);
+
 /// Accuracy lines (the three trajectories side by side) and the closing lines of the report.
 std::string formatRunReport(const nlohmann::json& summary, const RunEvaluation& evaluation,
                             const std::string& gt_path);

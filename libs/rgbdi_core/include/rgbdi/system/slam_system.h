@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -77,7 +78,10 @@ const char* toString(MapState s);
 
 /// A snapshot for progress lines (safe to take from any thread while the system runs).
 struct SlamProgress {
-  std::size_t frames = 0;
+  std::size_t frames = 0;  ///< frames the odometry has finished
+  /// [s] stamp of the last frame the odometry finished (NaN: none yet). The reader runs ahead of
+  /// the odometry behind bounded queues: this, not the reader's position, is the run's progress.
+  double last_frame_t = std::numeric_limits<double>::quiet_NaN();
   std::size_t keyframes = 0;
   std::size_t loops_accepted = 0;
   estimator::EstimatorStatus status = estimator::EstimatorStatus::kInitializing;
@@ -219,6 +223,7 @@ class SlamSystem : public MeasurementSink {
   std::atomic<std::size_t> progress_frames_{0}, progress_keyframes_{0}, progress_loops_{0};
   std::atomic<int> progress_status_{0};
   std::atomic<int> progress_map_state_{0};
+  std::atomic<double> progress_frame_t_{std::numeric_limits<double>::quiet_NaN()};
 
   // Feeding thread only: the preparer (threaded with images_prepared_ahead > 0) and, for each
   // prepared image not known to be tracked, the odometry stage's packet count once it is handled.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <ostream>
 
 namespace rgbdi::system {
@@ -12,5 +13,12 @@ namespace rgbdi::system {
 /// "TOOL: error: ..." and gives kExitUsage, like a bad option; any other exception is printed the
 /// same way and gives kExitError.
 int runReportingErrors(const char* tool, const std::function<int()>& run, std::ostream& err);
+
+/// The exit status of a finished --input run from its summary.json content and whether Ctrl-C /
+/// SIGTERM stopped it: kExitError when the stream was refused (nothing delivered);
+/// kExitInterrupted when stopped; kExitDamaged when the input ended in damage; kExitNoPose when
+/// no pose was estimated ("no_pose_reason"); else kExitOk. The first that applies wins, so a
+/// stopped or damaged run keeps its status whatever it estimated.
+int offlineExitStatus(const nlohmann::json& summary, bool stopped);
 
 }  // namespace rgbdi::system

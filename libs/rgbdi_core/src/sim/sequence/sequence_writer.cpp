@@ -9,6 +9,7 @@
 
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/common/ini_text.h"
+#include "rgbdi/common/progress_gate.h"
 #include "rgbdi/convert/vins_yaml.h"
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/output/tum_writer.h"
@@ -56,8 +57,8 @@ class WritingSink : public MeasurementSink {
         rawlog_(rawlog),
         bag_(bag),
         options_(options),
-        start_(Clock::now()),
-        last_progress_(start_) {}
+        gate_(options.progress_interactive, options.progress_interval_s),
+        start_(Clock::now()) {}
 
   void feedImu(const ImuSample& imu) override {
     rawlog_.write(imu);
@@ -84,26 +85,27 @@ class WritingSink : public MeasurementSink {
  private:
   void progress(bool final) {
     if (!options_.progress) return;
-    const Clock::time_point now = Clock::now();
-    if (!final &&
-        std::chrono::duration<double>(now - last_progress_).count() < options_.progress_interval_s)
-      return;
-    last_progress_ = now;
-    const double t = elapsed(), fps = frames_ / std::max(1e-9, t);
     const std::size_t total = seq_.frameCount();
+    const double fraction = static_cast<double>(frames_) / std::max<std::size_t>(1, total);
+    if (!final && (frames_ >= total || !gate_.due(fraction, elapsed())))
+      return;  // the last frame's line is the final one (endOfStream)
+    const double t = elapsed(), fps = frames_ / std::max(1e-9, t);
     std::ostringstream os;
     os << std::fixed << std::setprecision(1) << "rgbdi-sim: frame " << frames_ << "/" << total
-       << " (" << 100.0 * frames_ / std::max<std::size_t>(1, total) << " %), " << fps
-       << " frames/s, elapsed " << t << " s";
+       << " (" << 100.0 * fraction << " %), " << fps << " frames/s, elapsed " << t << " s";
     if (!final && fps > 0) os << ", about " << (total - frames_) / fps << " s left";
-    *options_.progress << os.str() << "\n" << std::flush;
+    if (options_.progress_interactive)
+      *options_.progress << "\r" << os.str() << "\x1b[K" << (final ? "\n" : "") << std::flush;
+    else
+      *options_.progress << os.str() << "\n" << std::flush;
   }
 
   const SimulatedSequence& seq_;
   io::RawlogWriter& rawlog_;
   bag::BagWriter* bag_;
   const SequenceWriterOptions& options_;
-  Clock::time_point start_, last_progress_;
+  ProgressGate gate_;
+  Clock::time_point start_;
   std::size_t frames_ = 0, imu_samples_ = 0;
 };
 
