@@ -21,6 +21,7 @@
 #include "rgbdi/common/measurement_sink.h"
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/common/types.h"
+#include "rgbdi/sim/exposure.h"
 #include "rgbdi/sim/imu_synth.h"
 #include "rgbdi/sim/profile_scene.h"
 #include "rgbdi/sim/profiles.h"
@@ -32,12 +33,13 @@ namespace rgbdi::sim {
 
 struct SimOptions {
   ProfileOptions profile;
-  ProfileSceneOptions scene;   ///< [sim] aliased_walls
+  ProfileSceneOptions scene;   ///< [sim] aliased_walls, world_seed, room and furniture keys
   ImuSynthOptions imu;         ///< the TRUE IMU noise
   CameraOptions camera;        ///< colour (= depth) camera, [camera]
   ExtrinsicOptions extrinsic;  ///< T_body_cam, [extrinsic] (its time_offset_s is not used)
   DepthNoiseOptions depth_noise;
   ColorNoiseOptions color_noise;
+  ExposureOptions exposure;  ///< auto-exposure gain of the colour image (default off)
   RenderOptions render;
   double fps = 30.0;             ///< [Hz]
   std::uint64_t seed = 1;        ///< noise and textures
@@ -64,10 +66,10 @@ struct SimOptions {
   double spin_duration_s = 0.0;  ///< [s] 0 = none
   double spin_turns = 1.0;       ///< [turns] negative: clockwise seen from above
 
-  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls,
+  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation,
   /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px, spin_start_s,
-  /// spin_duration_s, spin_turns and the keys of
-  /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
+  /// spin_duration_s, spin_turns and the keys of ProfileOptions, ProfileSceneOptions,
+  /// ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions, ExposureOptions), [camera] and
   /// [extrinsic]. The profile kind is not read (command line).
   static SimOptions load(IniReader& ini);
 };
@@ -114,7 +116,8 @@ class SimulatedSequence {
   double frameStamp(std::size_t i) const { return frameExposureTime(i) - options_.time_offset_s; }
   /// Whether frame i is exposed during the blackout.
   bool inBlackout(std::size_t i) const;
-  /// Renders frame i: colour with photometric noise, depth with D435-like noise in mm, both
+  /// Renders frame i: colour with the exposure gain and photometric noise, depth with D435-like
+  /// noise in mm, both
   /// cameras the configured colour camera (cam_color = cam_depth, depth aligned). A frame in
   /// the blackout is impaired as SimOptions::blackout_kind says.
   RgbdFrame renderFrame(std::size_t i) const;
@@ -145,6 +148,7 @@ class SimulatedSequence {
   std::unique_ptr<Scene> scene_;
   std::unique_ptr<ImuSynthesizer> imu_;
   std::unique_ptr<Renderer> renderer_;
+  std::unique_ptr<ExposureGain> exposure_;
   std::size_t frame_count_ = 0;
 };
 

@@ -41,6 +41,8 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.imu = ImuSynthOptions::load(ini);
   o.depth_noise = DepthNoiseOptions::load(ini);
   o.color_noise = ColorNoiseOptions::load(ini);
+  o.exposure = ExposureOptions::load(ini);
+  o.scene = ProfileSceneOptions::load(ini);
   o.camera = CameraOptions::load(ini);
   o.extrinsic = ExtrinsicOptions::load(ini);
   o.fps = ini.getDouble(s, "fps", o.fps, 1.0, 1000.0);
@@ -49,7 +51,6 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.start_time_s = ini.getDouble(s, "start_time_s", o.start_time_s, 1.0, 4.0e9);
   o.config_noise_inflation =
       ini.getDouble(s, "config_noise_inflation", o.config_noise_inflation, 1.0, 100.0);
-  o.scene.aliased_walls = ini.getBool(s, "aliased_walls", o.scene.aliased_walls);
   o.blackout_start_s = ini.getDouble(s, "blackout_start_s", o.blackout_start_s, 0.0, 1.0e6);
   o.blackout_duration_s =
       ini.getDouble(s, "blackout_duration_s", o.blackout_duration_s, 0.0, 1.0e6);
@@ -96,6 +97,7 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   // +x walls equally (otherwise one would be a darker copy of the other).
   if (options_.scene.aliased_walls) options_.render.light_dir_world.x() = 0.0;
   renderer_ = std::make_unique<Renderer>(*scene_, options_.camera.camera, options_.render);
+  exposure_ = std::make_unique<ExposureGain>(options_.exposure, options_.seed);
   frame_count_ =
       static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + 1e-9)) +
       1;
@@ -157,6 +159,8 @@ RgbdFrame SimulatedSequence::renderFrame(std::size_t i) const {
     cv::Mat depth_m;
     renderIdeal(i, f.rgb, depth_m);
     if (inBlackout(i)) impairColour(f.rgb);
+    if (!exposure_->constant())
+      applyExposureGain(f.rgb, exposure_->gain(frameExposureTime(i) - options_.start_time_s));
     // One generator per frame, seeded from (seed, frame): frames are independent of order.
     std::mt19937_64 rng(CounterRng(options_.seed, kFrameNoiseStream).bits(i));
     f.depth = applyDepthNoise(depth_m, options_.depth_noise, rng);
