@@ -176,8 +176,7 @@ TEST(WorldVariation, FurnitureLateralMaxBoundsTheFurnitureDistanceFromThePath) {
     const Scene s = buildProfileScene(prof, 7, o);
     double far = 0.0;
     for (std::uint32_t i = structure; i < s.primitiveCount(); ++i)
-      far = std::max(far,
-                     distanceToPath(prof.layout, s.primitiveBounds(i).center().head<2>()));
+      far = std::max(far, distanceToPath(prof.layout, s.primitiveBounds(i).center().head<2>()));
     return far;
   };
   const double c = prof.layout.path_clearance_m;

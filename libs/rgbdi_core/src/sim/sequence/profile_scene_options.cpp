@@ -21,9 +21,8 @@ ProfileSceneOptions ProfileSceneOptions::load(IniReader& ini) {
       ini.getInt(s, "world_seed", static_cast<int>(o.world_seed), 0, INT_MAX));
   o.room_margin_m = ini.getDouble(s, "room_margin_m", o.room_margin_m, 0.0, kMaxRoomMarginM);
   o.furniture_density = ini.getDouble(s, "furniture_density", o.furniture_density, 0.0, 1.0);
-  o.furniture_lateral_max_m =
-      ini.getDouble(s, "furniture_lateral_max_m", o.furniture_lateral_max_m, kMinFurnitureLateralM,
-                    kMaxFurnitureLateralM);
+  o.furniture_lateral_max_m = ini.getDouble(s, "furniture_lateral_max_m", o.furniture_lateral_max_m,
+                                            kMinFurnitureLateralM, kMaxFurnitureLateralM);
   o.texture_contrast = ini.getDouble(s, "texture_contrast", o.texture_contrast, 0.0, 1.0);
   if (!(o.texture_contrast > 0.0))
     ini.fail(s, "texture_contrast", "must be greater than 0 (at most 1)");

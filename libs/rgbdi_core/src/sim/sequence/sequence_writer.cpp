@@ -11,6 +11,7 @@
 #include "rgbdi/common/ini_text.h"
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/output/tum_writer.h"
+#include "sim/sequence/optional_settings.h"
 
 namespace rgbdi::sim {
 namespace {
@@ -198,27 +199,7 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   if (p.variant != 0)
     iniLine(os, "variant", std::to_string(p.variant),
             "[index] path variant in the same world (0 = the profile's path)");
-  // World variation and the exposure drift likewise only when set (defaults: earlier files).
-  const ProfileSceneOptions& w = o.scene;
-  const ProfileSceneOptions dw;
-  if (w.world_seed != dw.world_seed)
-    iniLine(os, "world_seed", std::to_string(w.world_seed), "[integer] furniture layout seed");
-  if (w.room_margin_m != dw.room_margin_m)
-    iniLine(os, "room_margin_m", iniNumber(w.room_margin_m), "[m] extra room around the path");
-  if (w.furniture_density != dw.furniture_density)
-    iniLine(os, "furniture_density", iniNumber(w.furniture_density),
-            "[probability] of each furniture slot");
-  if (w.furniture_lateral_max_m != dw.furniture_lateral_max_m)
-    iniLine(os, "furniture_lateral_max_m", iniNumber(w.furniture_lateral_max_m),
-            "[m] largest extra lateral furniture distance");
-  if (w.texture_contrast != dw.texture_contrast)
-    iniLine(os, "texture_contrast", iniNumber(w.texture_contrast), "(0, 1] texture contrast");
-  const ExposureOptions de;
-  if (o.exposure.gain_amplitude != de.gain_amplitude || o.exposure.period_s != de.period_s) {
-    iniLine(os, "exposure_gain_amplitude", iniNumber(o.exposure.gain_amplitude),
-            "[unitless] colour gain 1 +- this");
-    iniLine(os, "exposure_period_s", iniNumber(o.exposure.period_s), "[s] of the gain drift");
-  }
+  writeOptionalSimSettings(os, o);  // likewise: only settings that differ from the defaults
   os << "\n";
   cameraSection(os, o.camera);
   os << "\n";
