@@ -6,6 +6,7 @@
 
 #include "rgbdi/sim/depth_artefacts.h"
 #include "rgbdi/sim/sequence.h"
+#include "rgbdi/sim/sequence_writer.h"
 
 namespace rgbdi::sim {
 namespace {
@@ -90,7 +91,7 @@ TEST(DepthArtefacts, DarkSurfacesLoseDepthByTheirLuminance) {
   cv::Mat z = flat(2.0);
   std::mt19937_64 rng(3);
   applyDepthArtefacts(z, rgb, camera(), o, rng);
-  EXPECT_EQ(cv::countNonZero(z.colRange(0, 160)), 0);           // black: always a hole
+  EXPECT_EQ(cv::countNonZero(z.colRange(0, 160)), 0);            // black: always a hole
   EXPECT_EQ(cv::countNonZero(z.colRange(160, 320)), 160 * 240);  // at dark_level: never
   // Luminance 20 of 40: probability 0.5 (76800 pixels: std 0.002).
   z = flat(2.0);
@@ -190,6 +191,46 @@ TEST(DepthArtefacts, OptionsLoadAndSequencesShowThem) {
   EXPECT_EQ(cv::norm(a.rgb, b.rgb, cv::NORM_INF), 0.0);
   EXPECT_GT(holeFraction(a.depth), holeFraction(b.depth) + 0.002)
       << holeFraction(a.depth) << " " << holeFraction(b.depth);
+}
+
+TEST(SensorRealism, EverySetKeyIsWrittenToSimulationIniAndReadsBackEqual) {
+  IniReader ini = IniReader::fromText(
+      "[sim]\nduration_s = 9\nimu_acc_scale_max = 0.01\nimu_gyr_scale_max = 0.02\n"
+      "imu_acc_misalignment_max_rad = 0.003\nimu_gyr_misalignment_max_rad = 0.004\n"
+      "imu_gyr_g_sensitivity_max = 1.8e-4\nimu_acc_bias_instability = 0.002\n"
+      "imu_gyr_bias_instability = 1e-4\nimu_bias_instability_tau_s = 50\nimu_acc_lsb = 0.0191\n"
+      "imu_gyr_lsb = 5.3e-4\nimu_accel_rate_hz = 250\nimu_gyro_rate_hz = 400\n"
+      "depth_flying_pixel_prob = 0.5\ndepth_edge_jump_m = 0.2\ndepth_dark_hole_prob = 0.3\n"
+      "depth_dark_level = 30\ndepth_grazing_hole_prob = 0.6\ndepth_grazing_angle_deg = 75\n"
+      "frame_stamp_jitter_s = 0.002\n",
+      "real.ini");
+  SimOptions o = SimOptions::load(ini);
+  o.profile.kind = ProfileKind::WheeledCircle;
+  const SimulatedSequence seq(o);
+  IniReader again = IniReader::fromText(simulationSettingsText(seq), "simulation.ini");
+  const SimOptions r = SimOptions::load(again);
+  const ImuErrorOptions &e = r.imu.errors, &x = o.imu.errors;
+  EXPECT_EQ(e.acc_scale_max, x.acc_scale_max);
+  EXPECT_EQ(e.gyr_scale_max, x.gyr_scale_max);
+  EXPECT_EQ(e.acc_misalignment_max_rad, x.acc_misalignment_max_rad);
+  EXPECT_EQ(e.gyr_misalignment_max_rad, x.gyr_misalignment_max_rad);
+  EXPECT_EQ(e.gyr_g_sensitivity_max, x.gyr_g_sensitivity_max);
+  EXPECT_EQ(e.acc_bias_instability, x.acc_bias_instability);
+  EXPECT_EQ(e.gyr_bias_instability, x.gyr_bias_instability);
+  EXPECT_EQ(e.bias_instability_tau_s, x.bias_instability_tau_s);
+  EXPECT_EQ(e.acc_lsb, x.acc_lsb);
+  EXPECT_EQ(e.gyr_lsb, x.gyr_lsb);
+  EXPECT_EQ(r.imu.accel_rate_hz, 250.0);
+  EXPECT_EQ(r.imu.gyro_rate_hz, 400.0);
+  EXPECT_EQ(r.imu.rate_hz, 400.0);  // the merged samples' rate
+  const DepthArtefactOptions &a = r.depth_artefacts, &y = o.depth_artefacts;
+  EXPECT_EQ(a.flying_pixel_prob, y.flying_pixel_prob);
+  EXPECT_EQ(a.edge_jump_m, y.edge_jump_m);
+  EXPECT_EQ(a.dark_hole_prob, y.dark_hole_prob);
+  EXPECT_EQ(a.dark_level, y.dark_level);
+  EXPECT_EQ(a.grazing_hole_prob, y.grazing_hole_prob);
+  EXPECT_EQ(a.grazing_angle_deg, y.grazing_angle_deg);
+  EXPECT_EQ(r.frame_stamp_jitter_s, 0.002);
 }
 
 TEST(FrameStampJitter, StampsJitterWithinTheBoundAndTheGroundTruthStaysAtTheExposure) {

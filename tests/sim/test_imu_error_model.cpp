@@ -58,8 +58,7 @@ TEST(ImuErrorModel, ScaleMisalignmentAndGSensitivityAreDrawnOnceWithinTheirBound
   for (std::size_t k = 0; k < imu.sampleCount(); k += 37) {
     const ImuSample ideal = imu.ideal(k), meas = imu.measured(k);
     EXPECT_LT((meas.acc - m.accMatrix() * ideal.acc).norm(), 1e-12);
-    EXPECT_LT((meas.gyr - m.gyrMatrix() * ideal.gyr - m.gSensitivity() * ideal.acc).norm(),
-              1e-12);
+    EXPECT_LT((meas.gyr - m.gyrMatrix() * ideal.gyr - m.gSensitivity() * ideal.acc).norm(), 1e-12);
   }
   // At rest (the first 2 s) the gyro reads G f with |f| = g: up to 3 * 3e-4 * 9.81 rad/s.
   const ImuSample rest = imu.measured(10);
@@ -145,8 +144,7 @@ TEST(ImuSplitStream, AccelAndGyroAtTheirOwnRatesAreMergedOnTheGyroStamps) {
       const double w = std::max(0.0, x - static_cast<double>(i));
       const Eigen::Vector3d a0 = split.accelStream().ideal(i).acc;
       const Eigen::Vector3d expected =
-          w < 1e-9 ? a0
-                   : Eigen::Vector3d((1 - w) * a0 + w * split.accelStream().ideal(i + 1).acc);
+          w < 1e-9 ? a0 : Eigen::Vector3d((1 - w) * a0 + w * split.accelStream().ideal(i + 1).acc);
       EXPECT_LT((s[k].acc - expected).norm(), 1e-9) << k;
     }
   }

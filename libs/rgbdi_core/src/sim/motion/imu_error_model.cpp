@@ -58,9 +58,9 @@ ImuErrorOptions ImuErrorOptions::load(IniReader& ini) {
 }
 
 void ImuErrorOptions::validate() const {
-  for (double v : {acc_scale_max, gyr_scale_max, acc_misalignment_max_rad,
-                   gyr_misalignment_max_rad, gyr_g_sensitivity_max, acc_bias_instability,
-                   gyr_bias_instability, acc_lsb, gyr_lsb})
+  for (double v :
+       {acc_scale_max, gyr_scale_max, acc_misalignment_max_rad, gyr_misalignment_max_rad,
+        gyr_g_sensitivity_max, acc_bias_instability, gyr_bias_instability, acc_lsb, gyr_lsb})
     if (!(v >= 0.0) || !std::isfinite(v))
       throw std::invalid_argument("ImuErrorOptions: error sizes must be finite and >= 0");
   if (!(bias_instability_tau_s > 0.0) || !std::isfinite(bias_instability_tau_s))

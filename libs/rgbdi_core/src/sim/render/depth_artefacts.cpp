@@ -12,15 +12,12 @@ namespace rgbdi::sim {
 DepthArtefactOptions DepthArtefactOptions::load(IniReader& ini) {
   DepthArtefactOptions o;
   const std::string s = "sim";
-  o.flying_pixel_prob =
-      ini.getDouble(s, "depth_flying_pixel_prob", o.flying_pixel_prob, 0.0, 1.0);
+  o.flying_pixel_prob = ini.getDouble(s, "depth_flying_pixel_prob", o.flying_pixel_prob, 0.0, 1.0);
   o.edge_jump_m = ini.getDouble(s, "depth_edge_jump_m", o.edge_jump_m, 0.001, 10.0);
   o.dark_hole_prob = ini.getDouble(s, "depth_dark_hole_prob", o.dark_hole_prob, 0.0, 1.0);
   o.dark_level = ini.getDouble(s, "depth_dark_level", o.dark_level, 1.0, 255.0);
-  o.grazing_hole_prob =
-      ini.getDouble(s, "depth_grazing_hole_prob", o.grazing_hole_prob, 0.0, 1.0);
-  o.grazing_angle_deg =
-      ini.getDouble(s, "depth_grazing_angle_deg", o.grazing_angle_deg, 0.0, 89.0);
+  o.grazing_hole_prob = ini.getDouble(s, "depth_grazing_hole_prob", o.grazing_hole_prob, 0.0, 1.0);
+  o.grazing_angle_deg = ini.getDouble(s, "depth_grazing_angle_deg", o.grazing_angle_deg, 0.0, 89.0);
   return o;
 }
 
@@ -50,10 +47,8 @@ double incidenceAngle(const cv::Mat& depth_m, const PinholeCamera& camera, int x
   const double zu = depth_m.at<float>(y - 1, x), zd = depth_m.at<float>(y + 1, x);
   for (double n : {zl, zr, zu, zd})
     if (!(z > 0.0) || !(n > 0.0) || std::abs(n - z) > edge_jump_m) return -1.0;
-  const Eigen::Vector3d du =
-      backProject(camera, x + 1, y, zr) - backProject(camera, x - 1, y, zl);
-  const Eigen::Vector3d dv =
-      backProject(camera, x, y + 1, zd) - backProject(camera, x, y - 1, zu);
+  const Eigen::Vector3d du = backProject(camera, x + 1, y, zr) - backProject(camera, x - 1, y, zl);
+  const Eigen::Vector3d dv = backProject(camera, x, y + 1, zd) - backProject(camera, x, y - 1, zu);
   const Eigen::Vector3d normal = du.cross(dv);
   const Eigen::Vector3d ray = backProject(camera, x, y, 1.0);
   const double c = std::abs(normal.dot(ray)) / (normal.norm() * ray.norm());
@@ -89,9 +84,9 @@ void applyDepthArtefacts(cv::Mat& depth_m, const cv::Mat& rgb, const PinholeCame
       }
       if (options.grazing_hole_prob > 0.0) {
         const double angle = incidenceAngle(ideal, camera, x, y, options.edge_jump_m);
-        const double p = angle > grazing ? options.grazing_hole_prob * (angle - grazing) /
-                                               (0.5 * M_PI - grazing)
-                                         : 0.0;
+        const double p =
+            angle > grazing ? options.grazing_hole_prob * (angle - grazing) / (0.5 * M_PI - grazing)
+                            : 0.0;
         if (u_graze < p) {
           depth_m.at<float>(y, x) = 0.0f;
           continue;

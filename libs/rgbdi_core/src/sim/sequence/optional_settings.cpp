@@ -8,8 +8,7 @@ namespace rgbdi::sim {
 namespace {
 
 /// One "key = value ; comment" line when value differs from def.
-void numberLine(std::ostream& os, const char* key, double value, double def,
-                const char* comment) {
+void numberLine(std::ostream& os, const char* key, double value, double def, const char* comment) {
   if (value != def) iniLine(os, key, iniNumber(value), comment);
 }
 
@@ -28,8 +27,8 @@ void writeOptionalSimSettings(std::ostream& os, const SimOptions& o) {
              d.scene.furniture_lateral_max_m, "[m] largest extra lateral furniture distance");
   numberLine(os, "texture_contrast", w.texture_contrast, d.scene.texture_contrast,
              "(0, 1] texture contrast");
-  numberLine(os, "exposure_gain_amplitude", o.exposure.gain_amplitude,
-             d.exposure.gain_amplitude, "[unitless] colour gain 1 +- this");
+  numberLine(os, "exposure_gain_amplitude", o.exposure.gain_amplitude, d.exposure.gain_amplitude,
+             "[unitless] colour gain 1 +- this");
   numberLine(os, "exposure_period_s", o.exposure.period_s, d.exposure.period_s,
              "[s] of the gain drift");
 
@@ -47,8 +46,8 @@ void writeOptionalSimSettings(std::ostream& os, const SimOptions& o) {
              "[m/s^2]");
   numberLine(os, "imu_gyr_bias_instability", e.gyr_bias_instability, de.gyr_bias_instability,
              "[rad/s]");
-  numberLine(os, "imu_bias_instability_tau_s", e.bias_instability_tau_s,
-             de.bias_instability_tau_s, "[s]");
+  numberLine(os, "imu_bias_instability_tau_s", e.bias_instability_tau_s, de.bias_instability_tau_s,
+             "[s]");
   numberLine(os, "imu_acc_lsb", e.acc_lsb, de.acc_lsb, "[m/s^2]");
   numberLine(os, "imu_gyr_lsb", e.gyr_lsb, de.gyr_lsb, "[rad/s]");
   numberLine(os, "imu_accel_rate_hz", o.imu.accel_rate_hz, d.imu.accel_rate_hz, "[Hz]");
