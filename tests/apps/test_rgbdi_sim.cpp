@@ -158,6 +158,7 @@ TEST(RgbdiSim, UsageAndConfigurationErrors) {
   EXPECT_FALSE(fs::exists(dir + "/sequence.rawlog"));
   EXPECT_EQ(runCommand(sim() + " --help", &out), 0);
   EXPECT_NE(out.find("usage: rgbdi-sim"), std::string::npos);
+  EXPECT_NE(out.find("world_seed"), std::string::npos) << out;
   EXPECT_NE(out.find("Exit status: 0 success"), std::string::npos);
   EXPECT_EQ(runCommand(sim() + " --version", &out), 0);
   EXPECT_EQ(out.rfind("rgbdi-sim (rgbdi) ", 0), 0u) << out;

@@ -4,8 +4,10 @@
 // Noise model (Kalibr convention, continuous-time densities): white noise with discrete sigma
 // density * sqrt(rate); the bias is a random walk b(k+1) = b(k) + random_walk * sqrt(dt) * n(k),
 // starting from a bias uniform in +-bias_max per axis. The measurement at sample k is
-// truth(t_k) + b(k) + white noise. Every random number is a pure function of (seed, sample),
-// so samples can be generated in any order with identical results.
+// truth(t_k) + b(k) + white noise; with ImuErrorOptions set, Q(T truth(t_k) + b(k) + white
+// noise) with T the scale / misalignment (and g-sensitivity) of imu_error_model.h, b including
+// the Gauss-Markov bias instability and Q the quantisation. Every random number is a pure function
+// of (seed, sample), so samples can be generated in any order with identical results.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,6 +17,7 @@
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/types.h"
+#include "rgbdi/sim/imu_error_model.h"
 #include "rgbdi/sim/trajectory.h"
 
 namespace rgbdi::sim {
@@ -29,9 +32,16 @@ struct ImuSynthOptions {
   double gyr_random_walk = 2e-5;     ///< [rad/s^2/sqrt(Hz)]
   double acc_bias_max = 0.1;         ///< [m/s^2] initial bias uniform in +-this per axis
   double gyr_bias_max = 0.005;       ///< [rad/s] same for the gyro
+  /// Scale, misalignment, g-sensitivity, bias instability, quantisation (default none).
+  ImuErrorOptions errors;
+  /// [Hz] separate accelerometer and gyroscope streams at these rates, merged into combined
+  /// samples on the gyro stamps as rawlog-convert merges a D435i's (ImuSplitStream); 0 and 0 =
+  /// combined samples at rate_hz. Used by SimulatedSequence, not by ImuSynthesizer.
+  double accel_rate_hz = 0.0;
+  double gyro_rate_hz = 0.0;
 
   /// Reads [sim] imu_rate_hz, gravity_m_s2, acc/gyr_noise_density, acc/gyr_random_walk,
-  /// acc/gyr_bias_max.
+  /// acc/gyr_bias_max, imu_accel_rate_hz, imu_gyro_rate_hz and the ImuErrorOptions keys.
   static ImuSynthOptions load(IniReader& ini);
   /// The same rate and gravity without any noise or bias (ideal sensor).
   ImuSynthOptions noiseFree() const;
@@ -69,7 +79,8 @@ class ImuSynthesizer {
   std::shared_ptr<const BodyTrajectory> trajectory_;
   ImuSynthOptions options_;
   std::uint64_t seed_;
-  std::vector<ImuBias> biases_;  ///< 48 bytes per sample (about 35 MB per hour at 200 Hz)
+  std::unique_ptr<ImuErrorModel> errors_;  ///< null when no ImuErrorOptions error is on
+  std::vector<ImuBias> biases_;            ///< 48 bytes per sample (about 35 MB per hour at 200 Hz)
 };
 
 }  // namespace rgbdi::sim

@@ -6,21 +6,44 @@
 
 #include <cstdint>
 
+#include "rgbdi/common/ini_reader.h"
 #include "rgbdi/sim/profiles.h"
 #include "rgbdi/sim/scene.h"
 
 namespace rgbdi::sim {
 
-/// Appearance choices of a profile's world beyond the seed.
+/// Choices of a profile's world beyond the seed ([sim] keys). The defaults give the fixed world
+/// of each profile; the others vary it within stated ranges (a benchmark draws them per run).
 struct ProfileSceneOptions {
   /// Perceptual aliasing: the room's +x wall shows the -x wall's texture as seen from the
   /// half-turned viewpoint (RoomStyles::aliased_x_walls), so a camera facing either end wall
   /// from point-symmetric places sees the same wall image.
   bool aliased_walls = false;
+  /// [integer] seed of the furniture layout draw; 0 = the profile's fixed layout. Other values
+  /// give other furniture (positions, kinds, sizes) along the same path.
+  std::uint64_t world_seed = 0;
+  /// [m] added between the profile's room walls and the path on every side (floor plan only;
+  /// the ceiling height is kept).
+  double room_margin_m = 0.0;
+  /// [probability] that a furniture slot (every 0.8 m of path on each side) is used; 0 = an
+  /// empty room (walls, floor, ceiling and the profile's ramps / platform only).
+  double furniture_density = 1.0;
+  /// [m] largest extra lateral distance of furniture from the path corridor (drawn uniformly
+  /// from 0.05 m up to this).
+  double furniture_lateral_max_m = 0.7;
+  /// (0, 1] scales every texture's deviation from its mean colour (low = faint texture).
+  double texture_contrast = 1.0;
+
+  /// Reads [sim] aliased_walls, world_seed, room_margin_m, furniture_density,
+  /// furniture_lateral_max_m, texture_contrast (ConfigError naming the key when out of range).
+  static ProfileSceneOptions load(IniReader& ini);
+  /// Throws std::invalid_argument when a value is out of the ranges load() accepts.
+  void validate() const;
 };
 
-/// Builds (and build()s) the scene of a profile. The geometry is the same for every seed; the
-/// seed drives the textures only.
+/// Builds (and build()s) the scene of a profile. With the default options the geometry is the
+/// same for every seed (the seed drives the textures only); world_seed and the other options
+/// change the furniture and the room.
 Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
                         const ProfileSceneOptions& options = {});
 

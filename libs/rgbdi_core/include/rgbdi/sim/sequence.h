@@ -21,6 +21,9 @@
 #include "rgbdi/common/measurement_sink.h"
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/common/types.h"
+#include "rgbdi/sim/depth_artefacts.h"
+#include "rgbdi/sim/exposure.h"
+#include "rgbdi/sim/imu_split_stream.h"
 #include "rgbdi/sim/imu_synth.h"
 #include "rgbdi/sim/profile_scene.h"
 #include "rgbdi/sim/profiles.h"
@@ -32,16 +35,21 @@ namespace rgbdi::sim {
 
 struct SimOptions {
   ProfileOptions profile;
-  ProfileSceneOptions scene;   ///< [sim] aliased_walls
-  ImuSynthOptions imu;         ///< the TRUE IMU noise
+  ProfileSceneOptions scene;   ///< [sim] aliased_walls, world_seed, room and furniture keys
+  ImuSynthOptions imu;         ///< the TRUE IMU noise (and errors, separate streams)
   CameraOptions camera;        ///< colour (= depth) camera, [camera]
   ExtrinsicOptions extrinsic;  ///< T_body_cam, [extrinsic] (its time_offset_s is not used)
   DepthNoiseOptions depth_noise;
+  DepthArtefactOptions depth_artefacts;  ///< flying pixels, dark / grazing holes (default off)
   ColorNoiseOptions color_noise;
+  ExposureOptions exposure;  ///< auto-exposure gain of the colour image (default off)
   RenderOptions render;
-  double fps = 30.0;             ///< [Hz]
-  std::uint64_t seed = 1;        ///< noise and textures
-  double time_offset_s = 0.0;    ///< [s] t_cam = t_imu - time_offset_s
+  double fps = 30.0;           ///< [Hz]
+  std::uint64_t seed = 1;      ///< noise and textures
+  double time_offset_s = 0.0;  ///< [s] t_cam = t_imu - time_offset_s
+  /// [s] image stamps jitter uniformly in +-this around the exposure time (seeded per frame);
+  /// the ground truth stays at the true exposure time. 0 = exact stamps.
+  double frame_stamp_jitter_s = 0.0;
   double start_time_s = 1000.0;  ///< [s] stamp of the first IMU sample
   /// Densities written to the sequence's config.ini = truth * this (a user never knows them).
   double config_noise_inflation = 2.0;
@@ -64,10 +72,11 @@ struct SimOptions {
   double spin_duration_s = 0.0;  ///< [s] 0 = none
   double spin_turns = 1.0;       ///< [turns] negative: clockwise seen from above
 
-  /// [sim] (fps, seed, time_offset_s, start_time_s, config_noise_inflation, aliased_walls,
+  /// [sim] (fps, seed, time_offset_s, frame_stamp_jitter_s, start_time_s, config_noise_inflation,
   /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px, spin_start_s,
-  /// spin_duration_s, spin_turns and the keys of
-  /// ProfileOptions, ImuSynthOptions, DepthNoiseOptions, ColorNoiseOptions), [camera] and
+  /// spin_duration_s, spin_turns and the keys of ProfileOptions, ProfileSceneOptions,
+  /// ImuSynthOptions, DepthNoiseOptions, DepthArtefactOptions, ColorNoiseOptions,
+  /// ExposureOptions), [camera] and
   /// [extrinsic]. The profile kind is not read (command line).
   static SimOptions load(IniReader& ini);
 };
@@ -104,17 +113,26 @@ class SimulatedSequence {
 
   double startTime() const { return options_.start_time_s; }
   double duration() const { return profile_.trajectory->duration(); }
-  std::size_t imuCount() const { return imu_->sampleCount(); }
+  /// IMU samples: combined samples at imu_rate_hz, or the merged separate streams
+  /// (ImuSynthOptions::accel_rate_hz / gyro_rate_hz).
+  std::size_t imuCount() const;
+  /// The separate streams when on (null otherwise).
+  const ImuSplitStream* imuSplitStream() const { return split_.get(); }
   std::size_t frameCount() const { return frame_count_; }
 
   /// Simulated IMU sample k with its IMU-clock stamp.
   ImuSample imuSample(std::size_t k) const;
   /// IMU-clock time at which frame i is exposed, and its (camera-clock) stamp.
   double frameExposureTime(std::size_t i) const;
-  double frameStamp(std::size_t i) const { return frameExposureTime(i) - options_.time_offset_s; }
+  /// The stamp carries frame_stamp_jitter_s; frameTrueStamp is the exposure on the camera clock.
+  double frameStamp(std::size_t i) const;
+  double frameTrueStamp(std::size_t i) const {
+    return frameExposureTime(i) - options_.time_offset_s;
+  }
   /// Whether frame i is exposed during the blackout.
   bool inBlackout(std::size_t i) const;
-  /// Renders frame i: colour with photometric noise, depth with D435-like noise in mm, both
+  /// Renders frame i: colour with the exposure gain and photometric noise, depth with D435-like
+  /// noise in mm, both
   /// cameras the configured colour camera (cam_color = cam_depth, depth aligned). A frame in
   /// the blackout is impaired as SimOptions::blackout_kind says.
   RgbdFrame renderFrame(std::size_t i) const;
@@ -128,8 +146,8 @@ class SimulatedSequence {
   Eigen::Isometry3d cameraPose(double t_imu) const;
   /// Body poses at every IMU sample (IMU clock).
   Trajectory bodyTrajectory() const;
-  /// Camera poses at every frame, stamped with the frame stamps (camera clock), each the pose at
-  /// the frame's exposure time.
+  /// Camera poses at every frame, stamped with the frames' true stamps (camera clock, without
+  /// the stamp jitter), each the pose at the frame's exposure time.
   Trajectory cameraTrajectory() const;
 
   /// Delivers all IMU samples and frames in non-decreasing stamp order (an IMU sample before a
@@ -139,12 +157,15 @@ class SimulatedSequence {
  private:
   void impairColour(cv::Mat& rgb) const;      ///< colour of a blackout frame ("bare", "blur")
   void checkFrameIndex(std::size_t i) const;  ///< throws std::out_of_range
+  double imuTime(std::size_t k) const;        ///< [s] sequence time of IMU sample k
 
   SimOptions options_;
   MotionProfile profile_;
   std::unique_ptr<Scene> scene_;
   std::unique_ptr<ImuSynthesizer> imu_;
+  std::unique_ptr<ImuSplitStream> split_;
   std::unique_ptr<Renderer> renderer_;
+  std::unique_ptr<ExposureGain> exposure_;
   std::size_t frame_count_ = 0;
 };
 

@@ -33,11 +33,19 @@ struct TextureOptions {
   double texel_size_m = 0.004;  ///< [m] world size of one finest-level texel
   int size_log2 = 10;  ///< textures are 2^size_log2 texels square (period 4.1 m at defaults)
   int variants_per_style = 2;  ///< distinct generated textures per style
+  /// (0, 1]: every generated texture's deviation from its mean colour is scaled by this
+  /// (1 = as generated; low = faint texture, fewer corners).
+  double contrast = 1.0;
 };
 
 /// Generates one periodic (seamlessly wrapping) texture: CV_8UC3, R,G,B order, size x size.
 /// Same (style, size, texel, seed) -> identical bytes.
 cv::Mat generateTexture(TextureStyle style, int size, double texel_size_m, std::uint64_t seed);
+
+/// Scales every texel's deviation from the texture's mean colour (per channel, the mean of all
+/// texels) by `contrast`, rounding to the nearest level: texel' = mean + contrast (texel - mean).
+/// CV_8UC3; throws std::invalid_argument otherwise or unless 0 < contrast <= 1.
+void scaleTextureContrast(cv::Mat& texture, double contrast);
 
 /// A square power-of-two RGB texture with its mip chain (each level a 2x2 box average of the
 /// previous one, wrapping at the borders like the texture itself).

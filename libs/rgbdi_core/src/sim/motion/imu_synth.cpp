@@ -26,6 +26,16 @@ ImuSynthOptions ImuSynthOptions::load(IniReader& ini) {
   o.gyr_random_walk = ini.getDouble(s, "gyr_random_walk", o.gyr_random_walk, 0.0, 0.1);
   o.acc_bias_max = ini.getDouble(s, "acc_bias_max", o.acc_bias_max, 0.0, 2.0);
   o.gyr_bias_max = ini.getDouble(s, "gyr_bias_max", o.gyr_bias_max, 0.0, 0.5);
+  o.errors = ImuErrorOptions::load(ini);
+  o.accel_rate_hz = ini.getDouble(s, "imu_accel_rate_hz", o.accel_rate_hz, 0.0, 10000.0);
+  o.gyro_rate_hz = ini.getDouble(s, "imu_gyro_rate_hz", o.gyro_rate_hz, 0.0, 10000.0);
+  if ((o.accel_rate_hz > 0.0) != (o.gyro_rate_hz > 0.0))
+    ini.fail(s, o.accel_rate_hz > 0.0 ? "imu_gyro_rate_hz" : "imu_accel_rate_hz",
+             "imu_accel_rate_hz and imu_gyro_rate_hz are set together (both 0: combined samples)");
+  if (o.accel_rate_hz != 0.0 && o.accel_rate_hz < 10.0)
+    ini.fail(s, "imu_accel_rate_hz", "must be 0 (off) or at least 10 Hz");
+  if (o.gyro_rate_hz != 0.0 && o.gyro_rate_hz < 10.0)
+    ini.fail(s, "imu_gyro_rate_hz", "must be 0 (off) or at least 10 Hz");
   return o;
 }
 
@@ -51,6 +61,7 @@ ImuSynthesizer::ImuSynthesizer(std::shared_ptr<const BodyTrajectory> trajectory,
     if (!(v >= 0.0) || !std::isfinite(v))
       throw std::invalid_argument("ImuSynthesizer: noise parameters must be finite and >= 0");
 
+  if (options.errors.any()) errors_ = std::make_unique<ImuErrorModel>(options.errors, seed);
   const auto n =
       static_cast<std::size_t>(std::floor(trajectory_->duration() * options.rate_hz + 1e-9)) + 1;
   biases_.resize(n);
@@ -69,6 +80,16 @@ ImuSynthesizer::ImuSynthesizer(std::shared_ptr<const BodyTrajectory> trajectory,
       b.gyr[i] += sg * walk.gaussian(6 * k + 3 + static_cast<std::uint64_t>(i));
     }
   }
+  if (errors_ &&
+      (options.errors.acc_bias_instability > 0.0 || options.errors.gyr_bias_instability > 0.0)) {
+    // The bias instability is part of the true bias.
+    std::vector<Eigen::Vector3d> gm_acc, gm_gyr;
+    errors_->gaussMarkov(n, 1.0 / options.rate_hz, gm_acc, gm_gyr);
+    for (std::size_t k = 0; k < n; ++k) {
+      biases_[k].acc += gm_acc[k];
+      biases_[k].gyr += gm_gyr[k];
+    }
+  }
 }
 
 ImuSample ImuSynthesizer::idealAt(double t) const {
@@ -84,6 +105,11 @@ ImuSample ImuSynthesizer::ideal(std::size_t k) const { return idealAt(sampleTime
 
 ImuSample ImuSynthesizer::measured(std::size_t k) const {
   ImuSample m = ideal(k);
+  if (errors_) {
+    const Eigen::Vector3d f = m.acc;
+    m.acc = errors_->accel(f);
+    m.gyr = errors_->gyro(m.gyr, f);
+  }
   const ImuBias& b = biases_.at(k);
   const CounterRng white(seed_, kWhiteNoise);
   const double sqrt_rate = std::sqrt(options_.rate_hz);
@@ -92,6 +118,10 @@ ImuSample ImuSynthesizer::measured(std::size_t k) const {
   for (int i = 0; i < 3; ++i) {
     m.acc[i] += b.acc[i] + sa * white.gaussian(6 * k + static_cast<std::uint64_t>(i));
     m.gyr[i] += b.gyr[i] + sg * white.gaussian(6 * k + 3 + static_cast<std::uint64_t>(i));
+  }
+  if (errors_) {
+    m.acc = ImuErrorModel::quantise(m.acc, options_.errors.acc_lsb);
+    m.gyr = ImuErrorModel::quantise(m.gyr, options_.errors.gyr_lsb);
   }
   return m;
 }

@@ -32,6 +32,8 @@ TextureBank::TextureBank(std::uint64_t seed, const TextureOptions& options)
     throw std::invalid_argument("TextureOptions: size_log2 must be in [4, 13]");
   if (options.variants_per_style < 1 || options.variants_per_style > 64)
     throw std::invalid_argument("TextureOptions: variants_per_style must be in [1, 64]");
+  if (!(options.contrast > 0.0 && options.contrast <= 1.0))
+    throw std::invalid_argument("TextureOptions: contrast must be in (0, 1]");
 }
 
 MaterialAppearance TextureBank::resolve(const Material& material) {
@@ -43,7 +45,9 @@ MaterialAppearance TextureBank::resolve(const Material& material) {
     const int size = 1 << options_.size_log2;
     const std::uint64_t tex_seed =
         detail::mixSeed(seed_, static_cast<std::uint64_t>(key.first * 64 + key.second));
-    textures_.emplace_back(generateTexture(material.style, size, options_.texel_size_m, tex_seed));
+    cv::Mat texture = generateTexture(material.style, size, options_.texel_size_m, tex_seed);
+    if (options_.contrast != 1.0) scaleTextureContrast(texture, options_.contrast);
+    textures_.emplace_back(texture);
     it = index_.emplace(key, static_cast<int>(textures_.size() - 1)).first;
   }
   MaterialAppearance a;

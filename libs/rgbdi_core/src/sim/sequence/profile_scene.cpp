@@ -9,13 +9,19 @@
 namespace rgbdi::sim {
 namespace {
 
-// Furniture layout does not depend on the noise seed (only textures do).
+// Furniture layout does not depend on the noise seed (only textures do); world_seed 0 is this
+// fixed layout, other world seeds offset it.
 constexpr std::uint64_t kLayoutSeed = 0x3c6ef372fe94f82bULL;
+// Stream of the furniture-slot draws (furniture_density), apart from the layout's streams
+// (kind + 1) so that a density of 1 leaves the layout draws untouched.
+constexpr std::uint64_t kSlotStream = 1000;
+
+std::uint64_t layoutSeed(std::uint64_t world_seed) { return kLayoutSeed + world_seed; }
 
 /// Deterministic draws for the layout.
 class LayoutRandom {
  public:
-  explicit LayoutRandom(std::uint64_t stream) : rng_(kLayoutSeed, stream) {}
+  LayoutRandom(std::uint64_t seed, std::uint64_t stream) : rng_(seed, stream) {}
   double uniform(double a, double b) { return a + (b - a) * rng_.uniform(n_++); }
   bool chance(double p) { return rng_.uniform(n_++) < p; }
   TextureStyle style() {
@@ -43,12 +49,14 @@ struct Item {
 
 class Furnisher {
  public:
-  Furnisher(const MotionProfile& profile, Scene& scene) : p_(profile), scene_(scene) {}
+  /// layout: the profile's layout with the room actually built (room_margin_m applied).
+  Furnisher(const ProfileLayout& layout, double lateral_max_m, Scene& scene)
+      : l_(layout), lateral_max_m_(lateral_max_m), scene_(scene) {}
 
   /// True when a footprint circle keeps clear of the path corridor, ramps, platforms, walls and
   /// the items placed so far.
   bool free(const Eigen::Vector2d& c, double r) const {
-    const ProfileLayout& l = p_.layout;
+    const ProfileLayout& l = l_;
     if (c.x() - r < l.room_min.x() + 0.05 || c.x() + r > l.room_max.x() - 0.05 ||
         c.y() - r < l.room_min.y() + 0.05 || c.y() + r > l.room_max.y() - 0.05)
       return false;
@@ -70,17 +78,17 @@ class Furnisher {
   /// Tries to put one object beside path point i on the given side (+1 left, -1 right);
   /// returns whether it fitted.
   bool tryPlace(std::size_t i, double side, bool handheld, LayoutRandom& rnd) {
-    const auto& xy = p_.layout.path_xy;
+    const auto& xy = l_.path_xy;
     const Eigen::Vector2d t =
         (xy[std::min(i + 1, xy.size() - 1)] - xy[i > 0 ? i - 1 : 0]).normalized();
     const Eigen::Vector2d n(-t.y(), t.x());
     const double heading = std::atan2(t.y(), t.x());
-    const double ceiling = p_.layout.room_max.z();
+    const double ceiling = l_.room_max.z();
     const double kind = rnd.uniform(0.0, 1.0);
-    const double lateral_extra = rnd.uniform(0.05, 0.7);
+    const double lateral_extra = rnd.uniform(0.05, lateral_max_m_);
     const double along = rnd.uniform(-0.3, 0.3);
     auto at = [&](double r) {
-      return Eigen::Vector2d(xy[i] + side * (p_.layout.path_clearance_m + r + lateral_extra) * n +
+      return Eigen::Vector2d(xy[i] + side * (l_.path_clearance_m + r + lateral_extra) * n +
                              along * t);
     };
     if (kind < 0.18) {
@@ -137,7 +145,8 @@ class Furnisher {
   }
 
  private:
-  const MotionProfile& p_;
+  const ProfileLayout& l_;
+  double lateral_max_m_;
   Scene& scene_;
   std::vector<Item> items_;
 };
@@ -146,8 +155,13 @@ class Furnisher {
 
 Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
                         const ProfileSceneOptions& options) {
-  const ProfileLayout& l = profile.layout;
-  Scene scene(seed);
+  options.validate();
+  ProfileLayout l = profile.layout;
+  l.room_min.head<2>().array() -= options.room_margin_m;
+  l.room_max.head<2>().array() += options.room_margin_m;
+  TextureOptions textures;
+  textures.contrast = options.texture_contrast;
+  Scene scene(seed, textures);
   RoomStyles room;
   room.aliased_x_walls = options.aliased_walls;
   scene.addRoom(l.room_min, l.room_max, room);
@@ -163,15 +177,24 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
   // Furniture every ~0.8 m of path on both sides (a few draws each; rejected where it would
   // block the corridor, a ramp or another object). One lap suffices: later laps retrace the
   // same ground.
-  Furnisher furnisher(profile, scene);
-  LayoutRandom rnd(static_cast<std::uint64_t>(profile.kind) + 1);
+  Furnisher furnisher(l, options.furniture_lateral_max_m, scene);
+  const std::uint64_t layout_seed = layoutSeed(options.world_seed);
+  LayoutRandom rnd(layout_seed, static_cast<std::uint64_t>(profile.kind) + 1);
+  const CounterRng slot_rng(layout_seed, kSlotStream);
+  std::uint64_t slot = 0;
   const bool handheld = profile.kind == ProfileKind::Handheld;
   const std::size_t lap_samples = std::min(
       l.path_xy.size(), static_cast<std::size_t>(std::ceil(profile.lap_length_m / 0.1)) + 1);
   for (std::size_t i = 0; i < lap_samples; i += 8)
-    for (double side : {1.0, -1.0})
+    for (double side : {1.0, -1.0}) {
+      // The slot draw has its own stream: at density 1 nothing is drawn and the layout is the
+      // one of density 1 in every earlier version.
+      if (options.furniture_density < 1.0 &&
+          !(slot_rng.uniform(slot++) < options.furniture_density))
+        continue;
       for (int attempt = 0; attempt < 3; ++attempt)
         if (furnisher.tryPlace(i, side, handheld, rnd)) break;
+    }
   scene.build();
   return scene;
 }

@@ -19,6 +19,8 @@ namespace {
 
 // Random streams of the sequence seed (the IMU uses its own streams 1-3 of the same seed).
 constexpr std::uint64_t kFrameNoiseStream = 100;
+constexpr std::uint64_t kStampJitterStream = 300;
+constexpr std::uint64_t kDepthArtefactStream = 400;
 // Frames waiting for the consumer when prefetching (each ~2 MB).
 constexpr std::size_t kPrefetchDepth = 3;
 
@@ -40,16 +42,20 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.profile = ProfileOptions::load(ini);
   o.imu = ImuSynthOptions::load(ini);
   o.depth_noise = DepthNoiseOptions::load(ini);
+  o.depth_artefacts = DepthArtefactOptions::load(ini);
   o.color_noise = ColorNoiseOptions::load(ini);
+  o.exposure = ExposureOptions::load(ini);
+  o.scene = ProfileSceneOptions::load(ini);
   o.camera = CameraOptions::load(ini);
   o.extrinsic = ExtrinsicOptions::load(ini);
   o.fps = ini.getDouble(s, "fps", o.fps, 1.0, 1000.0);
   o.seed = static_cast<std::uint64_t>(ini.getInt(s, "seed", static_cast<int>(o.seed), 0, INT_MAX));
   o.time_offset_s = ini.getDouble(s, "time_offset_s", o.time_offset_s, -0.5, 0.5);
+  o.frame_stamp_jitter_s =
+      ini.getDouble(s, "frame_stamp_jitter_s", o.frame_stamp_jitter_s, 0.0, 0.01);
   o.start_time_s = ini.getDouble(s, "start_time_s", o.start_time_s, 1.0, 4.0e9);
   o.config_noise_inflation =
       ini.getDouble(s, "config_noise_inflation", o.config_noise_inflation, 1.0, 100.0);
-  o.scene.aliased_walls = ini.getBool(s, "aliased_walls", o.scene.aliased_walls);
   o.blackout_start_s = ini.getDouble(s, "blackout_start_s", o.blackout_start_s, 0.0, 1.0e6);
   o.blackout_duration_s =
       ini.getDouble(s, "blackout_duration_s", o.blackout_duration_s, 0.0, 1.0e6);
@@ -80,7 +86,10 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
         "SimulatedSequence: spin start and duration must be >= 0, turns finite");
   if (options.blackout_blur_px < 1)
     throw std::invalid_argument("SimulatedSequence: blackout_blur_px must be >= 1");
-  if (options.start_time_s - options.time_offset_s <= 0.0)
+  if (!(options.frame_stamp_jitter_s >= 0.0 && options.frame_stamp_jitter_s < 0.25 / options.fps))
+    throw std::invalid_argument(
+        "SimulatedSequence: frame_stamp_jitter_s must be >= 0 and below a quarter frame period");
+  if (options.start_time_s - options.time_offset_s - options.frame_stamp_jitter_s <= 0.0)
     throw std::invalid_argument("SimulatedSequence: start_time_s - time_offset_s must be positive");
   // The dataset extrinsic is given to 7 digits (not exactly orthonormal): use the nearest
   // rotation so that rendering, ground truth and written files agree exactly.
@@ -91,11 +100,18 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
     profile_.trajectory = std::make_shared<SpinOverlayTrajectory>(
         profile_.trajectory, options_.spin_start_s, options_.spin_duration_s, options_.spin_turns);
   scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed, options_.scene));
+  if (options_.imu.accel_rate_hz > 0.0 || options_.imu.gyro_rate_hz > 0.0) {
+    // Separate streams: the combined samples come on the gyro stamps, so imu_rate_hz is the
+    // gyro rate (written so to config.ini and simulation.ini).
+    options_.imu.rate_hz = options_.imu.gyro_rate_hz;
+    split_ = std::make_unique<ImuSplitStream>(profile_.trajectory, options_.imu, options_.seed);
+  }
   imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
   // Aliased end walls must also be lit alike: a light without an x component shades the -x and
   // +x walls equally (otherwise one would be a darker copy of the other).
   if (options_.scene.aliased_walls) options_.render.light_dir_world.x() = 0.0;
   renderer_ = std::make_unique<Renderer>(*scene_, options_.camera.camera, options_.render);
+  exposure_ = std::make_unique<ExposureGain>(options_.exposure, options_.seed);
   frame_count_ =
       static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + 1e-9)) +
       1;
@@ -103,14 +119,28 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
 
 SimulatedSequence::~SimulatedSequence() = default;
 
+std::size_t SimulatedSequence::imuCount() const {
+  return split_ ? split_->samples().size() : imu_->sampleCount();
+}
+
+double SimulatedSequence::imuTime(std::size_t k) const {
+  return split_ ? split_->samples()[k].t : imu_->sampleTime(k);
+}
+
 ImuSample SimulatedSequence::imuSample(std::size_t k) const {
-  ImuSample s = imu_->measured(k);
+  ImuSample s = split_ ? split_->samples().at(k) : imu_->measured(k);
   s.t += options_.start_time_s;
   return s;
 }
 
 double SimulatedSequence::frameExposureTime(std::size_t i) const {
   return options_.start_time_s + static_cast<double>(i) / options_.fps;
+}
+
+double SimulatedSequence::frameStamp(std::size_t i) const {
+  if (options_.frame_stamp_jitter_s == 0.0) return frameTrueStamp(i);
+  return frameTrueStamp(i) +
+         CounterRng(options_.seed, kStampJitterStream).symmetric(i, options_.frame_stamp_jitter_s);
 }
 
 Eigen::Isometry3d SimulatedSequence::cameraPose(double t_imu) const {
@@ -156,7 +186,15 @@ RgbdFrame SimulatedSequence::renderFrame(std::size_t i) const {
   } else {
     cv::Mat depth_m;
     renderIdeal(i, f.rgb, depth_m);
+    if (options_.depth_artefacts.any()) {
+      // A generator of its own, so that the range noise below draws as without artefacts.
+      std::mt19937_64 artefact_rng(CounterRng(options_.seed, kDepthArtefactStream).bits(i));
+      applyDepthArtefacts(depth_m, f.rgb, options_.camera.camera, options_.depth_artefacts,
+                          artefact_rng);
+    }
     if (inBlackout(i)) impairColour(f.rgb);
+    if (!exposure_->constant())
+      applyExposureGain(f.rgb, exposure_->gain(frameExposureTime(i) - options_.start_time_s));
     // One generator per frame, seeded from (seed, frame): frames are independent of order.
     std::mt19937_64 rng(CounterRng(options_.seed, kFrameNoiseStream).bits(i));
     f.depth = applyDepthNoise(depth_m, options_.depth_noise, rng);
@@ -184,7 +222,7 @@ GroundTruthState SimulatedSequence::groundTruth(double t_imu) const {
   g.v_world = s.v_world;
   g.a_world = s.a_world;
   g.omega_body = s.omega_body;
-  g.bias = imu_->biasAt(t);
+  g.bias = split_ ? split_->biasAt(t) : imu_->biasAt(t);
   return g;
 }
 
@@ -192,8 +230,8 @@ Trajectory SimulatedSequence::bodyTrajectory() const {
   Trajectory traj;
   traj.reserve(imuCount());
   for (std::size_t k = 0; k < imuCount(); ++k)
-    traj.push_back(StampedPose::fromIsometry(options_.start_time_s + imu_->sampleTime(k),
-                                             trajectory().pose(imu_->sampleTime(k))));
+    traj.push_back(StampedPose::fromIsometry(options_.start_time_s + imuTime(k),
+                                             trajectory().pose(imuTime(k))));
   return traj;
 }
 
@@ -201,7 +239,7 @@ Trajectory SimulatedSequence::cameraTrajectory() const {
   Trajectory traj;
   traj.reserve(frame_count_);
   for (std::size_t i = 0; i < frame_count_; ++i)
-    traj.push_back(StampedPose::fromIsometry(frameStamp(i), cameraPose(frameExposureTime(i))));
+    traj.push_back(StampedPose::fromIsometry(frameTrueStamp(i), cameraPose(frameExposureTime(i))));
   return traj;
 }
 
@@ -214,7 +252,7 @@ void SimulatedSequence::pump(MeasurementSink& sink, const std::atomic<bool>* sto
   const std::size_t n_imu = imuCount();
   while (k < n_imu || i < frame_count_) {
     if (stop && stop->load()) break;
-    const double t_imu = k < n_imu ? options_.start_time_s + imu_->sampleTime(k) : INFINITY;
+    const double t_imu = k < n_imu ? options_.start_time_s + imuTime(k) : INFINITY;
     const double t_frame = i < frame_count_ ? frameStamp(i) : INFINITY;
     if (t_imu <= t_frame) {
       sink.feedImu(imuSample(k++));

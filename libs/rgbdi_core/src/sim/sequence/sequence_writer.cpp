@@ -13,6 +13,7 @@
 #include "rgbdi/convert/vins_yaml.h"
 #include "rgbdi/io/rawlog_writer.h"
 #include "rgbdi/output/tum_writer.h"
+#include "sim/sequence/optional_settings.h"
 
 namespace rgbdi::sim {
 namespace {
@@ -216,6 +217,7 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   if (p.variant != 0)
     iniLine(os, "variant", std::to_string(p.variant),
             "[index] path variant in the same world (0 = the profile's path)");
+  writeOptionalSimSettings(os, o);  // likewise: only settings that differ from the defaults
   os << "\n";
   cameraSection(os, o.camera);
   os << "\n";
