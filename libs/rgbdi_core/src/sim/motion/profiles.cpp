@@ -442,7 +442,10 @@ const std::vector<std::string>& profileNames() {
   return names;
 }
 
-std::string toString(ProfileKind kind) { return profileNames()[static_cast<size_t>(kind)]; }
+std::string toString(ProfileKind kind) {
+  if (kind == ProfileKind::Recorded) return "recorded";
+  return profileNames()[static_cast<size_t>(kind)];
+}
 
 ProfileKind parseProfileKind(const std::string& name) {
   const auto& names = profileNames();
