@@ -55,11 +55,11 @@ TEST(RgbdiSimRecorded, EurocFlightImuReplayedExactlyAndSlamRunsOnIt) {
 
   const std::string out = makeTempDir("rgbdi_sim_recorded_slam");
   std::string log;
-  ASSERT_EQ(runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " +
-                           seq + "/config.ini --gt " + seq + "/groundtruth.tum --out " + out +
-                           " --quiet",
-                       &log),
-            0)
+  ASSERT_EQ(
+      runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " + seq +
+                     "/config.ini --gt " + seq + "/groundtruth.tum --out " + out + " --quiet",
+                 &log),
+      0)
       << log;
   std::ifstream f(out + "/summary.json");
   const auto summary = nlohmann::json::parse(f);
@@ -81,10 +81,10 @@ TEST(RgbdiSimRecorded, UsageAndRecordingErrors) {
   std::string log;
   EXPECT_EQ(runCommand(binDir() + "/rgbdi-sim --profile recorded --out " + out, &log), 2);
   EXPECT_NE(log.find("--profile recorded needs --recording DIR"), std::string::npos) << log;
-  EXPECT_EQ(runCommand(binDir() + "/rgbdi-sim --profile handheld --recording " + out + " --out " +
-                           out,
-                       &log),
-            2);
+  EXPECT_EQ(
+      runCommand(binDir() + "/rgbdi-sim --profile handheld --recording " + out + " --out " + out,
+                 &log),
+      2);
   EXPECT_NE(log.find("--recording needs --profile recorded"), std::string::npos) << log;
   EXPECT_EQ(runCommand(binDir() + "/rgbdi-sim --profile recorded --recording " + out +
                            " --recording-format kitti --out " + out,
@@ -98,12 +98,13 @@ TEST(RgbdiSimRecorded, UsageAndRecordingErrors) {
   EXPECT_NE(log.find("do not apply to --profile recorded"), std::string::npos) << log;
   // A damaged file: exit 1, the message names the file, the line and the fault.
   const std::string rec = makeTempDir("rgbdi_sim_bad_recording");
-  std::ofstream(rec + "/imu0.csv") << "#t,w,a\n1000000000,0,0,0,0,0,9.8\n1005000000,0,0,x,0,0,9.8\n";
+  std::ofstream(rec + "/imu0.csv")
+      << "#t,w,a\n1000000000,0,0,0,0,0,9.8\n1005000000,0,0,x,0,0,9.8\n";
   std::ofstream(rec + "/groundtruth.csv") << "1000000000,0,0,1,1,0,0,0\n";
-  EXPECT_EQ(runCommand(binDir() + "/rgbdi-sim --profile recorded --recording " + rec + " --out " +
-                           out,
-                       &log),
-            1);
+  EXPECT_EQ(
+      runCommand(binDir() + "/rgbdi-sim --profile recorded --recording " + rec + " --out " + out,
+                 &log),
+      1);
   EXPECT_NE(log.find(rec + "/imu0.csv line 3: angular rate 'x' is not a finite number"),
             std::string::npos)
       << log;

@@ -47,8 +47,7 @@ TEST(RecordedTrajectory, ConstantVelocityAndBodyRateAreExact) {
     for (double t = 0.0; t <= 0.4; t += 0.0137) {
       const KinematicState s = traj.state(t);
       EXPECT_NEAR((s.T_world_body.translation() - (kP0 + kV * t)).norm(), 0.0, 1e-12) << t;
-      EXPECT_NEAR((s.T_world_body.rotation() - kR0 * expSo3(kOmega * t)).norm(), 0.0, 1e-12)
-          << t;
+      EXPECT_NEAR((s.T_world_body.rotation() - kR0 * expSo3(kOmega * t)).norm(), 0.0, 1e-12) << t;
       EXPECT_NEAR((s.v_world - kV).norm(), 0.0, 1e-11) << t;
       EXPECT_NEAR(s.a_world.norm(), 0.0, 1e-9) << t;
       EXPECT_NEAR((s.omega_body - kOmega).norm(), 0.0, 1e-11) << t;

@@ -1,10 +1,14 @@
 // A hybrid sequence: the recording's IMU samples delivered and written unchanged (values exact,
 // stamps in the recording's clock), frames rendered along its ground truth, the ground truth
 // written at its own stamps, config.ini holding the recording's sensor noise.
+#include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "rgbdi/common/ini_reader.h"
@@ -102,8 +106,8 @@ TEST(RecordedSequence, ReplaysTheRecordedImuAndRendersAlongTheGroundTruth) {
     if (g.t < seq.startTime() || g.t > seq.startTime() + seq.duration()) continue;
     const GroundTruthState s = seq.groundTruth(g.t);
     EXPECT_NEAR((s.T_world_body.translation() - g.p_world).norm(), 0.0, 1e-6);
-    EXPECT_NEAR(Eigen::Quaterniond(s.T_world_body.rotation()).angularDistance(g.q_world_body),
-                0.0, 1e-6);
+    EXPECT_NEAR(Eigen::Quaterniond(s.T_world_body.rotation()).angularDistance(g.q_world_body), 0.0,
+                1e-6);
     EXPECT_NEAR((s.v_world - g.v_world).norm(), 0.0, 1e-6);
     EXPECT_NEAR((s.bias.gyr - g.bias.gyr).norm(), 0.0, 1e-12);
   }
@@ -153,7 +157,9 @@ std::vector<std::vector<double>> tumRows(const std::string& path) {
 TEST(RecordedSequence, WrittenRawlogHoldsTheRecordedImuExactly) {
   const std::string dir = test::makeTempDir("recorded_seq");
   const SimulatedSequence seq(options(1.0));
-  const SequenceWriteSummary s = writeSequence(seq, dir, SequenceWriterOptions{});
+  SequenceWriterOptions wo;
+  wo.write_bag = true;
+  const SequenceWriteSummary s = writeSequence(seq, dir, wo);
   ASSERT_TRUE(s.completed);
   const Recording& rec = *seq.options().recording;
   io::RawlogSource src(s.rawlog_path);
@@ -195,6 +201,20 @@ TEST(RecordedSequence, WrittenRawlogHoldsTheRecordedImuExactly) {
   EXPECT_NEAR(ini.getDouble("imu", "gyr_noise_density", 0, 0, 1), k * 1.6968e-4, 1e-12);
   EXPECT_NEAR(ini.getDouble("imu", "acc_random_walk", 0, 0, 1), k * 3.0e-3, 1e-12);
   EXPECT_NEAR(ini.getDouble("imu", "rate_hz", 0, 0, 1000), 200.0, 1e-12);
+  // The bag: every replayed IMU sample and the recording's ground truth at its own stamps.
+  rosbag::Bag bag(s.bag_path, rosbag::bagmode::Read);
+  std::map<std::string, int> count;
+  std::vector<double> pose_stamps;
+  for (const rosbag::MessageInstance& msg : rosbag::View(bag)) {
+    ++count[msg.getTopic()];
+    if (auto pose = msg.instantiate<geometry_msgs::PoseStamped>())
+      pose_stamps.push_back(pose->header.stamp.toSec());
+  }
+  EXPECT_EQ(count["/camera/imu"], 201);
+  EXPECT_EQ(count["/camera/color/image_raw"], 6);
+  ASSERT_EQ(pose_stamps.size(), 41u);
+  EXPECT_NEAR(pose_stamps.front(), gt.front()[0], 1e-6);
+  EXPECT_NEAR(pose_stamps.back(), gt.back()[0], 1e-6);
   std::ifstream settings(s.simulation_path);
   std::stringstream text;
   text << settings.rdbuf();

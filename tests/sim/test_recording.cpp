@@ -80,10 +80,10 @@ TEST(RecordingEuroc, FixtureFirstRowsAndCounts) {
   EXPECT_EQ(r.sensor.acc_random_walk, 3.0e-3);
   EXPECT_NEAR(r.T_body_cam.translation().x(), -0.0216401454975, 1e-12);
   EXPECT_NEAR(r.T_body_cam(1, 0), 0.999557249008, 1e-6);
-  EXPECT_NEAR((r.T_body_cam.rotation().transpose() * r.T_body_cam.rotation() -
-               Eigen::Matrix3d::Identity())
-                  .norm(),
-              0.0, 1e-14);
+  EXPECT_NEAR(
+      (r.T_body_cam.rotation().transpose() * r.T_body_cam.rotation() - Eigen::Matrix3d::Identity())
+          .norm(),
+      0.0, 1e-14);
 }
 
 TEST(RecordingEuroc, NanosecondsToSecondsKeepsTheFraction) {
@@ -124,8 +124,7 @@ TEST(RecordingEuroc, ErrorsNameTheFileTheLineAndTheFault) {
       {std::string(kImuHeader) + kImuRows + "1020000000,0.1,abc,0.3,1,2,9.81\n", kGtRows,
        "imu0.csv", "imu0.csv line 5: angular rate 'abc' is not a finite number"},
       {std::string(kImuHeader) + kImuRows + "1010000000,0.1,0.2,0.3,1,2,9.81\n", kGtRows,
-       "imu0.csv",
-       "imu0.csv line 5: timestamp 1010000000 does not increase (previous 1010000000)"},
+       "imu0.csv", "imu0.csv line 5: timestamp 1010000000 does not increase (previous 1010000000)"},
       {std::string(kImuHeader) + "1.5e9,0.1,0.2,0.3,1,2,9.81\n", kGtRows, "imu0.csv",
        "imu0.csv line 2: timestamp '1.5e9' is not a non-negative integer of nanoseconds"},
       {std::string(kImuHeader) + "1000000000,0.1,0.2,0.3,1,2,nan\n", kGtRows, "imu0.csv",
@@ -137,8 +136,7 @@ TEST(RecordingEuroc, ErrorsNameTheFileTheLineAndTheFault) {
        "values, got 7"},
       {imu_ok, "1000000000,1,2,3,0.5,0,0,0\n", "groundtruth.csv",
        "groundtruth.csv line 1: quaternion (w x y z) has norm 0.500000, not 1"},
-      {imu_ok, "# header\n1000000000,1,2,3,1,0,0,0\n999999999,1,2,3,1,0,0,0\n",
-       "groundtruth.csv",
+      {imu_ok, "# header\n1000000000,1,2,3,1,0,0,0\n999999999,1,2,3,1,0,0,0\n", "groundtruth.csv",
        "groundtruth.csv line 3: timestamp 999999999 does not increase (previous 1000000000)"},
   };
   for (const Case& c : cases) {

@@ -22,31 +22,31 @@ class RecordingError : public std::runtime_error {
 
 /// One ground-truth sample of the body (IMU) frame.
 struct RecordedPose {
-  double t = 0.0;  ///< [s] recording clock (the IMU's)
-  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();                  ///< [m]
-  Eigen::Quaterniond q_world_body = Eigen::Quaterniond::Identity();   ///< unit
-  bool has_velocity = false;                                          ///< v_world given
-  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();                  ///< [m/s]
-  bool has_bias = false;                                              ///< bias given
+  double t = 0.0;                                     ///< [s] recording clock (the IMU's)
+  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();  ///< [m]
+  Eigen::Quaterniond q_world_body = Eigen::Quaterniond::Identity();  ///< unit
+  bool has_velocity = false;                                         ///< v_world given
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();                 ///< [m/s]
+  bool has_bias = false;                                             ///< bias given
   ImuBias bias;  ///< the reference's estimate of the IMU biases
 };
 
 /// The recording's IMU as its datasheet / calibration describes it (Kalibr convention).
 struct RecordedImuSensor {
-  std::string name;                  ///< e.g. "ADIS16448 (EuRoC MAV)"
-  double rate_hz = 0.0;              ///< [Hz] nominal
-  double gyr_noise_density = 0.0;    ///< [rad/s/sqrt(Hz)]
-  double gyr_random_walk = 0.0;      ///< [rad/s^2/sqrt(Hz)]
-  double acc_noise_density = 0.0;    ///< [m/s^2/sqrt(Hz)]
-  double acc_random_walk = 0.0;      ///< [m/s^3/sqrt(Hz)]
-  double gravity_m_s2 = 9.81;        ///< [m/s^2] of the ground truth's world (z up)
+  std::string name;                ///< e.g. "ADIS16448 (EuRoC MAV)"
+  double rate_hz = 0.0;            ///< [Hz] nominal
+  double gyr_noise_density = 0.0;  ///< [rad/s/sqrt(Hz)]
+  double gyr_random_walk = 0.0;    ///< [rad/s^2/sqrt(Hz)]
+  double acc_noise_density = 0.0;  ///< [m/s^2/sqrt(Hz)]
+  double acc_random_walk = 0.0;    ///< [m/s^3/sqrt(Hz)]
+  double gravity_m_s2 = 9.81;      ///< [m/s^2] of the ground truth's world (z up)
 };
 
 struct Recording {
-  std::string format;     ///< one of recordingFormats()
-  std::string directory;  ///< where it was read from
-  std::vector<ImuSample> imu;                ///< strictly increasing stamps
-  std::vector<RecordedPose> ground_truth;    ///< strictly increasing stamps
+  std::string format;                      ///< one of recordingFormats()
+  std::string directory;                   ///< where it was read from
+  std::vector<ImuSample> imu;              ///< strictly increasing stamps
+  std::vector<RecordedPose> ground_truth;  ///< strictly increasing stamps
   RecordedImuSensor sensor;
   /// The dataset's camera in the body frame (default of [extrinsic] for this recording).
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();

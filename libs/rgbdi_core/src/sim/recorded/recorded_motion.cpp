@@ -97,8 +97,7 @@ RecordedWorldOptions RecordedWorldOptions::load(IniReader& ini) {
   o.room_margin_m = ini.getDouble(s, "recorded_room_margin_m", o.room_margin_m, 0.5, 100.0);
   o.floor_below_m = ini.getDouble(s, "recorded_floor_below_m", o.floor_below_m, 0.05, 100.0);
   o.ceiling_above_m = ini.getDouble(s, "recorded_ceiling_above_m", o.ceiling_above_m, 0.1, 100.0);
-  o.path_clearance_m =
-      ini.getDouble(s, "recorded_path_clearance_m", o.path_clearance_m, 0.1, 10.0);
+  o.path_clearance_m = ini.getDouble(s, "recorded_path_clearance_m", o.path_clearance_m, 0.1, 10.0);
   o.max_gap_s = ini.getDouble(s, "recorded_max_gap_s", o.max_gap_s, 0.001, 10.0);
   return o;
 }
@@ -111,14 +110,13 @@ RecordedMotion makeRecordedMotion(const Recording& rec, const RecordedWorldOptio
   const double imu_begin = rec.imu.front().t, imu_end = rec.imu.back().t;
   const auto& gt = rec.ground_truth;
   RecordedMotion m;
-  const auto first = std::find_if(gt.begin(), gt.end(),
-                                  [&](const RecordedPose& g) { return g.t >= imu_begin; });
+  const auto first =
+      std::find_if(gt.begin(), gt.end(), [&](const RecordedPose& g) { return g.t >= imu_begin; });
   if (first == gt.end() || first->t > imu_end)
     throw RecordingError(where + ": no ground-truth sample inside the IMU's time span");
   m.first_pose = static_cast<std::size_t>(first - gt.begin());
   // 1 us of slack: a duration written back from simulation.ini cuts at the same sample.
-  const double end =
-      duration_s > 0.0 ? std::min(imu_end, first->t + duration_s + 1e-6) : imu_end;
+  const double end = duration_s > 0.0 ? std::min(imu_end, first->t + duration_s + 1e-6) : imu_end;
   m.last_pose = m.first_pose;
   while (m.last_pose + 1 < gt.size() && gt[m.last_pose + 1].t <= end) ++m.last_pose;
   if (m.last_pose == m.first_pose)
@@ -134,9 +132,9 @@ RecordedMotion makeRecordedMotion(const Recording& rec, const RecordedWorldOptio
                        [](double t, const ImuSample& s) { return t < s.t; }) -
       rec.imu.begin());
 
-  m.trajectory = std::make_shared<RecordedTrajectory>(std::vector<RecordedPose>(
-      gt.begin() + static_cast<std::ptrdiff_t>(m.first_pose),
-      gt.begin() + static_cast<std::ptrdiff_t>(m.last_pose) + 1));
+  m.trajectory = std::make_shared<RecordedTrajectory>(
+      std::vector<RecordedPose>(gt.begin() + static_cast<std::ptrdiff_t>(m.first_pose),
+                                gt.begin() + static_cast<std::ptrdiff_t>(m.last_pose) + 1));
   const RecordedTrajectory& traj = *m.trajectory;
 
   // Bounds, horizontal length and the path points, from positions every kLayoutStepS.

@@ -206,10 +206,10 @@ Recording readEurocRecording(const std::string& dir) {
   r.directory = dir;
   r.imu = readImu(firstExisting(
       {d / "imu0.csv", d / "imu0" / "data.csv", d / "mav0" / "imu0" / "data.csv"}, "IMU", dir));
-  r.ground_truth = readGroundTruth(firstExisting(
-      {d / "groundtruth.csv", d / "state_groundtruth_estimate0" / "data.csv",
-       d / "mav0" / "state_groundtruth_estimate0" / "data.csv"},
-      "ground-truth", dir));
+  r.ground_truth = readGroundTruth(
+      firstExisting({d / "groundtruth.csv", d / "state_groundtruth_estimate0" / "data.csv",
+                     d / "mav0" / "state_groundtruth_estimate0" / "data.csv"},
+                    "ground-truth", dir));
   r.sensor = eurocSensor();
   r.T_body_cam = eurocCam0();
   return r;

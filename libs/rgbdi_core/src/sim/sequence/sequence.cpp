@@ -260,10 +260,11 @@ Trajectory SimulatedSequence::bodyTrajectory() const {
     const double begin = imuStamp(0), end = imuStamp(imu_count_ - 1);
     for (const RecordedPose& g : options_.recording->ground_truth)
       if (g.t >= begin && g.t <= end) {
-        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-        T.linear() = g.q_world_body.toRotationMatrix();
-        T.translation() = g.p_world;
-        traj.push_back(StampedPose::fromIsometry(g.t, T));
+        StampedPose p;
+        p.t = g.t;
+        p.q = g.q_world_body;
+        p.p = g.p_world;
+        traj.push_back(p);
       }
     return traj;
   }

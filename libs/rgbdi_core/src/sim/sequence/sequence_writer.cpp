@@ -56,13 +56,22 @@ class WritingSink : public MeasurementSink {
         bag_(bag),
         options_(options),
         start_(Clock::now()),
-        last_progress_(start_) {}
+        last_progress_(start_) {
+    // A recording's ground truth goes into the bag at its own stamps, not resampled.
+    if (bag_ && seq_.isRecorded()) recorded_truth_ = seq_.bodyTrajectory();
+  }
 
   void feedImu(const ImuSample& imu) override {
     rawlog_.write(imu);
     if (bag_) {
       bag_->writeImu(imu);
-      bag_->writePose(imu.t, seq_.groundTruth(imu.t).T_world_body);
+      if (!seq_.isRecorded()) {
+        bag_->writePose(imu.t, seq_.groundTruth(imu.t).T_world_body);
+      } else {
+        for (; next_truth_ < recorded_truth_.size() && recorded_truth_[next_truth_].t <= imu.t;
+             ++next_truth_)
+          bag_->writePose(recorded_truth_[next_truth_].t, recorded_truth_[next_truth_].isometry());
+      }
     }
     ++imu_samples_;
   }
@@ -104,6 +113,8 @@ class WritingSink : public MeasurementSink {
   const SequenceWriterOptions& options_;
   Clock::time_point start_, last_progress_;
   std::size_t frames_ = 0, imu_samples_ = 0;
+  Trajectory recorded_truth_;  ///< a recording's ground-truth samples (bag only)
+  std::size_t next_truth_ = 0;
 };
 
 }  // namespace
