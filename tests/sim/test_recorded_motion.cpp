@@ -155,6 +155,11 @@ TEST(RecordedMotion, CutsToTheImuSpanAndTheDuration) {
   EXPECT_NEAR(m.trajectory->duration(), 4.0, 1e-9);
   EXPECT_EQ(m.profile.kind, ProfileKind::Recorded);
   EXPECT_EQ(toString(m.profile.kind), "recorded");
+  // Not a synthesised profile: neither parsed as one nor made by makeMotionProfile.
+  EXPECT_THROW(parseProfileKind("recorded"), std::invalid_argument);
+  ProfileOptions po;
+  po.kind = ProfileKind::Recorded;
+  EXPECT_THROW(makeMotionProfile(po, Eigen::Isometry3d::Identity()), std::invalid_argument);
 
   const RecordedMotion cut = makeRecordedMotion(r, RecordedWorldOptions{}, 2.0);
   EXPECT_NEAR(r.ground_truth[cut.last_pose].t, 3.0, 1e-9);

@@ -526,6 +526,9 @@ MotionProfile makeMotionProfile(const ProfileOptions& options,
     case ProfileKind::TrackedSlopes:
       prof = trackedSlopes(options, T_body_cam);
       break;
+    case ProfileKind::Recorded:
+      throw std::invalid_argument(
+          "makeMotionProfile: a recorded motion comes from makeRecordedMotion (recorded_motion.h)");
     default:
       throw std::invalid_argument("makeMotionProfile: unknown profile kind");
   }
