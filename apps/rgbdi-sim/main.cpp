@@ -1,6 +1,7 @@
 // rgbdi-sim --profile NAME --out DIR [--duration S] [--speed slow|normal|fast] [--fps N]
 //           [--seed N] [--variant N] [--config FILE] [--time-offset S] [--aliased-walls]
 //           [--bag [--bag-compression none|bz2|lz4]]
+// rgbdi-sim --profile recorded --recording DIR [--recording-format euroc] --out DIR [...]
 // Simulates an RGB-D-inertial sequence (doc/simulator.md) and writes it to DIR. Exit codes:
 // 0 ok, 1 error (files, a sequence that cannot be made), 2 bad usage or configuration,
 // 130 interrupted (Ctrl-C). Options are parsed by rgbdi::CommandLine.
@@ -14,12 +15,14 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/common/command_line.h"
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/sim/recording.h"
 #include "rgbdi/sim/sequence_writer.h"
 
 namespace {
@@ -34,10 +37,18 @@ const char* const kUsage =
     "                 [--aliased-walls] [--blackout START:DURATION[:KIND]]\n"
     "                 [--spin START:DURATION[:TURNS]]\n"
     "                 [--bag [--bag-compression none|bz2|lz4]] [--embedded-images]\n"
-    "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes\n"
+    "       rgbdi-sim --profile recorded --recording DIR [--recording-format euroc] --out DIR\n"
+    "                 [--duration S] [--fps N] [--seed N] [--config FILE] [...]\n"
+    "  --profile          handheld | wheeled_circle | wheeled_slopes | tracked_slopes |\n"
+    "                     recorded (a hybrid sequence: the real IMU and ground truth of\n"
+    "                     --recording, images rendered along the ground truth)\n"
+    "  --recording        directory of a real recording (IMU + ground truth; --profile recorded)\n"
+    "  --recording-format its format: euroc (default; imu0.csv + groundtruth.csv or the ASL\n"
+    "                     mav0/ layout)\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
     "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag])\n"
-    "  --duration         total duration [s] (default: the profile's)\n"
+    "  --duration         total duration [s] (default: the profile's; recorded: the recording\n"
+    "                     from its first ground-truth sample inside the IMU's span)\n"
     "  --speed            speed preset (wheeled_slopes: the paper's slow/normal/fast runs)\n"
     "  --fps              camera frame rate [Hz] (default 30)\n"
     "  --seed             random seed of noise and textures (default 1)\n"
@@ -113,6 +124,7 @@ Span parseSpan(const std::string& option, const std::string& extra_name, const s
 
 struct Arguments {
   std::string profile, out, config, speed, bag_compression = "none";
+  std::string recording, recording_format = "euroc";
   double duration = 0.0, fps = 0.0, time_offset = 0.0;
   double blackout_start = 0.0, blackout_duration = 0.0;
   double spin_start = 0.0, spin_duration = 0.0, spin_turns = 0.0;  ///< turns 0: the configuration's
@@ -129,6 +141,8 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   cl.value("--out", &a.out);
   cl.value("--config", &a.config);
   cl.value("--speed", &a.speed);
+  cl.value("--recording", &a.recording);
+  cl.value("--recording-format", &a.recording_format);
   cl.value("--duration", [&](const std::string& v) {
     a.duration = number("--duration", v);
     if (a.duration <= 0.0) throw UsageError("--duration must be positive");
@@ -183,6 +197,17 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     throw UsageError("unexpected argument '" + cl.positional().front() + "'");
   if (a.profile.empty()) throw UsageError("--profile is required");
   if (a.out.empty()) throw UsageError("--out is required");
+  if (a.profile == "recorded") {
+    if (a.recording.empty()) throw UsageError("--profile recorded needs --recording DIR");
+    const auto& formats = rgbdi::sim::recordingFormats();
+    if (std::find(formats.begin(), formats.end(), a.recording_format) == formats.end())
+      throw UsageError("--recording-format: unknown format '" + a.recording_format + "'");
+    // The motion and the IMU are the recording's.
+    if (!a.speed.empty() || a.variant >= 0 || a.spin_duration > 0.0)
+      throw UsageError("--speed, --variant and --spin do not apply to --profile recorded");
+  } else if (!a.recording.empty()) {
+    throw UsageError("--recording needs --profile recorded");
+  }
   return outcome;
 }
 
@@ -194,11 +219,21 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
   // rgbdi configuration (e.g. share/config.ini) are allowed but not used.
   ini.acceptConfigSectionsExcept({"sim", "camera", "extrinsic"});
   ini.checkNoUnknownKeys();
-  try {
-    o.profile.kind = rgbdi::sim::parseProfileKind(a.profile);
-    if (!a.speed.empty()) o.profile.speed = rgbdi::sim::parseSpeedPreset(a.speed);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+  if (a.profile == "recorded") {
+    o.profile.kind = rgbdi::sim::ProfileKind::Recorded;
+    const auto recording = std::make_shared<const rgbdi::sim::Recording>(
+        rgbdi::sim::readRecording(a.recording, a.recording_format));
+    o.recording = recording;
+    // Without an [extrinsic] of its own, the camera sits where the dataset's camera was.
+    if (!ini.hasKey("extrinsic", "R_body_cam") && !ini.hasKey("extrinsic", "t_body_cam_m"))
+      o.extrinsic.T_body_cam = recording->T_body_cam;
+  } else {
+    try {
+      o.profile.kind = rgbdi::sim::parseProfileKind(a.profile);
+      if (!a.speed.empty()) o.profile.speed = rgbdi::sim::parseSpeedPreset(a.speed);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string(e.what()) + " or recorded");
+    }
   }
   if (a.duration > 0.0) o.profile.duration_s = a.duration;
   if (a.fps > 0.0) o.fps = a.fps;

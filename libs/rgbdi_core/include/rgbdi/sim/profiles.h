@@ -23,16 +23,19 @@
 
 namespace rgbdi::sim {
 
-enum class ProfileKind { Handheld, WheeledCircle, WheeledSlopes, TrackedSlopes };
+/// Recorded: the motion of a real recording (recorded_motion.h); not one of profileNames(), not
+/// made by makeMotionProfile.
+enum class ProfileKind { Handheld, WheeledCircle, WheeledSlopes, TrackedSlopes, Recorded };
 enum class SpeedPreset { Slow, Normal, Fast };
 
 /// Number of path variants of every profile (0 .. kProfileVariants - 1).
 inline constexpr int kProfileVariants = 3;
 
-/// "handheld", "wheeled_circle", "wheeled_slopes", "tracked_slopes".
+/// "handheld", "wheeled_circle", "wheeled_slopes", "tracked_slopes" (the synthesised profiles).
 const std::vector<std::string>& profileNames();
+/// A profile name, or "recorded".
 std::string toString(ProfileKind kind);
-/// Throws std::invalid_argument listing the valid names.
+/// One of profileNames(); throws std::invalid_argument listing them.
 ProfileKind parseProfileKind(const std::string& name);
 std::string toString(SpeedPreset speed);
 /// "slow", "normal", "fast"; throws std::invalid_argument otherwise.

@@ -3,7 +3,8 @@
 // interface as the rawlog reader (so end-to-end tests stream straight into the estimator), and
 // as random-access ground truth.
 //
-// Clocks: the IMU clock is the reference. IMU sample k is stamped start + k / imu_rate. Frame i
+// Clocks: the IMU clock is the reference. IMU sample k is stamped start + k / imu_rate (a
+// recording: its own stamps; start is its first replayed ground-truth stamp). Frame i
 // is exposed at IMU time start + i / fps and stamped t_cam = t_imu - time_offset_s (so that
 // t_imu = t_cam + time_offset_s, the [extrinsic] time_offset_s convention).
 // Everything random is a pure function of (seed, sample or frame index): output is identical for
@@ -27,6 +28,8 @@
 #include "rgbdi/sim/imu_synth.h"
 #include "rgbdi/sim/profile_scene.h"
 #include "rgbdi/sim/profiles.h"
+#include "rgbdi/sim/recorded_motion.h"
+#include "rgbdi/sim/recording.h"
 #include "rgbdi/sim/renderer.h"
 #include "rgbdi/sim/scene.h"
 #include "rgbdi/sim/sensor_noise.h"
@@ -71,13 +74,19 @@ struct SimOptions {
   double spin_start_s = 0.0;     ///< [s] since the first IMU sample
   double spin_duration_s = 0.0;  ///< [s] 0 = none
   double spin_turns = 1.0;       ///< [turns] negative: clockwise seen from above
+  /// A hybrid sequence (rgbdi-sim --profile recorded): the recording's real IMU samples and its
+  /// ground truth replace the synthesised IMU and motion (profile.kind is then ignored, the
+  /// profile's duration_s, when positive, cuts the recording); images are rendered along the
+  /// ground truth in a world built around it. nullptr: a synthesised profile.
+  std::shared_ptr<const Recording> recording;
+  RecordedWorldOptions recorded_world;  ///< [sim] recorded_*
 
   /// [sim] (fps, seed, time_offset_s, frame_stamp_jitter_s, start_time_s, config_noise_inflation,
   /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px, spin_start_s,
   /// spin_duration_s, spin_turns and the keys of ProfileOptions, ProfileSceneOptions,
-  /// ImuSynthOptions, DepthNoiseOptions, DepthArtefactOptions, ColorNoiseOptions,
-  /// ExposureOptions), [camera] and
-  /// [extrinsic]. The profile kind is not read (command line).
+  /// RecordedWorldOptions, ImuSynthOptions, DepthNoiseOptions, DepthArtefactOptions,
+  /// ColorNoiseOptions, ExposureOptions), [camera] and [extrinsic]. The profile kind is not read
+  /// (command line).
   static SimOptions load(IniReader& ini);
 };
 
@@ -108,20 +117,29 @@ class SimulatedSequence {
   const SimOptions& options() const { return options_; }
   const MotionProfile& profile() const { return profile_; }
   const Scene& scene() const { return *scene_; }
-  const ImuSynthesizer& imu() const { return *imu_; }
+  /// The IMU synthesiser (synthesised profiles only: throws std::logic_error for a recording).
+  const ImuSynthesizer& imu() const;
+  /// Whether the IMU and the motion come from a recording (SimOptions::recording).
+  bool isRecorded() const { return options_.recording != nullptr; }
+  /// The recorded part replayed (isRecorded() only: throws std::logic_error otherwise).
+  const RecordedMotion& recordedMotion() const;
+  /// True biases at the first IMU sample (a recording: its ground truth's, zero if it has none).
+  ImuBias initialBias() const;
   const BodyTrajectory& trajectory() const { return *profile_.trajectory; }
 
   double startTime() const { return options_.start_time_s; }
   double duration() const { return profile_.trajectory->duration(); }
-  /// IMU samples: combined samples at imu_rate_hz, or the merged separate streams
-  /// (ImuSynthOptions::accel_rate_hz / gyro_rate_hz).
-  std::size_t imuCount() const;
+  /// IMU samples: combined samples at imu_rate_hz, the merged separate streams
+  /// (ImuSynthOptions::accel_rate_hz / gyro_rate_hz), or a recording's.
+  std::size_t imuCount() const { return imu_count_; }
   /// The separate streams when on (null otherwise).
   const ImuSplitStream* imuSplitStream() const { return split_.get(); }
   std::size_t frameCount() const { return frame_count_; }
 
-  /// Simulated IMU sample k with its IMU-clock stamp.
+  /// IMU sample k (simulated, or the recording's as read) with its IMU-clock stamp.
   ImuSample imuSample(std::size_t k) const;
+  /// [s] IMU-clock stamp of sample k.
+  double imuStamp(std::size_t k) const;
   /// IMU-clock time at which frame i is exposed, and its (camera-clock) stamp.
   double frameExposureTime(std::size_t i) const;
   /// The stamp carries frame_stamp_jitter_s; frameTrueStamp is the exposure on the camera clock.
@@ -144,7 +162,8 @@ class SimulatedSequence {
   GroundTruthState groundTruth(double t_imu) const;
   /// Pose of the colour camera optical frame in the world at an IMU-clock stamp.
   Eigen::Isometry3d cameraPose(double t_imu) const;
-  /// Body poses at every IMU sample (IMU clock).
+  /// Body poses at every IMU sample (IMU clock); for a recording, its ground-truth samples at
+  /// their own stamps within the replayed IMU span.
   Trajectory bodyTrajectory() const;
   /// Camera poses at every frame, stamped with the frames' true stamps (camera clock, without
   /// the stamp jitter), each the pose at the frame's exposure time.
@@ -155,18 +174,22 @@ class SimulatedSequence {
   void pump(MeasurementSink& sink, const std::atomic<bool>* stop = nullptr) const;
 
  private:
-  void impairColour(cv::Mat& rgb) const;      ///< colour of a blackout frame ("bare", "blur")
+  void impairColour(cv::Mat& rgb) const;  ///< colour of a blackout frame ("bare", "blur")
+  /// The recording's ground-truth biases at t_imu (linear between samples, clamped; zero when
+  /// the recording has none).
+  ImuBias recordedBias(double t_imu) const;
   void checkFrameIndex(std::size_t i) const;  ///< throws std::out_of_range
   double imuTime(std::size_t k) const;        ///< [s] sequence time of IMU sample k
 
   SimOptions options_;
   MotionProfile profile_;
   std::unique_ptr<Scene> scene_;
-  std::unique_ptr<ImuSynthesizer> imu_;
-  std::unique_ptr<ImuSplitStream> split_;
+  std::unique_ptr<ImuSynthesizer> imu_;    ///< null for a recording
+  std::unique_ptr<ImuSplitStream> split_;  ///< separate streams, when on
+  RecordedMotion recorded_;                ///< empty unless isRecorded()
   std::unique_ptr<Renderer> renderer_;
   std::unique_ptr<ExposureGain> exposure_;
-  std::size_t frame_count_ = 0;
+  std::size_t frame_count_ = 0, imu_count_ = 0;
 };
 
 }  // namespace rgbdi::sim

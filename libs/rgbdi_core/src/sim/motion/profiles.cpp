@@ -442,7 +442,10 @@ const std::vector<std::string>& profileNames() {
   return names;
 }
 
-std::string toString(ProfileKind kind) { return profileNames()[static_cast<size_t>(kind)]; }
+std::string toString(ProfileKind kind) {
+  if (kind == ProfileKind::Recorded) return "recorded";
+  return profileNames()[static_cast<size_t>(kind)];
+}
 
 ProfileKind parseProfileKind(const std::string& name) {
   const auto& names = profileNames();
@@ -523,6 +526,9 @@ MotionProfile makeMotionProfile(const ProfileOptions& options,
     case ProfileKind::TrackedSlopes:
       prof = trackedSlopes(options, T_body_cam);
       break;
+    case ProfileKind::Recorded:
+      throw std::invalid_argument(
+          "makeMotionProfile: a recorded motion comes from makeRecordedMotion (recorded_motion.h)");
     default:
       throw std::invalid_argument("makeMotionProfile: unknown profile kind");
   }

@@ -83,7 +83,8 @@ class Furnisher {
         (xy[std::min(i + 1, xy.size() - 1)] - xy[i > 0 ? i - 1 : 0]).normalized();
     const Eigen::Vector2d n(-t.y(), t.x());
     const double heading = std::atan2(t.y(), t.x());
-    const double ceiling = l_.room_max.z();
+    // Furniture stands on the floor (z 0 for the synthesised profiles, below a recording's path).
+    const double floor = l_.room_min.z(), ceiling = l_.room_max.z();
     const double kind = rnd.uniform(0.0, 1.0);
     const double lateral_extra = rnd.uniform(0.05, lateral_max_m_);
     const double along = rnd.uniform(-0.3, 0.3);
@@ -96,7 +97,7 @@ class Furnisher {
       const double r = rnd.uniform(0.1, 0.25);
       const Eigen::Vector2d c = at(r);
       if (!free(c, r)) return false;
-      scene_.addCylinder(c, r, 0.0, ceiling, rnd.style());
+      scene_.addCylinder(c, r, floor, ceiling, rnd.style());
       items_.push_back({c, r});
     } else if (kind < 0.45) {
       // Cabinet / shelf facing the path.
@@ -105,7 +106,7 @@ class Furnisher {
       const Eigen::Vector2d c = at(r);
       if (!free(c, r)) return false;
       const double h = handheld ? rnd.uniform(1.2, 2.1) : rnd.uniform(0.6, 1.6);
-      scene_.addStep(c, size, heading + 0.5 * M_PI, 0.0, h,
+      scene_.addStep(c, size, heading + 0.5 * M_PI, floor, h,
                      rnd.chance(0.5) ? TextureStyle::Shelves : rnd.style());
       items_.push_back({c, r});
     } else if (kind < 0.6 && handheld) {
@@ -115,13 +116,14 @@ class Furnisher {
       const Eigen::Vector2d c = at(r);
       if (!free(c, r)) return false;
       const double yaw = heading + rnd.uniform(-0.4, 0.4);
-      scene_.addStep(c, size, yaw, 0.0, 0.75, rnd.style());
+      scene_.addStep(c, size, yaw, floor, 0.75, rnd.style());
       for (int k = 0; k < 2; ++k) {
         const Eigen::Vector2d off(rnd.uniform(-0.25, 0.25) * size.x(),
                                   rnd.uniform(-0.25, 0.25) * size.y());
         const double s = rnd.uniform(0.12, 0.3);
         scene_.addStep(c + Eigen::Rotation2Dd(yaw) * off, {s, s * rnd.uniform(0.7, 1.3)},
-                       rnd.uniform(-M_PI, M_PI), 0.75, rnd.uniform(0.08, 0.35), rnd.style());
+                       rnd.uniform(-M_PI, M_PI), floor + 0.75, rnd.uniform(0.08, 0.35),
+                       rnd.style());
       }
       items_.push_back({c, r});
     } else {
@@ -133,10 +135,10 @@ class Furnisher {
       if (!free(c, r)) return false;
       const double yaw = rnd.uniform(-M_PI, M_PI);
       const double h = handheld ? rnd.uniform(0.4, 1.1) : rnd.uniform(0.3, 0.9);
-      scene_.addStep(c, size, yaw, 0.0, h, rnd.style());
+      scene_.addStep(c, size, yaw, floor, h, rnd.style());
       if (rnd.chance(0.4)) {
         const double s2 = 0.6 * s;
-        scene_.addStep(c, {s2, s2}, yaw + rnd.uniform(-0.6, 0.6), h, rnd.uniform(0.2, 0.5),
+        scene_.addStep(c, {s2, s2}, yaw + rnd.uniform(-0.6, 0.6), floor + h, rnd.uniform(0.2, 0.5),
                        rnd.style());
       }
       items_.push_back({c, r});
@@ -182,7 +184,9 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
   LayoutRandom rnd(layout_seed, static_cast<std::uint64_t>(profile.kind) + 1);
   const CounterRng slot_rng(layout_seed, kSlotStream);
   std::uint64_t slot = 0;
-  const bool handheld = profile.kind == ProfileKind::Handheld;
+  // A recording (hand-held or flying) gets the taller furniture and tables of the hand-held world.
+  const bool handheld =
+      profile.kind == ProfileKind::Handheld || profile.kind == ProfileKind::Recorded;
   const std::size_t lap_samples = std::min(
       l.path_xy.size(), static_cast<std::size_t>(std::ceil(profile.lap_length_m / 0.1)) + 1);
   for (std::size_t i = 0; i < lap_samples; i += 8)

@@ -64,6 +64,7 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.spin_start_s = ini.getDouble(s, "spin_start_s", o.spin_start_s, 0.0, 1.0e6);
   o.spin_duration_s = ini.getDouble(s, "spin_duration_s", o.spin_duration_s, 0.0, 1.0e6);
   o.spin_turns = ini.getDouble(s, "spin_turns", o.spin_turns, -100.0, 100.0);
+  o.recorded_world = RecordedWorldOptions::load(ini);
   return o;
 }
 
@@ -95,42 +96,89 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
   // rotation so that rendering, ground truth and written files agree exactly.
   Eigen::Isometry3d& T = options_.extrinsic.T_body_cam;
   T.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
-  profile_ = makeMotionProfile(options_.profile, options_.extrinsic.T_body_cam);
-  if (options_.spin_duration_s > 0.0)
-    profile_.trajectory = std::make_shared<SpinOverlayTrajectory>(
-        profile_.trajectory, options_.spin_start_s, options_.spin_duration_s, options_.spin_turns);
-  scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed, options_.scene));
-  if (options_.imu.accel_rate_hz > 0.0 || options_.imu.gyro_rate_hz > 0.0) {
-    // Separate streams: the combined samples come on the gyro stamps, so imu_rate_hz is the
-    // gyro rate (written so to config.ini and simulation.ini).
-    options_.imu.rate_hz = options_.imu.gyro_rate_hz;
-    split_ = std::make_unique<ImuSplitStream>(profile_.trajectory, options_.imu, options_.seed);
+  if (options_.recording) {
+    if (options_.spin_duration_s > 0.0)
+      throw std::invalid_argument(
+          "SimulatedSequence: a recorded sequence cannot spin (its IMU is the recorded one)");
+    const Recording& rec = *options_.recording;
+    recorded_ = makeRecordedMotion(rec, options_.recorded_world, options_.profile.duration_s);
+    profile_ = recorded_.profile;
+    // The recording's clock is kept: frames start at its first replayed ground-truth sample.
+    options_.start_time_s = recorded_.trajectory->origin();
+    // The recording's sensor, for config.ini (inflated there as for every profile).
+    options_.imu.rate_hz = rec.sensor.rate_hz;
+    options_.imu.gravity_m_s2 = rec.sensor.gravity_m_s2;
+    options_.imu.acc_noise_density = rec.sensor.acc_noise_density;
+    options_.imu.gyr_noise_density = rec.sensor.gyr_noise_density;
+    options_.imu.acc_random_walk = rec.sensor.acc_random_walk;
+    options_.imu.gyr_random_walk = rec.sensor.gyr_random_walk;
+    options_.imu.acc_bias_max = options_.imu.gyr_bias_max = 0.0;
+    imu_count_ = recorded_.imu_count;
+  } else {
+    profile_ = makeMotionProfile(options_.profile, options_.extrinsic.T_body_cam);
+    if (options_.spin_duration_s > 0.0)
+      profile_.trajectory =
+          std::make_shared<SpinOverlayTrajectory>(profile_.trajectory, options_.spin_start_s,
+                                                  options_.spin_duration_s, options_.spin_turns);
+    if (options_.imu.accel_rate_hz > 0.0 || options_.imu.gyro_rate_hz > 0.0) {
+      // Separate streams: the combined samples come on the gyro stamps, so imu_rate_hz is the
+      // gyro rate (written so to config.ini and simulation.ini).
+      options_.imu.rate_hz = options_.imu.gyro_rate_hz;
+      split_ = std::make_unique<ImuSplitStream>(profile_.trajectory, options_.imu, options_.seed);
+    }
+    imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
+    imu_count_ = split_ ? split_->samples().size() : imu_->sampleCount();
   }
-  imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
+  scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed, options_.scene));
   // Aliased end walls must also be lit alike: a light without an x component shades the -x and
   // +x walls equally (otherwise one would be a darker copy of the other).
   if (options_.scene.aliased_walls) options_.render.light_dir_world.x() = 0.0;
   renderer_ = std::make_unique<Renderer>(*scene_, options_.camera.camera, options_.render);
   exposure_ = std::make_unique<ExposureGain>(options_.exposure, options_.seed);
+  // A recording's duration is a difference of stamps near 1e9 s (resolution 0.24 us): a frame
+  // that falls a microsecond after its end is still taken (its pose is the last sample's).
+  const double slack = isRecorded() ? 1e-6 * options_.fps : 1e-9;
   frame_count_ =
-      static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + 1e-9)) +
+      static_cast<std::size_t>(std::floor(profile_.trajectory->duration() * options_.fps + slack)) +
       1;
 }
 
 SimulatedSequence::~SimulatedSequence() = default;
 
-std::size_t SimulatedSequence::imuCount() const {
-  return split_ ? split_->samples().size() : imu_->sampleCount();
-}
-
 double SimulatedSequence::imuTime(std::size_t k) const {
   return split_ ? split_->samples()[k].t : imu_->sampleTime(k);
 }
 
+const ImuSynthesizer& SimulatedSequence::imu() const {
+  if (!imu_) throw std::logic_error("SimulatedSequence::imu: the IMU of this sequence is recorded");
+  return *imu_;
+}
+
+const RecordedMotion& SimulatedSequence::recordedMotion() const {
+  if (!isRecorded()) throw std::logic_error("SimulatedSequence: not a recorded sequence");
+  return recorded_;
+}
+
 ImuSample SimulatedSequence::imuSample(std::size_t k) const {
+  if (isRecorded()) {
+    if (k >= imu_count_)
+      throw std::out_of_range("SimulatedSequence: IMU sample " + std::to_string(k) + " of " +
+                              std::to_string(imu_count_));
+    return options_.recording->imu[k];
+  }
   ImuSample s = split_ ? split_->samples().at(k) : imu_->measured(k);
   s.t += options_.start_time_s;
   return s;
+}
+
+double SimulatedSequence::imuStamp(std::size_t k) const {
+  if (isRecorded()) return imuSample(k).t;
+  return options_.start_time_s + imuTime(k);
+}
+
+ImuBias SimulatedSequence::initialBias() const {
+  // Separate streams share the combined synthesiser's seed, hence its initial bias.
+  return isRecorded() ? groundTruth(imuStamp(0)).bias : imu_->biasAtSample(0);
 }
 
 double SimulatedSequence::frameExposureTime(std::size_t i) const {
@@ -222,12 +270,39 @@ GroundTruthState SimulatedSequence::groundTruth(double t_imu) const {
   g.v_world = s.v_world;
   g.a_world = s.a_world;
   g.omega_body = s.omega_body;
-  g.bias = split_ ? split_->biasAt(t) : imu_->biasAt(t);
+  g.bias = isRecorded() ? recordedBias(t_imu) : split_ ? split_->biasAt(t) : imu_->biasAt(t);
   return g;
+}
+
+ImuBias SimulatedSequence::recordedBias(double t_imu) const {
+  const std::vector<RecordedPose>& gt = options_.recording->ground_truth;
+  const auto it = std::upper_bound(gt.begin(), gt.end(), t_imu,
+                                   [](double t, const RecordedPose& g) { return t < g.t; });
+  if (it == gt.begin()) return it->has_bias ? it->bias : ImuBias{};
+  if (it == gt.end()) return gt.back().has_bias ? gt.back().bias : ImuBias{};
+  const RecordedPose &a = *(it - 1), &b = *it;
+  if (!a.has_bias || !b.has_bias) return ImuBias{};
+  const double w = (t_imu - a.t) / (b.t - a.t);
+  ImuBias r;
+  r.acc = (1.0 - w) * a.bias.acc + w * b.bias.acc;
+  r.gyr = (1.0 - w) * a.bias.gyr + w * b.bias.gyr;
+  return r;
 }
 
 Trajectory SimulatedSequence::bodyTrajectory() const {
   Trajectory traj;
+  if (isRecorded()) {
+    const double begin = imuStamp(0), end = imuStamp(imu_count_ - 1);
+    for (const RecordedPose& g : options_.recording->ground_truth)
+      if (g.t >= begin && g.t <= end) {
+        StampedPose p;
+        p.t = g.t;
+        p.q = g.q_world_body;
+        p.p = g.p_world;
+        traj.push_back(p);
+      }
+    return traj;
+  }
   traj.reserve(imuCount());
   for (std::size_t k = 0; k < imuCount(); ++k)
     traj.push_back(StampedPose::fromIsometry(options_.start_time_s + imuTime(k),
@@ -252,7 +327,7 @@ void SimulatedSequence::pump(MeasurementSink& sink, const std::atomic<bool>* sto
   const std::size_t n_imu = imuCount();
   while (k < n_imu || i < frame_count_) {
     if (stop && stop->load()) break;
-    const double t_imu = k < n_imu ? options_.start_time_s + imuTime(k) : INFINITY;
+    const double t_imu = k < n_imu ? imuStamp(k) : INFINITY;
     const double t_frame = i < frame_count_ ? frameStamp(i) : INFINITY;
     if (t_imu <= t_frame) {
       sink.feedImu(imuSample(k++));

@@ -59,13 +59,22 @@ class WritingSink : public MeasurementSink {
         bag_(bag),
         options_(options),
         gate_(options.progress_interactive, options.progress_interval_s),
-        start_(Clock::now()) {}
+        start_(Clock::now()) {
+    // A recording's ground truth goes into the bag at its own stamps, not resampled.
+    if (bag_ && seq_.isRecorded()) recorded_truth_ = seq_.bodyTrajectory();
+  }
 
   void feedImu(const ImuSample& imu) override {
     rawlog_.write(imu);
     if (bag_) {
       bag_->writeImu(imu);
-      bag_->writePose(imu.t, seq_.groundTruth(imu.t).T_world_body);
+      if (!seq_.isRecorded()) {
+        bag_->writePose(imu.t, seq_.groundTruth(imu.t).T_world_body);
+      } else {
+        for (; next_truth_ < recorded_truth_.size() && recorded_truth_[next_truth_].t <= imu.t;
+             ++next_truth_)
+          bag_->writePose(recorded_truth_[next_truth_].t, recorded_truth_[next_truth_].isometry());
+      }
     }
     ++imu_samples_;
   }
@@ -108,6 +117,8 @@ class WritingSink : public MeasurementSink {
   ProgressGate gate_;
   Clock::time_point start_;
   std::size_t frames_ = 0, imu_samples_ = 0;
+  Trajectory recorded_truth_;  ///< a recording's ground-truth samples (bag only)
+  std::size_t next_truth_ = 0;
 };
 
 }  // namespace
@@ -116,11 +127,23 @@ std::string slamConfigText(const SimulatedSequence& seq) {
   const SimOptions& o = seq.options();
   const double k = o.config_noise_inflation;
   std::ostringstream os;
-  os << "; rgbdi-slam configuration for the simulated sequence next to this file (profile "
-     << toString(seq.profile().kind) << ", seed " << o.seed << ").\n"
-     << "; Camera and extrinsic are the ones used to render. The IMU noise densities are the true\n"
-     << "; ones inflated by config_noise_inflation = " << iniNumber(k)
-     << ", as a user would set them (a real user never knows the truth; see simulation.ini).\n\n";
+  if (seq.isRecorded()) {
+    const Recording& r = *o.recording;
+    os << "; rgbdi-slam configuration for the hybrid sequence next to this file: the real IMU of\n"
+       << "; the " << r.format << " recording " << r.directory << ", images rendered along its"
+       << " ground truth (seed " << o.seed << ").\n"
+       << "; Camera and extrinsic are the ones used to render. The IMU noise densities are the\n"
+       << "; sensor's (" << r.sensor.name
+       << ") inflated by config_noise_inflation = " << iniNumber(k)
+       << ", as for the simulated profiles.\n\n";
+  } else {
+    os << "; rgbdi-slam configuration for the simulated sequence next to this file (profile "
+       << toString(seq.profile().kind) << ", seed " << o.seed << ").\n"
+       << "; Camera and extrinsic are the ones used to render. The IMU noise densities are the "
+          "true\n"
+       << "; ones inflated by config_noise_inflation = " << iniNumber(k)
+       << ", as a user would set them (a real user never knows the truth; see simulation.ini).\n\n";
+  }
   cameraSection(os, o.camera);
   os << "\n[imu]\n";
   iniLine(os, "rate_hz", iniNumber(o.imu.rate_hz), "[Hz]");
@@ -157,17 +180,31 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   const SimOptions& o = seq.options();
   const ProfileOptions& p = o.profile;
   const MotionProfile& prof = seq.profile();
-  const ImuBias& b0 = seq.imu().biasAtSample(0);
+  const ImuBias b0 = seq.initialBias();
   std::ostringstream os;
-  os << "; Settings of this simulated sequence: rgbdi-sim --profile " << toString(prof.kind)
-     << " --config simulation.ini regenerates it.\n"
-     << "; profile " << toString(prof.kind)
+  if (seq.isRecorded()) {
+    const Recording& r = *o.recording;
+    const RecordedMotion& m = seq.recordedMotion();
+    os << "; Settings of this hybrid sequence: rgbdi-sim --profile recorded --recording "
+       << r.directory << " --recording-format " << r.format
+       << " --config simulation.ini regenerates it.\n"
+       << "; IMU: the recording's " << m.imu_count << " samples (" << r.sensor.name
+       << "); motion: its ground-truth samples " << m.first_pose << " to " << m.last_pose
+       << " (stamps " << iniNumber(r.ground_truth[m.first_pose].t) << " to "
+       << iniNumber(r.ground_truth[m.last_pose].t) << " s); the [sim] IMU noise below is the"
+       << " sensor's\n";
+  } else {
+    os << "; Settings of this simulated sequence: rgbdi-sim --profile " << toString(prof.kind)
+       << " --config simulation.ini regenerates it.\n";
+  }
+  os << "; profile " << toString(prof.kind)
      << (p.variant != 0 ? " variant " + std::to_string(p.variant) : std::string()) << ": duration "
      << iniNumber(seq.duration()) << " s, cruise speed " << iniNumber(prof.cruise_speed_m_s)
      << " m/s, path length " << iniNumber(prof.path_length_m) << " m, " << seq.frameCount()
      << " frames, " << seq.imuCount() << " IMU samples\n"
-     << "; true initial accelerometer bias " << iniNumbers(b0.acc) << " m/s^2, gyro bias "
-     << iniNumbers(b0.gyr) << " rad/s\n\n[sim]\n";
+     << (seq.isRecorded() ? "; ground truth's initial accelerometer bias "
+                          : "; true initial accelerometer bias ")
+     << iniNumbers(b0.acc) << " m/s^2, gyro bias " << iniNumbers(b0.gyr) << " rad/s\n\n[sim]\n";
   iniLine(os, "fps", iniNumber(o.fps), "[Hz]");
   iniLine(os, "imu_rate_hz", iniNumber(o.imu.rate_hz), "[Hz]");
   iniLine(os, "seed", std::to_string(o.seed), "[integer]");
@@ -213,6 +250,14 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "wheeled_camera_height_m", iniNumber(p.wheeled_camera_height_m), "[m]");
   iniLine(os, "tracked_camera_height_m", iniNumber(p.tracked_camera_height_m), "[m]");
   iniLine(os, "handheld_camera_height_m", iniNumber(p.handheld_camera_height_m), "[m]");
+  if (seq.isRecorded()) {
+    const RecordedWorldOptions& w = o.recorded_world;
+    iniLine(os, "recorded_room_margin_m", iniNumber(w.room_margin_m), "[m]");
+    iniLine(os, "recorded_floor_below_m", iniNumber(w.floor_below_m), "[m]");
+    iniLine(os, "recorded_ceiling_above_m", iniNumber(w.ceiling_above_m), "[m]");
+    iniLine(os, "recorded_path_clearance_m", iniNumber(w.path_clearance_m), "[m]");
+    iniLine(os, "recorded_max_gap_s", iniNumber(w.max_gap_s), "[s]");
+  }
   // Written only for the other paths: a variant-0 sequence's files stay as they always were.
   if (p.variant != 0)
     iniLine(os, "variant", std::to_string(p.variant),
@@ -252,8 +297,12 @@ SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::stri
     writeFileAtomically(s.vins_config_path, [&](std::ostream& os) { os << vins; });
   }
   output::writeTum(s.groundtruth_path, seq.bodyTrajectory(),
-                   "ground truth: body (IMU) frame in the world frame; IMU clock (the rawlog's "
-                   "IMU stamps; image stamps are t_imu - [sim] time_offset_s)");
+                   seq.isRecorded()
+                       ? "ground truth: the recording's own samples of the body (IMU) frame in "
+                         "its world frame, at their stamps; IMU clock (the rawlog's IMU stamps; "
+                         "image stamps are t_imu - [sim] time_offset_s)"
+                       : "ground truth: body (IMU) frame in the world frame; IMU clock (the "
+                         "rawlog's IMU stamps; image stamps are t_imu - [sim] time_offset_s)");
   output::writeTum(s.groundtruth_cam_path, seq.cameraTrajectory(),
                    "ground truth: colour camera optical frame in the world frame; IMU clock (the "
                    "rawlog's IMU stamps; image stamps are t_imu - [sim] time_offset_s)");
