@@ -43,7 +43,7 @@ def probe_sim_keys(sim, work_dir, keys):
                             "--out", os.path.join(work_dir, "probe_out")],
                            capture_output=True, text=True)
         if p.returncode == 2 and k in p.stderr:
-            refused[k] = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "refused"
+            refused[k] = p.stderr.strip().splitlines()[-1].strip() if p.stderr.strip() else "refused"
         else:
             accepted.append(k)
     shutil.rmtree(os.path.join(work_dir, "probe_out"), ignore_errors=True)
@@ -142,7 +142,9 @@ class SequenceCache:
         else:
             shutil.move(os.path.join(sim_dir, "sequence.rawlog"),
                         os.path.join(tmp, "sequence.rawlog"))
-            shutil.move(os.path.join(sim_dir, "config.ini"), os.path.join(tmp, "slam.ini"))
+            shutil.copy(os.path.join(sim_dir, "config.ini"), os.path.join(tmp, "slam.ini"))
+        # the simulator's configuration for rgbdi-slam, also kept for bag rows (for reference)
+        shutil.move(os.path.join(sim_dir, "config.ini"), os.path.join(tmp, "sim_config.ini"))
         shutil.rmtree(sim_dir)
         with open(os.path.join(tmp, "generation.json"), "w") as f:
             json.dump(info, f, indent=1)

@@ -8,7 +8,7 @@ COLUMNS = [
     ("ate_odometry", "ATE odometry [m]", "{:.4f}"),
     ("ate_online", "ATE online [m]", "{:.4f}"),
     ("ate_final", "ATE final [m]", "{:.4f}"),
-    ("scale_error", "scale error", "{:.4f}"),
+    ("scale_error", "scale error", "{:.5f}"),
     ("coverage", "coverage", "{:.3f}"),
     ("resets", "resets", "{:g}"),
     ("first_pose_s", "first pose [s]", "{:.2f}"),
