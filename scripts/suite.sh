@@ -6,7 +6,7 @@
 #   scripts/suite.sh report LABEL
 #   scripts/suite.sh compare OLD_LABEL NEW_LABEL
 # SUITE_OUT (default out/suite) holds runs/<label>/; SUITE_CACHE (default SUITE_OUT/cache) the
-# generated sequences.
+# generated sequences; SUITE_CACHE_MAX_GB bounds the cache (least recently used entries go).
 set -euo pipefail
 [ -x /usr/bin/time ] ||
   { echo "suite: /usr/bin/time not found (apt-get install time, or scripts/setup-deps.sh)" >&2; exit 1; }

@@ -8,7 +8,7 @@
   suite.py compare OLD_LABEL NEW_LABEL
 
 Paths: SUITE_OUT (default out/suite): runs in SUITE_OUT/runs/<label>/; SUITE_CACHE (default
-SUITE_OUT/cache): generated sequences.
+SUITE_OUT/cache): generated sequences; SUITE_CACHE_MAX_GB: bound of the cache (LRU eviction).
 """
 import argparse
 import concurrent.futures
@@ -17,6 +17,7 @@ import json
 import os
 import re
 import sys
+import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -119,16 +120,14 @@ def cmd_run(args):
     def generate(r):
         try:
             path, info = cache.ensure(r)
+            if info:
+                print(f"suite: generated {r['id']} in "
+                      f"{sum(s['wall_s'] for s in info['steps'].values()):.0f} s",
+                      file=sys.stderr, flush=True)
             return r["id"], path, info, None
         except (RuntimeError, OSError, ValueError) as e:
+            print(f"suite: {r['id']}: {e}", file=sys.stderr, flush=True)
             return r["id"], None, None, str(e)
-
-    t_gen = time.monotonic()
-    gen = {rid: (path, info, err) for rid, path, info, err in _pool(args.jobs, generate, todo)}
-    gen_wall = time.monotonic() - t_gen
-    gen_cpu = sum(s["cpu_s"] for _, info, _ in gen.values() if info
-                  for s in info["steps"].values())
-    generated = sum(1 for _, info, _ in gen.values() if info)
 
     def run(r):
         path, _, err = gen[r["id"]]
@@ -143,9 +142,46 @@ def cmd_run(args):
               file=sys.stderr, flush=True)
         return res
 
-    t_run = time.monotonic()
-    results = _pool(args.jobs, run, todo)
-    run_wall = time.monotonic() - t_run
+    gen = {}
+    cap_gb = os.environ.get("SUITE_CACHE_MAX_GB")
+    pruned = []
+    if cap_gb is None:
+        # all sequences first, then the runs: the runs' wall time is not mixed with generation
+        t_gen = time.monotonic()
+        gen = {rid: (path, info, err) for rid, path, info, err in _pool(args.jobs, generate, todo)}
+        gen_wall = time.monotonic() - t_gen
+        t_run = time.monotonic()
+        results = _pool(args.jobs, run, todo)
+        run_wall = time.monotonic() - t_run
+    else:
+        # a bounded cache: generate, run, then evict least recently used entries of other rows
+        try:
+            cap_bytes = float(cap_gb) * 1e9
+        except ValueError:
+            raise SystemExit(f"suite: SUITE_CACHE_MAX_GB '{cap_gb}' is not a number")
+        in_use, lock = set(), threading.Lock()
+
+        def gen_and_run(r):
+            entry = cache.entry(r)
+            with lock:
+                in_use.add(entry)
+            rid, path, info, err = generate(r)
+            gen[rid] = (path, info, err)
+            res = run(r)
+            with lock:
+                in_use.discard(entry)
+                keep = set(in_use)
+            pruned.extend(cache.prune(cap_bytes, keep))
+            return res
+
+        t_run = time.monotonic()
+        results = _pool(args.jobs, gen_and_run, todo)
+        run_wall = time.monotonic() - t_run
+        gen_wall = sum(s["wall_s"] for _, info, _ in gen.values() if info
+                       for s in info["steps"].values()) / args.jobs
+    gen_cpu = sum(s["cpu_s"] for _, info, _ in gen.values() if info
+                  for s in info["steps"].values())
+    generated = sum(1 for _, info, _ in gen.values() if info)
     header = {
         "tier": args.tier, "label": args.label, "date_utc":
             datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M"),
@@ -154,7 +190,8 @@ def cmd_run(args):
         "sim_keys_accepted": accepted, "sim_keys_refused": refused, "skipped": skipped,
         "generated": generated, "generation_wall_s": gen_wall, "generation_cpu_s": gen_cpu,
         "runs_wall_s": run_wall, "total_wall_s": time.monotonic() - t_start, "jobs": args.jobs,
-        "only": args.only, "duration_override_s": args.duration}
+        "only": args.only, "duration_override_s": args.duration, "cache_max_gb": cap_gb,
+        "cache_entries_pruned": len(pruned)}
     with open(os.path.join(out, "results.json"), "w") as f:
         json.dump({"header": header, "results": results}, f, indent=1)
     suite_report.write_csv(results, os.path.join(out, "results.csv"),
@@ -181,6 +218,11 @@ def report_text(h, results):
                  + ".")
     for rid, why in h["skipped"]:
         lines.append(f"Skipped {rid}: {why}.")
+    if h.get("cache_max_gb") is not None:
+        lines.append(f"Cache bounded to {h['cache_max_gb']} GB (SUITE_CACHE_MAX_GB): each sequence "
+                     "generated just before its run, so the runs' wall time includes generation "
+                     "(generation wall = its summed wall / jobs); "
+                     f"{h['cache_entries_pruned']} entries evicted.")
     lines.append(f"{h['runs']} runs ({h['jobs']} at a time): wall {h['runs_wall_s'] / 60:.1f} min."
                  f" Generation of {h['generated']} sequences: wall "
                  f"{h['generation_wall_s'] / 60:.1f} min, CPU {h['generation_cpu_s'] / 60:.1f} "

@@ -15,6 +15,7 @@ import os
 import re
 import shutil
 import subprocess
+import threading
 import time
 
 from suite_vins_yaml import vins_yaml_from_config
@@ -108,6 +109,7 @@ class SequenceCache:
         self.sim_version = tool_version(sim)
         self.convert_version = tool_version(convert)
         os.makedirs(cache_dir, exist_ok=True)
+        self._lock = threading.Lock()
 
     def entry(self, row):
         text, _ = row_config_text(row, self.accepted)
@@ -176,3 +178,32 @@ class SequenceCache:
         if rc != 0:
             raise RuntimeError(f"rawlog-convert failed (exit {rc}): see {tmp}/convert.log")
         os.rename(os.path.join(tmp, "sequence.ini"), os.path.join(tmp, "slam.ini"))
+
+    def prune(self, max_bytes, in_use):
+        with self._lock:
+            return prune_cache(self.dir, max_bytes, in_use)
+
+
+def prune_cache(cache_dir, max_bytes, in_use):
+    """Deletes complete entries (with generation.json), least recently used (oldest mtime of
+    the entry directory) first, until the cache holds at most max_bytes; never an entry in
+    in_use. Returns the names deleted, in deletion order."""
+    entries = []
+    for name in os.listdir(cache_dir):
+        path = os.path.join(cache_dir, name)
+        if not os.path.isfile(os.path.join(path, "generation.json")):
+            continue
+        size = sum(os.path.getsize(os.path.join(d, f)) for d, _, files in os.walk(path)
+                   for f in files)
+        entries.append((os.path.getmtime(path), path, size))
+    total = sum(e[2] for e in entries)
+    deleted = []
+    for _, path, size in sorted(entries):
+        if total <= max_bytes:
+            break
+        if path in in_use:
+            continue
+        shutil.rmtree(path, ignore_errors=True)
+        total -= size
+        deleted.append(os.path.basename(path))
+    return deleted

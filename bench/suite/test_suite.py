@@ -13,7 +13,7 @@ import suite_rows  # noqa: E402
 import suite_run  # noqa: E402
 import suite_stats  # noqa: E402
 import suite_vins_yaml  # noqa: E402
-from suite_cache import entry_key, row_config_text, sim_arguments  # noqa: E402
+from suite_cache import entry_key, prune_cache, row_config_text, sim_arguments  # noqa: E402
 
 DEFINITION = suite_rows.load_definition(os.path.join(HERE, "suite.json"))
 RULES = DEFINITION["compare"]
@@ -229,6 +229,29 @@ class Sequences(unittest.TestCase):
         self.assertEqual(float(vals["fx"]), 600.0)
         self.assertEqual(float(vals["p2"]), 0.002)
         self.assertIn("data: [ 0, 0, 1, -1, 0, 0, 0, -1, 0 ]", y)
+
+
+class CachePruning(unittest.TestCase):
+    def test_least_recently_used_first_never_in_use_nor_incomplete(self):
+        with tempfile.TemporaryDirectory() as d:
+            def entry(name, size, mtime, complete=True):
+                p = os.path.join(d, name)
+                os.makedirs(p)
+                with open(os.path.join(p, "sequence.rawlog"), "wb") as f:
+                    f.write(b"x" * size)
+                if complete:
+                    open(os.path.join(p, "generation.json"), "w").close()
+                os.utime(p, (mtime, mtime))
+                return p
+            entry("a", 100, 1000)
+            b = entry("b", 100, 2000)
+            entry("c", 100, 3000)
+            entry("d", 100, 4000)
+            entry("e.tmp1", 500, 500, complete=False)
+            # 400 bytes of complete entries, cap 200: a (oldest) goes, b is in use, c goes
+            self.assertEqual(prune_cache(d, 200, {b}), ["a", "c"])
+            self.assertEqual(sorted(os.listdir(d)), ["b", "d", "e.tmp1"])
+            self.assertEqual(prune_cache(d, 1000, set()), [])
 
 
 class RunFigures(unittest.TestCase):
