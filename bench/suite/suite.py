@@ -316,4 +316,7 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except ValueError as e:  # a bad suite file, named with the entry
+        sys.exit(f"suite: {e}")

@@ -15,8 +15,60 @@ WORLD_KEYS = ["world_seed", "room_margin_m", "furniture_density", "furniture_lat
 
 
 def load_definition(path):
-    with open(path) as f:
-        return json.load(f)
+    """The suite file, checked: errors name the file and the entry."""
+    try:
+        with open(path) as f:
+            d = json.load(f)
+    except OSError as e:
+        raise ValueError(f"{path}: {e.strerror}")
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{path}: not JSON: {e}")
+    validate_definition(d, path)
+    return d
+
+
+def validate_definition(d, path):
+    def fail(where, what):
+        raise ValueError(f"{path}: {where}: {what}")
+    for section in ("draw", "profiles", "rates", "hard_cases", "recordings", "tiers", "compare"):
+        if not isinstance(d.get(section), dict):
+            fail(section, "missing (an object)")
+    for k in WORLD_KEYS + ["speed_factor", "speed_m_s_fast"]:
+        r = d["draw"].get(k)
+        if not isinstance(r, dict) or not isinstance(r.get("min"), (int, float)) or \
+                not isinstance(r.get("max"), (int, float)) or r["min"] > r["max"]:
+            fail(f"draw.{k}", "needs numbers min <= max")
+    if not d["draw"].get("wheeled_slopes_speed"):
+        fail("draw.wheeled_slopes_speed", "needs a list of speed presets")
+    for p in PROFILES:
+        prof = d["profiles"].get(p)
+        if not isinstance(prof, dict) or not (prof.get("speed_preset") or
+                                              isinstance(prof.get("speed_m_s"), (int, float))):
+            fail(f"profiles.{p}", "needs speed_m_s [m/s] or speed_preset: true")
+    for name, r in d["rates"].items():
+        if name.startswith("_"):
+            continue
+        if not isinstance(r.get("fps"), (int, float)) or r.get("layout") not in ("bag", "rawlog"):
+            fail(f"rates.{name}", "needs fps and layout bag|rawlog")
+    for name, t in d["tiers"].items():
+        where = f"tiers.{name}"
+        if not t.get("seeds") or not isinstance(t.get("duration_s"), (int, float)):
+            fail(where, "needs seeds and duration_s")
+        rates = list(t.get("rates", []))
+        rates += (t.get("handheld_fast") or {}).get("rates", [])
+        rates += (t.get("hybrid") or {}).get("rates", [])
+        if t.get("hard"):
+            rates.append(t["hard"].get("rate"))
+            for p in t["hard"].get("profiles", []):
+                if p not in PROFILES:
+                    fail(f"{where}.hard.profiles", f"unknown profile '{p}'")
+        for r in rates:
+            if r not in d["rates"] or r.startswith("_"):
+                fail(where, f"unknown rate '{r}' (the file defines "
+                     f"{', '.join(k for k in d['rates'] if not k.startswith('_'))})")
+    for k in ("worse_ratio", "much_worse_ratio", "median_tolerance", "max_much_worse_fraction"):
+        if not isinstance(d["compare"].get(k), (int, float)):
+            fail(f"compare.{k}", "missing (a number)")
 
 
 def unit_draw(name, seed, key):

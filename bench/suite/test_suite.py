@@ -181,6 +181,32 @@ class ParameterDraw(unittest.TestCase):
         self.assertIsNone(rec["duration_s"])
 
 
+class SuiteFile(unittest.TestCase):
+    def check_refused(self, edit, message):
+        import copy
+        import json
+        d = copy.deepcopy(DEFINITION)
+        edit(d)
+        with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+            json.dump(d, f)
+        try:
+            with self.assertRaises(ValueError) as e:
+                suite_rows.load_definition(f.name)
+            self.assertIn(f.name + ": " + message, str(e.exception))
+        finally:
+            os.unlink(f.name)
+
+    def test_errors_name_the_file_and_the_entry(self):
+        self.check_refused(lambda d: d["tiers"]["quick"]["rates"].append("60hz"),
+                           "tiers.quick: unknown rate '60hz'")
+        self.check_refused(lambda d: d["draw"]["room_margin_m"].update(min=5),
+                           "draw.room_margin_m: needs numbers min <= max")
+        self.check_refused(lambda d: d["tiers"]["full"]["hard"]["profiles"].append("boat"),
+                           "tiers.full.hard.profiles: unknown profile 'boat'")
+        self.check_refused(lambda d: d.pop("compare"), "compare: missing")
+        self.assertRaises(ValueError, suite_rows.load_definition, "/nonexistent/suite.json")
+
+
 class Sequences(unittest.TestCase):
     def test_config_text_keeps_only_accepted_keys(self):
         row = suite_rows.tier_rows(DEFINITION, "quick", "/repo")[0]
