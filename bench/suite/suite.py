@@ -207,9 +207,10 @@ def cmd_run(args):
 def report_text(h, results):
     lines = [f"# Suite {h['tier']} tier, label {h['label']} ({h['date_utc']} UTC)", "",
              f"rgbdi-slam {h['rgbdi_slam']}; sequences by {h['rgbdi_sim']} ({h['sim_version']})."]
-    if h.get("only") or h.get("duration_override_s"):
-        lines.append(f"Subset: rows matching '{h.get('only')}', duration override "
-                     f"{h.get('duration_override_s')} s.")
+    if h.get("only"):
+        lines.append(f"Subset: the rows whose id matches '{h['only']}'.")
+    if h.get("duration_override_s"):
+        lines.append(f"Every simulated row shortened to {h['duration_override_s']:g} s.")
     if h["sim_keys_refused"]:
         lines.append("World/motion keys this rgbdi-sim does not accept, run WITHOUT them (rows "
                      "differ only by seed noise/textures and speed): "
