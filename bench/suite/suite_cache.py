@@ -1,8 +1,8 @@
 """Generated sequences, cached by what made them.
 
 Cache entry = CACHE_DIR/<row id>-<key>/ where key is a hash of the rgbdi-sim arguments, the text
-of the row's --config, the rgbdi-sim binary's --version line and (bag rows) rawlog-convert's
---version line and arguments. An entry holds what rgbdi-slam needs:
+of the row's --config, the rgbdi-sim binary's --version line, (bag rows) rawlog-convert's
+--version line and arguments, and (hybrid rows) the recording's file names, sizes and times. An entry holds what rgbdi-slam needs:
   sequence.rawlog, slam.ini (the configuration to run with), groundtruth.tum, simulation.ini,
   generation.json (commands, times); bag rows also vins_config.yaml and the converter's report.
 Generation writes a temporary directory and renames it when complete, so a killed run leaves no
@@ -81,6 +81,12 @@ def entry_key(row, config_text, sim_version, convert_version):
             "sim_version": sim_version, "layout": row["layout"]}
     if row["layout"] == "bag":
         what["convert"] = [convert_version, "--camera-yaml"]
+    if row["recording"] and os.path.isdir(row["recording"]):
+        # a recording replaced in place regenerates its rows
+        what["recording_files"] = sorted(
+            (os.path.relpath(os.path.join(d, f), row["recording"]),
+             os.path.getsize(os.path.join(d, f)), int(os.path.getmtime(os.path.join(d, f))))
+            for d, _, files in os.walk(row["recording"]) for f in files)
     return hashlib.sha256(json.dumps(what, sort_keys=True).encode()).hexdigest()[:16]
 
 
