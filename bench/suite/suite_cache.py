@@ -2,9 +2,11 @@
 
 Cache entry = CACHE_DIR/<row id>-<key>/ where key is a hash of the rgbdi-sim arguments, the text
 of the row's --config, the rgbdi-sim binary's --version line, (bag rows) rawlog-convert's
---version line and arguments, and (hybrid rows) the recording's file names, sizes and times. An entry holds what rgbdi-slam needs:
+--version line and arguments, and (hybrid rows) the recording's file names, sizes and times.
+An entry holds what rgbdi-slam needs:
   sequence.rawlog, slam.ini (the configuration to run with), groundtruth.tum, simulation.ini,
-  generation.json (commands, times); bag rows also vins_config.yaml and the converter's report.
+  sim_config.ini, generation.json (commands, times); bag rows also vins_config.yaml and the
+  converter's report.
 Generation writes a temporary directory and renames it when complete, so a killed run leaves no
 half entry. Bag rows delete the bag and the simulator's own rawlog after conversion (1.5 MB per
 frame each); the converted rawlog is what a user of the published layout runs on.
@@ -44,7 +46,8 @@ def probe_sim_keys(sim, work_dir, keys):
                             "--out", os.path.join(work_dir, "probe_out")],
                            capture_output=True, text=True)
         if p.returncode == 2 and k in p.stderr:
-            refused[k] = p.stderr.strip().splitlines()[-1].strip() if p.stderr.strip() else "refused"
+            lines = p.stderr.strip().splitlines()
+            refused[k] = lines[-1].strip() if lines else "refused"
         else:
             accepted.append(k)
     shutil.rmtree(os.path.join(work_dir, "probe_out"), ignore_errors=True)
