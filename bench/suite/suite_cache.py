@@ -27,8 +27,14 @@ PROBE_VALUES = {"world_seed": "7", "room_margin_m": "1", "furniture_density": "0
 
 
 def tool_version(binary):
+    """--version names the release only: the binary's own bytes tell one build from another, so
+    a changed simulator or converter regenerates the sequences it made."""
     out = subprocess.run([binary, "--version"], capture_output=True, text=True, check=True)
-    return out.stdout.strip()
+    h = hashlib.sha256()
+    with open(binary, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return out.stdout.strip() + " sha256:" + h.hexdigest()[:16]
 
 
 def probe_sim_keys(sim, work_dir, keys):
@@ -73,7 +79,10 @@ def sim_arguments(row, config_path):
         a += ["--duration", f"{row['duration_s']:g}"]
     if row["speed_preset"]:
         a += ["--speed", row["speed_preset"]]
-    a += ["--embedded-images"] + (["--bag"] if row["layout"] == "bag" else [])
+    if row["layout"] != "files":
+        a += ["--embedded-images"]
+    if row["layout"] == "bag":
+        a += ["--bag"]
     a += row["extra_args"] + ["--config", config_path]
     return a
 
@@ -152,6 +161,9 @@ class SequenceCache:
         else:
             shutil.move(os.path.join(sim_dir, "sequence.rawlog"),
                         os.path.join(tmp, "sequence.rawlog"))
+            if row["layout"] == "files":  # the rawlog's images, found by its name
+                shutil.move(os.path.join(sim_dir, "sequence_Images"),
+                            os.path.join(tmp, "sequence_Images"))
             shutil.copy(os.path.join(sim_dir, "config.ini"), os.path.join(tmp, "slam.ini"))
         # the simulator's configuration for rgbdi-slam, also kept for bag rows (for reference)
         shutil.move(os.path.join(sim_dir, "config.ini"), os.path.join(tmp, "sim_config.ini"))

@@ -1,7 +1,7 @@
 """The rows of a tier: the suite file's conditions x seeds, with each seed's drawn world and motion.
 
 A row is a plain dict: id (unique, names the sequence and the run), condition (what the tables
-group by), profile, seed, fps, layout ('bag' or 'rawlog'), duration_s (None: the recording's
+group by), profile, seed, fps, layout ('bag', 'rawlog' or 'files'), duration_s (None: the recording's
 length), sim_keys ([sim] keys of its --config), extra rgbdi-sim arguments, and for hybrid rows the
 recording directory.
 """
@@ -10,6 +10,10 @@ import json
 import os
 
 PROFILES = ["handheld", "wheeled_circle", "wheeled_slopes", "tracked_slopes"]
+# bag: rgbdi-sim --bag, converted by rawlog-convert (raw images in the rawlog, as a user of the
+# published dataset has them); rawlog: rgbdi-sim's rawlog with the images inside; files: its
+# rawlog with the images as PNG and range files beside it (MRPT's layout for large datasets).
+LAYOUTS = ["bag", "rawlog", "files"]
 WORLD_KEYS = ["world_seed", "room_margin_m", "furniture_density", "furniture_lateral_max_m",
               "texture_contrast", "exposure_gain_amplitude", "exposure_period_s"]
 
@@ -48,12 +52,17 @@ def validate_definition(d, path):
     for name, r in d["rates"].items():
         if name.startswith("_"):
             continue
-        if not isinstance(r.get("fps"), (int, float)) or r.get("layout") not in ("bag", "rawlog"):
-            fail(f"rates.{name}", "needs fps and layout bag|rawlog")
+        if not isinstance(r.get("fps"), (int, float)) or r.get("layout") not in LAYOUTS:
+            fail(f"rates.{name}", "needs fps and layout " + "|".join(LAYOUTS))
     for name, t in d["tiers"].items():
         where = f"tiers.{name}"
-        if not t.get("seeds") or not isinstance(t.get("duration_s"), (int, float)):
+        if not t.get("seeds") or "duration_s" not in t:
             fail(where, "needs seeds and duration_s")
+        dur = t["duration_s"]
+        for v in (dur.values() if isinstance(dur, dict) else [dur]):
+            if v is not None and not (isinstance(v, (int, float)) and v > 0):
+                fail(f"{where}.duration_s", "seconds > 0, null (the profile's own length) or "
+                     "an object of those per rate")
         rates = list(t.get("rates", []))
         rates += (t.get("handheld_fast") or {}).get("rates", [])
         rates += (t.get("hybrid") or {}).get("rates", [])
@@ -124,6 +133,13 @@ def hard_args(case, start_s):
     raise ValueError(f"hard case {case} has none of blackout, spin_turns, time_offset_s")
 
 
+def tier_duration(t, rate):
+    """[s] of a tier's rows at a rate: duration_s is one value for every rate or an object per
+    rate; None = the profile's own length (doc/simulator.md)."""
+    d = t["duration_s"]
+    return d.get(rate) if isinstance(d, dict) else d
+
+
 def tier_rows(definition, tier, repo_root):
     """Every row of the tier, in a fixed order."""
     if tier not in definition["tiers"]:
@@ -135,14 +151,14 @@ def tier_rows(definition, tier, repo_root):
         for rate in t["rates"]:
             for s in t["seeds"]:
                 rows.append(_row(definition, f"{p}_s{s}_{rate}", f"{p} {rate}", p, p, s, rate,
-                                 t["duration_s"]))
+                                 tier_duration(t, rate)))
     fast = t.get("handheld_fast")
     if fast:
         for rate in fast["rates"]:
             for s in fast["seeds"]:
                 rows.append(_row(definition, f"handheld_fast_s{s}_{rate}",
                                  f"handheld_fast {rate}", "handheld_fast", "handheld", s, rate,
-                                 t["duration_s"], fast=True))
+                                 tier_duration(t, rate), fast=True))
     hard = t.get("hard")
     if hard:
         start = round(hard["start_fraction"] * hard["duration_s"], 3)

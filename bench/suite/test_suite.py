@@ -162,15 +162,25 @@ class ParameterDraw(unittest.TestCase):
     def test_seeds_differ_and_rates_share_the_world(self):
         rows = suite_rows.tier_rows(DEFINITION, "quick", "/repo")
         by_id = {r["id"]: r for r in rows}
-        a, b = by_id["handheld_s1_15hz_bag"], by_id["handheld_s1_30hz_rawlog"]
+        a, b = by_id["handheld_s1_15hz_bag"], by_id["handheld_s1_30hz_files"]
         self.assertEqual(a["sim_keys"], b["sim_keys"])
         self.assertNotEqual(a["sim_keys"], by_id["handheld_s2_15hz_bag"]["sim_keys"])
         self.assertEqual((a["fps"], a["layout"], b["fps"], b["layout"]),
-                         (15, "bag", 30, "rawlog"))
+                         (15, "bag", 30, "files"))
+        # durations per rate; the full tier takes each profile's own length
+        self.assertEqual((a["duration_s"], b["duration_s"]), (30, 20))
+        full = suite_rows.tier_rows(DEFINITION, "full", "/repo")
+        self.assertIsNone([r for r in full if r["id"] == "wheeled_circle_s6_30hz_files"][0]
+                          ["duration_s"])
+        # the images stay beside a files-layout rawlog; the other layouts embed them
+        self.assertNotIn("--embedded-images", sim_arguments(b, "R.ini"))
+        self.assertIn("--embedded-images", sim_arguments(a, "R.ini"))
+        self.assertNotIn("--duration", sim_arguments(
+            [r for r in full if r["id"] == "handheld_s1_15hz_bag"][0], "R.ini"))
         for p in suite_rows.PROFILES:
             self.assertEqual(sum(1 for r in rows if r["condition"] == f"{p} 15hz_bag"), 5)
         hard = [r for r in rows if r["id"].startswith("hard_black_handheld")][0]
-        self.assertEqual(hard["extra_args"], ["--blackout", "8.8:2:black"])
+        self.assertEqual(hard["extra_args"], ["--blackout", "11:2:black"])
         self.assertEqual(suite_rows.hard_args({"spin_turns": 1, "duration_s": 2}, 5),
                          ["--spin", "5:2:1"])
         self.assertEqual(suite_rows.hard_args({"time_offset_s": 0.02}, 5),
