@@ -7,6 +7,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "estimator/static_start.h"
 #include "rgbdi/common/cpu_clock.h"
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/initializer.h"
@@ -150,7 +151,8 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& opt, cons
       td_(ext.time_offset_s),
       td_config_(ext.time_offset_s),
       sqrt_info_(EstimatorOptions::kVirtualFocalPx / opt.reprojection_sigma_px),
-      imu_(std::make_unique<imu::ImuBuffer>()) {
+      imu_(std::make_unique<imu::ImuBuffer>()),
+      static_start_(std::make_unique<StaticStart>(opt, imu)) {
   depth_opt_.tolerance_norm = opt.depth_verify_tolerance_px / EstimatorOptions::kVirtualFocalPx;
   depth_opt_.min_depth_m = opt.depth_verify_min_m;
   depth_opt_.max_depth_m = opt.depth_verify_max_m;
@@ -246,82 +248,17 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
   // while initialising, back to the oldest stillness frame (the test may judge stillness since
   // the previous frame, however long ago that was).
   double keep_from = std::min(window_.front().t, t - 2.0 * opt_.init_static_window_s);
-  if (status_ != EstimatorStatus::kTracking && !stillness_frames_.empty())
-    keep_from = std::min(keep_from, stillness_frames_.front().t);
+  if (status_ != EstimatorStatus::kTracking && !static_start_->empty())
+    keep_from = std::min(keep_from, static_start_->oldestFrameTime());
   imu_->popOlderThan(keep_from);
   stats_.sum_ms_preintegration += last_preintegration_ms_;
 }
 
 bool SlidingWindowEstimator::tryStaticInit(const frontend::FeatureFrame& frame, double t) {
-  // The frame the features are compared with: the oldest recent one inside the stillness window
-  // that is at least half the window old. Images further apart than that (a slow camera, a live
-  // run dropping images) have none: then the previous frame, and stillness is judged over the
-  // whole time since it (more data: the same thresholds are only stricter).
-  const StillnessFrame* oldest = nullptr;
-  double t_start = t - opt_.init_static_window_s;
-  for (const auto& s : stillness_frames_)
-    if (s.t >= t_start - 1e-9) {
-      oldest = &s;
-      break;
-    }
-  if ((!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s) &&
-      stillness_frames_.size() >= 2) {
-    const StillnessFrame& prev = stillness_frames_[stillness_frames_.size() - 2];
-    if (prev.t < t_start) {
-      oldest = &prev;
-      t_start = prev.t;
-    }
-  }
-  if (imu_->empty() || imu_->oldestTime() > t_start || imu_->newestTime() < t)
-    return initFail("not enough IMU history for the stillness test");
-  // IMU: mean gyro small, |mean acc| close to g, and little spread of 50 ms means.
-  Eigen::Vector3d sum_acc = Eigen::Vector3d::Zero(), sum_gyr = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> bins;
-  Eigen::Vector3d bin_sum = Eigen::Vector3d::Zero();
-  int bin_n = 0, n = 0;
-  double bin_start = t_start;
-  constexpr double kBin = 0.05;  // averaging interval for the spread test [s]
-  for (const ImuSample& m : imu_->samples()) {
-    if (m.t < t_start || m.t > t) continue;
-    sum_acc += m.acc;
-    sum_gyr += m.gyr;
-    ++n;
-    if (m.t - bin_start > kBin && bin_n > 0) {
-      bins.push_back(bin_sum / bin_n);
-      bin_sum.setZero();
-      bin_n = 0;
-      bin_start = m.t;
-    }
-    bin_sum += m.acc;
-    ++bin_n;
-  }
-  if (n < 10 || bins.size() < 3) return initFail("too few IMU samples in the stillness window");
-  const Eigen::Vector3d mean_acc = sum_acc / n, mean_gyr = sum_gyr / n;
-  if (mean_gyr.norm() > opt_.init_static_max_gyro_rad_s)
-    return initFail("gyro mean above init_static_max_gyro_rad_s");
-  if (std::abs(mean_acc.norm() - imu_opt_.gravity_m_s2) > opt_.init_static_max_acc_dev_m_s2)
-    return initFail("|mean acc| differs from g by more than init_static_max_acc_dev_m_s2");
-  double var = 0.0;
-  for (const auto& b : bins) var += (b - mean_acc).squaredNorm();
-  if (std::sqrt(var / static_cast<double>(bins.size())) > opt_.init_static_max_acc_std_m_s2)
-    return initFail("accelerometer spread above init_static_max_acc_std_m_s2");
-  // Vision: the features of that frame must not have moved. (Recent frames are kept apart from
-  // the initialisation window, which restarts whenever PnP fails, e.g. always without depth.)
-  if (!oldest || t - oldest->t < 0.5 * opt_.init_static_window_s)
-    return initFail("not enough frames in the stillness window");
-  std::unordered_map<std::uint64_t, Eigen::Vector2d> old_pos;
-  for (const auto& f : oldest->features) old_pos[f.id] = f.xn;
-  double motion = 0.0;
-  int matched = 0;
-  for (const auto& f : frame.features) {
-    const auto it = old_pos.find(f.id);
-    if (it == old_pos.end()) continue;
-    motion += (f.xn - it->second).norm();
-    ++matched;
-  }
-  if (matched < opt_.keyframe_min_tracked ||
-      motion / matched > opt_.init_static_max_motion_px / EstimatorOptions::kVirtualFocalPx)
-    return initFail("features moved (or too few tracked) during the stillness window");
+  const Stillness still = static_start_->judge(frame, t, *imu_);
+  if (still.failure) return initFail(still.failure);
+  const Eigen::Vector3d& mean_acc = still.mean_acc;
+  const Eigen::Vector3d& mean_gyr = still.mean_gyr;
 
   // Still: attitude from gravity, zero velocity, gyro bias from the mean rate.
   const double yaw = have_anchor_ ? anchor_yaw_ : 0.0;
@@ -545,11 +482,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   }
 
   if (status_ != EstimatorStatus::kTracking) {
-    stillness_frames_.push_back({t, frame.features});
-    // Two stillness windows of frames, and always the previous frame (see tryStaticInit).
-    while (stillness_frames_.size() > 2 &&
-           stillness_frames_.front().t < t - 2.0 * opt_.init_static_window_s)
-      stillness_frames_.pop_front();
+    static_start_->addFrame(t, frame.features);
     bool ok = opt_.init_allow_static && tryStaticInit(frame, t);
     if (!ok && opt_.init_allow_static)
       ++stats_.init_waits[std::string("static start: ") + init_fail_reason_];
@@ -830,7 +763,7 @@ void SlidingWindowEstimator::reset(bool keep_anchor) {
   features_.clear();
   prior_.reset();
   use_init_prior_ = false;
-  stillness_frames_.clear();
+  static_start_->clear();
   bridging_ = false;
   status_ = EstimatorStatus::kInitializing;
 }

@@ -9,7 +9,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -31,6 +30,7 @@ class ImuBuffer;
 namespace rgbdi::estimator {
 
 class MarginalizationInfo;
+class StaticStart;
 
 enum class EstimatorStatus { kInitializing, kTracking, kLost };
 const char* toString(EstimatorStatus s);
@@ -193,12 +193,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   /// so keyframes still in the window are not lost (the failed update's states are not used).
   std::vector<KeyframeState> last_good_window_;
   int segment_ = 0;
-  /// Recent frames while initialising, for the stillness test.
-  struct StillnessFrame {
-    double t;
-    std::vector<frontend::FeatureObservation> features;
-  };
-  std::deque<StillnessFrame> stillness_frames_;
+  /// Recent frames while initialising and the stillness test (src/estimator/static_start.h).
+  std::unique_ptr<StaticStart> static_start_;
   EstimatorStats stats_;
 };
 
