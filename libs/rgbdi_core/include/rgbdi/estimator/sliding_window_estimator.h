@@ -9,28 +9,19 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <deque>
+#include <cstddef>
+#include <cstdint>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/common/types.h"
 #include "rgbdi/estimator/estimator_options.h"
-#include "rgbdi/estimator/feature_manager.h"
-#include "rgbdi/estimator/window_solver.h"
 #include "rgbdi/frontend/feature_frame.h"
 
-namespace rgbdi::imu {
-class Preintegration;
-class ImuBuffer;
-}  // namespace rgbdi::imu
-
 namespace rgbdi::estimator {
-
-class MarginalizationInfo;
 
 enum class EstimatorStatus { kInitializing, kTracking, kLost };
 const char* toString(EstimatorStatus s);
@@ -104,7 +95,7 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   /// Latest IMU time received (frames must wait until this passes their time).
   double latestImuTime() const;
   /// Current time offset estimate: t_imu = t_image + timeOffset().
-  double timeOffset() const { return td_; }
+  double timeOffset() const;
   /// Gyroscope bias of the newest window slot [rad/s] (zero before the first slot).
   Eigen::Vector3d gyroBias() const;
   /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().
@@ -119,86 +110,50 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   EstimatorStatus status() const { return status_; }
 
  private:
-  struct Slot;
+  /// The collaborators: the window and its problem, the starts (internal headers in
+  /// src/estimator/, listed in doc/estimator.md "Source files").
+  struct Parts;
 
-  bool tryStaticInit(const frontend::FeatureFrame& frame, double t);
-  bool tryMovingInit();
-  bool tryVisualInit();
-  /// Removes the second-newest slot, merging its IMU interval into the newest one's.
-  void dropSecondNewestSlot();
-  /// Sets the window's states from an initialisation solved in a reference frame (first camera).
-  void adoptInitialisation(const std::vector<Eigen::Isometry3d>& T_ref_body,
-                           const std::vector<Eigen::Vector3d>& v_ref, const Eigen::Vector3d& g_ref,
-                           const Eigen::Vector3d& bg);
+  /// While initialising: tries the enabled starts on the frame at IMU-clock time `t`; true when
+  /// the window holds a start (which is then solved).
+  bool start(const frontend::FeatureFrame& frame, double t, FrameEstimate& out);
+  bool tryStart(const frontend::FeatureFrame& frame, double t);
+  /// While tracking: the frame joins the window, which is solved, checked and slid; false when
+  /// `out` is already complete (blind frame or frame between updates: the IMU carries the pose;
+  /// a reset).
+  bool track(const frontend::FeatureFrame& frame, double t, FrameEstimate& out);
+  /// The IMU propagation of the newest slot's state to IMU-clock time `t`.
+  void propagateWithImu(double t, FrameEstimate& out);
   void addSlot(const frontend::FeatureFrame& frame, double t, bool predict_from_previous);
+  /// Image velocities of slot `slot` from its state (time_offset_velocity = motion_field).
+  void assignMotionFieldVelocities(std::size_t slot);
   /// Solves the window; `single_step`: the second-newest frame is no keyframe and leaves the
   /// window afterwards (one solver iteration when non_keyframe_update = single_step).
   void optimise(FrameEstimate* out, bool single_step);
   void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
-  bool failureDetected() const;
-  std::string failureReason() const;
-  /// Records `why` as the reason of the start being tried (counted in stats_.init_waits by
-  /// processFrame) and returns false.
-  bool initFail(const char* why);
+  /// Counts `why` as the reason the start `path` ("static start: ", ...) failed on this frame.
+  void countStartWait(const char* path, const char* why);
   void reset(bool keep_anchor);
-  SlotPoses slotPoses() const;
-  double depthPriorSigma(const FeatureTrack& f) const;
-  /// Replaces the image velocities of the observations in window slot `slot` by the motion field
-  /// of that slot's state (see motion_field.h); no-op in "tracked" velocity mode.
-  void assignMotionFieldVelocities(std::size_t slot);
-  void rejectOutliers();
-  std::vector<std::pair<std::uint64_t, TrackObservation>> toObservations(
-      const frontend::FeatureFrame& frame) const;
 
   EstimatorOptions opt_;
   ImuOptions imu_opt_;
-  Eigen::Isometry3d T_bc_;
-  double td_;
-  double td_config_;  ///< configured time offset: the prior mean
-  double sqrt_info_;
-  DepthCheckOptions depth_opt_;
-
-  std::unique_ptr<imu::ImuBuffer> imu_;
-  std::vector<Slot> window_;  ///< capacity window_size + 1, never reallocated
-  FeatureManager features_;
-  std::shared_ptr<MarginalizationInfo> prior_;
-  double td_param_[1] = {0.0};
-  std::vector<double> inv_depth_params_;  ///< the solved inverse depths during optimise()
-  WindowSolver solver_;                   ///< optimise()'s solver (its buffers are reused)
-  /// optimise()'s reprojection factors, reused from update to update (reset, not reallocated)
-  std::vector<std::unique_ptr<ReprojectionFactor>> reprojection_factors_;
-  std::vector<double*> residual_blocks_;  ///< optimise()'s work buffer
-  // Prior on the first state's speed and biases from the initialisation (until marginalised).
-  bool use_init_prior_ = false;
-  Eigen::Matrix<double, 9, 1> init_prior_mean_ = Eigen::Matrix<double, 9, 1>::Zero();
-  Eigen::Matrix<double, 9, 1> init_prior_sigma_ = Eigen::Matrix<double, 9, 1>::Ones();
-  bool newest_but_one_keyframe_ = true;
-  bool visual_init_mode_ = false;      ///< initialising from images alone (frames lack depth)
-  const char* init_fail_reason_ = "";  ///< of the last initFail (a string literal)
+  std::unique_ptr<Parts> parts_;
 
   EstimatorStatus status_ = EstimatorStatus::kInitializing;
   // Anchor for re-initialisation after a failure: the trajectory continues from the last pose.
   bool have_anchor_ = false;
   Eigen::Vector3d anchor_p_ = Eigen::Vector3d::Zero();
   double anchor_yaw_ = 0.0;
-  Eigen::Vector3d last_bg_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d prev_newest_p_ = Eigen::Vector3d::Zero();
   double prev_newest_t_ = 0.0;
-  double last_sighted_t_ =
-      0.0;                 ///< [s] image stamp of the newest frame with fail_min_features features
-  bool bridging_ = false;  ///< blind frames since the newest slot (the IMU carries the pose)
+  double last_sighted_t_ = 0.0;  ///< [s] image stamp of the newest frame with fail_min_features
+  bool bridging_ = false;        ///< blind frames since the newest slot (the IMU carries the pose)
   double last_preintegration_ms_ = 0.0;  ///< [ms] CPU time of the newest slot's pre-integration
   std::vector<KeyframeState> finished_keyframes_;
   /// States of the window's keyframes after the last successful update: handed out at a reset,
   /// so keyframes still in the window are not lost (the failed update's states are not used).
   std::vector<KeyframeState> last_good_window_;
   int segment_ = 0;
-  /// Recent frames while initialising, for the stillness test.
-  struct StillnessFrame {
-    double t;
-    std::vector<frontend::FeatureObservation> features;
-  };
-  std::deque<StillnessFrame> stillness_frames_;
   EstimatorStats stats_;
 };
 

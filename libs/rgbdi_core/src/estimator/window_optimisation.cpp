@@ -1,0 +1,128 @@
+#include "estimator/window_optimisation.h"
+
+#include <ceres/ceres.h>
+
+#include "estimator/window_state.h"
+#include "rgbdi/estimator/gauge_prior.h"
+#include "rgbdi/estimator/scalar_prior.h"
+#include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/imu/imu_factor.h"
+#include "rgbdi/imu/preintegration.h"
+
+namespace rgbdi::estimator {
+
+namespace {
+
+// Sqrt information of the gauge prior [1/m, 1/rad]: stiff enough to act as a constraint, soft
+// enough to keep the normal equations well conditioned.
+constexpr double kGaugeStiffness = 1e4;
+// [1/m] lower bound of a solved inverse depth (1 km): a feature beyond it carries no depth
+// information, and the bound keeps a step from flipping it behind the camera.
+constexpr double kMinInverseDepth = 1e-3;
+
+}  // namespace
+
+WindowOptimisation::WindowOptimisation(const EstimatorOptions& opt, const WindowCostModel& model)
+    : opt_(opt), model_(model) {}
+
+WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
+  FrameWindow& window = state.frames;
+  double* td = state.time_offset;
+  WindowSolver& solver = solver_;
+  solver.clear();
+  // The factors other than the reprojections live for this update only.
+  std::vector<std::unique_ptr<ceres::CostFunction>> factors;
+  auto addResidual = [&](const ceres::CostFunction* f, const ceres::LossFunction* loss,
+                         std::initializer_list<double*> blocks) {
+    residual_blocks_.assign(blocks);
+    solver.addResidual(f, loss, residual_blocks_);
+  };
+  auto add = [&](ceres::CostFunction* f, const ceres::LossFunction* loss,
+                 std::initializer_list<double*> blocks) {
+    factors.emplace_back(f);
+    addResidual(f, loss, blocks);
+  };
+  std::size_t reprojections = 0;
+  auto reprojection = [&](const FeatureMeasurement& i, const FeatureMeasurement& j) {
+    if (reprojections == reprojection_factors_.size())
+      reprojection_factors_.push_back(std::make_unique<ReprojectionFactor>(
+          i, j, model_.T_body_cam, model_.reprojection_sqrt_info));
+    else
+      reprojection_factors_[reprojections]->reset(i, j, model_.T_body_cam,
+                                                  model_.reprojection_sqrt_info);
+    return reprojection_factors_[reprojections++].get();
+  };
+  const ceres::CauchyLoss cauchy(model_.cauchy_loss_sigma);
+
+  for (auto& s : window) {
+    solver.addFrameBlock(s.pose, 7);
+    solver.addFrameBlock(s.sb, 9);
+  }
+  if (model_.estimate_time_offset) solver.addFrameBlock(td, 1);
+  if (state.prior) solver.addPrior(state.prior);
+  // Gauge: hold position and yaw of the oldest pose (the prior carries no information on them).
+  add(new GaugePrior(window.front().pose, kGaugeStiffness), nullptr, {window.front().pose});
+  if (state.start_prior.active) {
+    add(new SpeedBiasPrior(state.start_prior.mean, state.start_prior.sigma), nullptr,
+        {window.front().sb});
+    // The time offset is unobservable under uniform motion: anchor it to the configured value
+    // until the marginalisation prior carries that information.
+    if (model_.estimate_time_offset)
+      add(new ScalarPrior(model_.time_offset_prior_mean_s, model_.time_offset_prior_sigma_s),
+          nullptr, {td});
+  }
+  for (size_t k = 1; k < window.size(); ++k) {
+    WindowSlot& a = window[k - 1];
+    WindowSlot& b = window[k];
+    if (b.preint->needsRepropagation(a.ba(), a.bg(), opt_.repropagate_acc_bias_m_s2,
+                                     opt_.repropagate_gyr_bias_rad_s)) {
+      b.preint->repropagate(a.ba(), a.bg());
+    }
+    add(new imu::ImuFactor(b.preint.get(), model_.g_world), nullptr, {a.pose, a.sb, b.pose, b.sb});
+  }
+  const int newest = static_cast<int>(window.size()) - 1;
+  WindowUpdate update;
+  // The inverse depths are solved in one buffer filled in track-id order (the solver's order
+  // is the order of addition: the same bits whichever thread built the tracks).
+  std::vector<FeatureTrack*> solved;
+  for (auto& [id, f] : window.features().tracks())
+    if (FeatureManager::usable(f, newest)) solved.push_back(&f);
+  inv_depth_params_.assign(solved.size(), 0.0);
+  for (std::size_t n = 0; n < solved.size(); ++n) {
+    FeatureTrack& f = *solved[n];
+    double* inv_depth = &inv_depth_params_[n];
+    *inv_depth = f.inv_depth;
+    ++update.n_features_used;
+    const bool held = f.depthVerified() && model_.hold_verified_depth_constant;
+    if (!held) solver.addEliminatedScalar(inv_depth, kMinInverseDepth);
+    const int i = f.start_slot;
+    for (size_t k = 1; k < f.obs.size(); ++k) {
+      const int j = i + static_cast<int>(k);
+      addResidual(reprojection(f.obs.front().meas, f.obs[k].meas), &cauchy,
+                  {window[static_cast<size_t>(i)].pose, window[static_cast<size_t>(j)].pose,
+                   inv_depth, td});
+    }
+    if (f.depthVerified()) {
+      ++update.n_depth_verified;
+      if (!held)
+        add(new ScalarPrior(f.verified_inv_depth, model_.depthPriorSigma(f)), nullptr,
+            {inv_depth});
+    }
+  }
+
+  WindowSolverOptions so;
+  // One step when the second-newest frame's measurements leave the window after this update
+  // (the window is solved fully again with the next keyframe); not without depth-verified
+  // features, where the scale rests on the IMU alone (as for the function tolerance below).
+  update.single_step = single_step && update.n_depth_verified > 0;
+  so.max_iterations = update.single_step ? 1 : opt_.max_iterations;
+  so.function_tolerance = update.n_depth_verified > 0 ? opt_.solver_function_tolerance
+                                                       : opt_.solver_function_tolerance_no_depth;
+  so.max_time_s = opt_.max_solver_time_s;
+  update.summary = solver.solve(so);
+  for (std::size_t n = 0; n < solved.size(); ++n) solved[n]->inv_depth = inv_depth_params_[n];
+  for (auto& s : window) s.setPose(s.p(), s.q());  // keep quaternions exactly unit
+  return update;
+}
+
+}  // namespace rgbdi::estimator
