@@ -33,10 +33,10 @@ struct WindowCostModel {
   }
 
   Eigen::Isometry3d T_body_cam;
-  double reprojection_sqrt_info;  ///< [1/normalised-plane unit] (virtual focal / pixel sigma)
-  double cauchy_loss_sigma;       ///< [unitless] Cauchy scale of the reprojections, in sigmas
-  Eigen::Vector3d g_world;        ///< [m/s^2] gravity in the world frame (along -z)
-  bool estimate_time_offset;      ///< false: the time offset is a constant
+  double reprojection_sqrt_info;     ///< [1/normalised-plane unit] (virtual focal / pixel sigma)
+  double cauchy_loss_sigma;          ///< [unitless] Cauchy scale of the reprojections, in sigmas
+  Eigen::Vector3d g_world;           ///< [m/s^2] gravity in the world frame (along -z)
+  bool estimate_time_offset;         ///< false: the time offset is a constant
   double time_offset_prior_mean_s;   ///< [s] the configured offset
   double time_offset_prior_sigma_s;  ///< [s]
   /// verified_depth = constant: a verified inverse depth is no variable of the solve nor of the

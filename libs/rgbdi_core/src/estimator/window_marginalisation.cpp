@@ -31,8 +31,7 @@ bool priorTouches(const WindowState& state, const double* block) {
 
 }  // namespace
 
-KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& model,
-                                    int segment) {
+KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& model, int segment) {
   FrameWindow& window = state.frames;
   std::set<const double*> constant = constantBlocks(state, model);
   const size_t N = window.size() - 1;  // index of the newest slot
@@ -41,8 +40,8 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   WindowSlot& s0 = window[0];
   std::set<const double*> remove{s0.pose, s0.sb};
   if (state.prior && (priorTouches(state, s0.pose) || priorTouches(state, s0.sb))) {
-    info->add({std::make_shared<MarginalizationFactor>(state.prior), nullptr,
-               state.prior->keptBlocks()});
+    info->add(
+        {std::make_shared<MarginalizationFactor>(state.prior), nullptr, state.prior->keptBlocks()});
   }
   if (state.start_prior.active) {
     info->add({std::make_shared<SpeedBiasPrior>(state.start_prior.mean, state.start_prior.sigma),
@@ -63,11 +62,11 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   for (auto& [id, f] : window.features().tracks()) {
     if (f.start_slot != 0 || !FeatureManager::usable(f, newest)) continue;
     for (size_t k = 1; k < f.obs.size(); ++k) {
-      info->add({std::make_shared<ReprojectionFactor>(f.obs.front().meas, f.obs[k].meas,
-                                                      model.T_body_cam,
-                                                      model.reprojection_sqrt_info),
-                 loss,
-                 {s0.pose, window[k].pose, &f.inv_depth, state.time_offset}});
+      info->add(
+          {std::make_shared<ReprojectionFactor>(f.obs.front().meas, f.obs[k].meas, model.T_body_cam,
+                                                model.reprojection_sqrt_info),
+           loss,
+           {s0.pose, window[k].pose, &f.inv_depth, state.time_offset}});
     }
     // Depth-verified features held constant are not variables: nothing to marginalise.
     if (f.depthVerified() && model.hold_verified_depth_constant) {
@@ -107,8 +106,8 @@ void dropSecondNewestSlot(WindowState& state, const WindowCostModel& model) {
   WindowSlot& s1 = window[N - 1];
   if (state.prior && priorTouches(state, s1.pose)) {
     auto info = std::make_shared<MarginalizationInfo>();
-    info->add({std::make_shared<MarginalizationFactor>(state.prior), nullptr,
-               state.prior->keptBlocks()});
+    info->add(
+        {std::make_shared<MarginalizationFactor>(state.prior), nullptr, state.prior->keptBlocks()});
     if (info->marginalize({s1.pose}, constantBlocks(state, model))) {
       state.prior = info;
     } else {

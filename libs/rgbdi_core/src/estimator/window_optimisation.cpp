@@ -105,8 +105,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     if (f.depthVerified()) {
       ++update.n_depth_verified;
       if (!held)
-        add(new ScalarPrior(f.verified_inv_depth, model_.depthPriorSigma(f)), nullptr,
-            {inv_depth});
+        add(new ScalarPrior(f.verified_inv_depth, model_.depthPriorSigma(f)), nullptr, {inv_depth});
     }
   }
 
@@ -117,7 +116,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   update.single_step = single_step && update.n_depth_verified > 0;
   so.max_iterations = update.single_step ? 1 : opt_.max_iterations;
   so.function_tolerance = update.n_depth_verified > 0 ? opt_.solver_function_tolerance
-                                                       : opt_.solver_function_tolerance_no_depth;
+                                                      : opt_.solver_function_tolerance_no_depth;
   so.max_time_s = opt_.max_solver_time_s;
   update.summary = solver.solve(so);
   for (std::size_t n = 0; n < solved.size(); ++n) solved[n]->inv_depth = inv_depth_params_[n];
