@@ -99,7 +99,7 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
                                      bool predict_from_previous) {
   FrameWindow& window = parts_->window.frames;
   last_preintegration_ms_ = window.add(frame, t, parts_->window.time_offset[0], parts_->imu,
-                                       predict_from_previous, bridging_);
+                                       predict_from_previous, bridging_, parts_->model.T_body_cam);
   bridging_ = false;
   if (predict_from_previous) assignMotionFieldVelocities(window.size() - 1);
   // Keep what the window needs, and enough history for the stillness test of initialisation:
