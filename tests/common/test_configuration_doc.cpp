@@ -256,6 +256,7 @@ const std::vector<Field> kFields = {
     {"estimator", "window_size", [](const Defaults& d) { return text(d.system.estimator.window_size); }},
     {"estimator", "keyframe_parallax_px", [](const Defaults& d) { return text(d.system.estimator.keyframe_parallax_px); }},
     {"estimator", "keyframe_min_tracked", [](const Defaults& d) { return text(d.system.estimator.keyframe_min_tracked); }},
+    {"estimator", "keyframe_parallax_without_rotation", [](const Defaults& d) { return text(d.system.estimator.keyframe_parallax_without_rotation); }},
     {"estimator", "max_iterations", [](const Defaults& d) { return text(d.system.estimator.max_iterations); }},
     {"estimator", "max_solver_time_s", [](const Defaults& d) { return text(d.system.estimator.max_solver_time_s); }},
     {"estimator", "solver_function_tolerance", [](const Defaults& d) { return text(d.system.estimator.solver_function_tolerance); }},
