@@ -291,6 +291,11 @@ class RunFigures(unittest.TestCase):
         s["evaluation_error"] = "no pairs"
         self.assertEqual(suite_run.metrics_from_summary(s, 1, 1, 1)["status"],
                          "no evaluation: no pairs")
+        # A build without loop closure: its one trajectory is the odometry (and online).
+        old = {"frames": 300, "stream_duration_s": 20.0, "resets": 0, "first_pose_time_s": 2.5,
+               "keyframes": 60, "evaluation": {"ate_rmse": 0.07, "coverage": 0.9}}
+        m = suite_run.metrics_from_summary(old, 1, 1, 1)
+        self.assertEqual((m["ate_odometry"], m["ate_online"], m["ate_final"]), (0.07, 0.07, 0.07))
 
 
 if __name__ == "__main__":
