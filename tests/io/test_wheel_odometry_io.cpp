@@ -192,8 +192,8 @@ TEST(WheelOdometryIo, NonFiniteReadingIsSkippedAndNamed) {
   WheelOdometrySample bad = wheelAt(kT0 + 0.0125, 0.5);
   bad.x_m = std::numeric_limits<double>::infinity();
   const std::string path = dir + "/nan.rawlog";
-  const ReadBack r = roundTrip(path, {imuAt(kT0), wheelAt(kT0 + 0.0025, 0.0), bad,
-                                      imuAt(kT0 + kImuDt * 5)});
+  const ReadBack r =
+      roundTrip(path, {imuAt(kT0), wheelAt(kT0 + 0.0025, 0.0), bad, imuAt(kT0 + kImuDt * 5)});
   EXPECT_EQ(r.out.size(), 3u);
   EXPECT_EQ(r.diag.non_finite_wheel, 1u);
   EXPECT_EQ(r.diag.unusable, 1u);

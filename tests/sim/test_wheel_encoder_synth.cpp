@@ -107,8 +107,7 @@ TEST(WheelEncoderSynth, SkidSteeringSlipsInTurnsAndMoreOnSlopes) {
   const auto& flat = WheelEncoderSynth(o, CircleTrajectory(0.4, 2.0, 5.0), kStart).samples();
   EXPECT_NEAR(flat.back().yaw_rad, 1.0 * 1.3, 2 * tick_yaw);
   // Pitched by 0.1 rad: the body's yaw rate about its own z is 0.2 cos(0.1); slip 0.3 * 1.3.
-  const auto& slope =
-      WheelEncoderSynth(o, CircleTrajectory(0.4, 2.0, 5.0, 0.1), kStart).samples();
+  const auto& slope = WheelEncoderSynth(o, CircleTrajectory(0.4, 2.0, 5.0, 0.1), kStart).samples();
   EXPECT_NEAR(slope.back().yaw_rad, 1.0 * std::cos(0.1) * (1.0 + 0.3 * 1.3), 2 * tick_yaw);
   // A straight drive does not slip.
   const auto& line = WheelEncoderSynth(o, CircleTrajectory(0.5, 0.0, 5.0), kStart).samples();
@@ -138,12 +137,12 @@ TEST(WheelEncoderSynth, EventsMakeTheEncodersDisagreeOnlyWhileTheyLast) {
   EXPECT_EQ(at(5.0).ticks_left, at(4.0).ticks_left);
   EXPECT_EQ(at(5.0).ticks_right, at(4.0).ticks_right);
   // spin: the left wheel counts 0.5 m more than the right one.
-  EXPECT_NEAR((at(7.0).ticks_left - at(6.0).ticks_left) -
-                  (at(7.0).ticks_right - at(6.0).ticks_right),
-              0.5 * ticks_per_m, 2.0);
+  EXPECT_NEAR(
+      (at(7.0).ticks_left - at(6.0).ticks_left) - (at(7.0).ticks_right - at(6.0).ticks_right),
+      0.5 * ticks_per_m, 2.0);
   // Outside the events both wheels agree.
-  EXPECT_NEAR(at(8.0).ticks_left - at(7.0).ticks_left,
-              at(8.0).ticks_right - at(7.0).ticks_right, 1.0);
+  EXPECT_NEAR(at(8.0).ticks_left - at(7.0).ticks_left, at(8.0).ticks_right - at(7.0).ticks_right,
+              1.0);
 
   // lifted at a standstill: the wheels run free at event_speed_m_s.
   o.events = WheelEncoderOptions::parseEvents("lifted:0.5:1");

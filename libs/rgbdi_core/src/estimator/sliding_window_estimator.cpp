@@ -78,6 +78,15 @@ void SlidingWindowEstimator::feedImu(const ImuSample& s) {
   imu.push(s);
 }
 
+void SlidingWindowEstimator::feedWheel(const WheelOdometrySample& w) {
+  if (!opt_.wheel.enable) return;
+  WindowWheels& wheels = parts_->window.wheels;
+  wheels.add(w);
+  // Nothing before the oldest frame is needed (without frames: nothing before the newest).
+  const FrameWindow& window = parts_->window.frames;
+  wheels.trimBefore(window.empty() ? w.t + opt_.wheel.time_offset_s : window.front().t, opt_.wheel);
+}
+
 double SlidingWindowEstimator::latestImuTime() const {
   return parts_->imu.empty() ? -1e300 : parts_->imu.newestTime();
 }
@@ -129,6 +138,7 @@ bool SlidingWindowEstimator::tryStart(const frontend::FeatureFrame& frame, doubl
     if (!still.failure) {
       window.clear();
       state.prior.reset();
+      state.wheels.priorDropped();
       addSlot(frame, t, false);
       adoptRestingStart(state, still, p0, yaw0, opt_);
       ++stats_.static_initialisations;
@@ -167,6 +177,7 @@ bool SlidingWindowEstimator::start(const frontend::FeatureFrame& frame, double t
   last_sighted_t_ = frame.t;
   out.just_initialised = true;
   parts_->window.prior.reset();
+  parts_->window.wheels.priorDropped();
   window.features().updateDepths(window.poses(), parts_->model.T_body_cam, parts_->depth_check);
   for (std::size_t k = 0; k < window.size(); ++k) assignMotionFieldVelocities(k);
   if (window.size() >= 2) optimise(&out, false);
@@ -305,6 +316,7 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   if (update.summary.termination == WindowSolverSummary::Termination::kNoConvergence)
     ++stats_.solver_iterations_capped;
   stats_.solver_factorisation_retries += update.summary.factorisation_retries;
+  stats_.wheel_factors_solved += update.n_wheel_factors;
   out->n_features_used = update.n_features_used;
   out->n_depth_verified = update.n_depth_verified;
   out->ms_optimisation = msSince(t0);
@@ -320,6 +332,11 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
     dropSecondNewestSlot(parts_->window, parts_->model);
   out->ms_marginalisation = msSince(t0);
   stats_.sum_ms_marginalisation += out->ms_marginalisation;
+  const WindowWheels& wheels = parts_->window.wheels;
+  stats_.wheel_intervals_used = wheels.intervals_used;
+  stats_.wheel_intervals_gap = wheels.intervals_gap;
+  stats_.wheel_scale_v = wheels.scale_v[0];
+  stats_.wheel_scale_w = wheels.scale_w[0];
 }
 
 void SlidingWindowEstimator::reset(bool keep_anchor) {
@@ -330,6 +347,7 @@ void SlidingWindowEstimator::reset(bool keep_anchor) {
   if (!keep_anchor) have_anchor_ = false;
   parts_->window.frames.clear();
   parts_->window.prior.reset();
+  parts_->window.wheels.priorDropped();
   parts_->window.start_prior.active = false;
   parts_->static_start.clear();
   bridging_ = false;

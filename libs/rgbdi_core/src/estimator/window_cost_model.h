@@ -24,7 +24,8 @@ struct WindowCostModel {
         time_offset_prior_mean_s(ext.time_offset_s),
         time_offset_prior_sigma_s(opt.time_offset_prior_sigma_s),
         hold_verified_depth_constant(opt.verified_depth == "constant"),
-        depth_noise_coeff(opt.depth_noise_coeff) {}
+        depth_noise_coeff(opt.depth_noise_coeff),
+        wheel(opt.wheel) {}
 
   /// Sigma of the prior of a verified inverse depth [1/m]: depth sigma = c z^2 means
   /// inverse-depth sigma = c, averaged over the independent observations that agreed.
@@ -33,16 +34,17 @@ struct WindowCostModel {
   }
 
   Eigen::Isometry3d T_body_cam;
-  double reprojection_sqrt_info;  ///< [1/normalised-plane unit] (virtual focal / pixel sigma)
-  double cauchy_loss_sigma;       ///< [unitless] Cauchy scale of the reprojections, in sigmas
-  Eigen::Vector3d g_world;        ///< [m/s^2] gravity in the world frame (along -z)
-  bool estimate_time_offset;      ///< false: the time offset is a constant
+  double reprojection_sqrt_info;     ///< [1/normalised-plane unit] (virtual focal / pixel sigma)
+  double cauchy_loss_sigma;          ///< [unitless] Cauchy scale of the reprojections, in sigmas
+  Eigen::Vector3d g_world;           ///< [m/s^2] gravity in the world frame (along -z)
+  bool estimate_time_offset;         ///< false: the time offset is a constant
   double time_offset_prior_mean_s;   ///< [s] the configured offset
   double time_offset_prior_sigma_s;  ///< [s]
   /// verified_depth = constant: a verified inverse depth is no variable of the solve nor of the
   /// marginalisation (else it is free, with a prior from the verified mean).
   bool hold_verified_depth_constant;
   double depth_noise_coeff;  ///< [1/m] inverse-depth sigma of one verified observation
+  WheelOptions wheel;        ///< the wheel factors' extrinsic, noise, time offset, scales
 };
 
 }  // namespace rgbdi::estimator

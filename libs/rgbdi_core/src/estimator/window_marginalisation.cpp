@@ -9,6 +9,7 @@
 #include "rgbdi/estimator/reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 
 namespace rgbdi::estimator {
@@ -19,6 +20,10 @@ namespace {
 std::set<const double*> constantBlocks(WindowState& state, const WindowCostModel& model) {
   std::set<const double*> constant;
   if (!model.estimate_time_offset) constant.insert(state.time_offset);
+  if (!model.wheel.estimate_scale) {
+    constant.insert(state.wheels.scale_v);
+    constant.insert(state.wheels.scale_w);
+  }
   return constant;
 }
 
@@ -31,8 +36,7 @@ bool priorTouches(const WindowState& state, const double* block) {
 
 }  // namespace
 
-KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& model,
-                                    int segment) {
+KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& model, int segment) {
   FrameWindow& window = state.frames;
   std::set<const double*> constant = constantBlocks(state, model);
   const size_t N = window.size() - 1;  // index of the newest slot
@@ -41,8 +45,8 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   WindowSlot& s0 = window[0];
   std::set<const double*> remove{s0.pose, s0.sb};
   if (state.prior && (priorTouches(state, s0.pose) || priorTouches(state, s0.sb))) {
-    info->add({std::make_shared<MarginalizationFactor>(state.prior), nullptr,
-               state.prior->keptBlocks()});
+    info->add(
+        {std::make_shared<MarginalizationFactor>(state.prior), nullptr, state.prior->keptBlocks()});
   }
   if (state.start_prior.active) {
     info->add({std::make_shared<SpeedBiasPrior>(state.start_prior.mean, state.start_prior.sigma),
@@ -58,16 +62,39 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   info->add({std::make_shared<imu::ImuFactor>(window[1].preint.get(), model.g_world),
              nullptr,
              {s0.pose, s0.sb, window[1].pose, window[1].sb}});
+  // What the wheels told the window about this interval stays in the prior.
+  WindowWheels& wheels = state.wheels;
+  if (model.wheel.enable) {
+    if (auto pre = wheels.interval(s0.t, window[1].t, model.wheel)) {
+      ++wheels.intervals_used;
+      info->add({std::make_shared<WheelFactor>(*pre, model.wheel.T_body_wheel),
+                 nullptr,
+                 {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w}});
+      if (model.wheel.estimate_scale && wheels.scale_prior_pending) {
+        info->add(
+            {std::make_shared<ScalarPrior>(wheels.prior_mean_v, model.wheel.scale_prior_sigma),
+             nullptr,
+             {wheels.scale_v}});
+        info->add(
+            {std::make_shared<ScalarPrior>(wheels.prior_mean_w, model.wheel.scale_prior_sigma),
+             nullptr,
+             {wheels.scale_w}});
+        wheels.scale_prior_pending = false;
+      }
+    } else {
+      ++wheels.intervals_gap;
+    }
+  }
   auto loss = std::make_shared<ceres::CauchyLoss>(model.cauchy_loss_sigma);
   const int newest = static_cast<int>(N);
   for (auto& [id, f] : window.features().tracks()) {
     if (f.start_slot != 0 || !FeatureManager::usable(f, newest)) continue;
     for (size_t k = 1; k < f.obs.size(); ++k) {
-      info->add({std::make_shared<ReprojectionFactor>(f.obs.front().meas, f.obs[k].meas,
-                                                      model.T_body_cam,
-                                                      model.reprojection_sqrt_info),
-                 loss,
-                 {s0.pose, window[k].pose, &f.inv_depth, state.time_offset}});
+      info->add(
+          {std::make_shared<ReprojectionFactor>(f.obs.front().meas, f.obs[k].meas, model.T_body_cam,
+                                                model.reprojection_sqrt_info),
+           loss,
+           {s0.pose, window[k].pose, &f.inv_depth, state.time_offset}});
     }
     // Depth-verified features held constant are not variables: nothing to marginalise.
     if (f.depthVerified() && model.hold_verified_depth_constant) {
@@ -95,7 +122,9 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
     state.prior = info;
   } else {
     state.prior.reset();
+    wheels.priorDropped();
   }
+  if (model.wheel.enable) wheels.trimBefore(window.front().t, model.wheel);
   return leaving;
 }
 
@@ -107,12 +136,13 @@ void dropSecondNewestSlot(WindowState& state, const WindowCostModel& model) {
   WindowSlot& s1 = window[N - 1];
   if (state.prior && priorTouches(state, s1.pose)) {
     auto info = std::make_shared<MarginalizationInfo>();
-    info->add({std::make_shared<MarginalizationFactor>(state.prior), nullptr,
-               state.prior->keptBlocks()});
+    info->add(
+        {std::make_shared<MarginalizationFactor>(state.prior), nullptr, state.prior->keptBlocks()});
     if (info->marginalize({s1.pose}, constantBlocks(state, model))) {
       state.prior = info;
     } else {
       state.prior.reset();
+      state.wheels.priorDropped();
     }
   }
   std::unordered_map<const double*, double*> remap;

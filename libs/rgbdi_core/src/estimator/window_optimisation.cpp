@@ -6,6 +6,7 @@
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 #include "rgbdi/imu/preintegration.h"
 
@@ -54,11 +55,27 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   };
   const ceres::CauchyLoss cauchy(model_.cauchy_loss_sigma);
 
+  // The wheel intervals covered by readings (none unless [wheel] enable).
+  WindowWheels& wheels = state.wheels;
+  std::vector<std::pair<std::size_t, WheelPreintegration>> wheel_intervals;
+  if (model_.wheel.enable)
+    for (std::size_t k = 1; k < window.size(); ++k)
+      if (auto pre = wheels.interval(window[k - 1].t, window[k].t, model_.wheel))
+        wheel_intervals.emplace_back(k, std::move(*pre));
+  // The scales are variables while a wheel factor or the marginalisation prior holds them.
+  const bool wheel_scales =
+      model_.wheel.enable && model_.wheel.estimate_scale &&
+      (!wheel_intervals.empty() || (state.prior && !wheels.scale_prior_pending));
+
   for (auto& s : window) {
     solver.addFrameBlock(s.pose, 7);
     solver.addFrameBlock(s.sb, 9);
   }
   if (model_.estimate_time_offset) solver.addFrameBlock(td, 1);
+  if (wheel_scales) {
+    solver.addFrameBlock(wheels.scale_v, 1);
+    solver.addFrameBlock(wheels.scale_w, 1);
+  }
   if (state.prior) solver.addPrior(state.prior);
   // Gauge: hold position and yaw of the oldest pose (the prior carries no information on them).
   add(new GaugePrior(window.front().pose, kGaugeStiffness), nullptr, {window.front().pose});
@@ -80,8 +97,18 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     }
     add(new imu::ImuFactor(b.preint.get(), model_.g_world), nullptr, {a.pose, a.sb, b.pose, b.sb});
   }
+  for (const auto& [k, pre] : wheel_intervals)
+    add(new WheelFactor(pre, model_.wheel.T_body_wheel), nullptr,
+        {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w});
+  if (wheel_scales && wheels.scale_prior_pending) {
+    add(new ScalarPrior(wheels.prior_mean_v, model_.wheel.scale_prior_sigma), nullptr,
+        {wheels.scale_v});
+    add(new ScalarPrior(wheels.prior_mean_w, model_.wheel.scale_prior_sigma), nullptr,
+        {wheels.scale_w});
+  }
   const int newest = static_cast<int>(window.size()) - 1;
   WindowUpdate update;
+  update.n_wheel_factors = static_cast<int>(wheel_intervals.size());
   // The inverse depths are solved in one buffer filled in track-id order (the solver's order
   // is the order of addition: the same bits whichever thread built the tracks).
   std::vector<FeatureTrack*> solved;
@@ -105,8 +132,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     if (f.depthVerified()) {
       ++update.n_depth_verified;
       if (!held)
-        add(new ScalarPrior(f.verified_inv_depth, model_.depthPriorSigma(f)), nullptr,
-            {inv_depth});
+        add(new ScalarPrior(f.verified_inv_depth, model_.depthPriorSigma(f)), nullptr, {inv_depth});
     }
   }
 
@@ -117,7 +143,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   update.single_step = single_step && update.n_depth_verified > 0;
   so.max_iterations = update.single_step ? 1 : opt_.max_iterations;
   so.function_tolerance = update.n_depth_verified > 0 ? opt_.solver_function_tolerance
-                                                       : opt_.solver_function_tolerance_no_depth;
+                                                      : opt_.solver_function_tolerance_no_depth;
   so.max_time_s = opt_.max_solver_time_s;
   update.summary = solver.solve(so);
   for (std::size_t n = 0; n < solved.size(); ++n) solved[n]->inv_depth = inv_depth_params_[n];

@@ -48,8 +48,8 @@ void StreamChecker::onWheelDelivered(const WheelOdometrySample& w, std::size_t r
   const WheelOdometrySample& w0 = rest_wheel_.front();
   const double dt = w.t - w0.t;
   while (!rest_imu_.empty() && rest_imu_.front().t < w.t - W) rest_imu_.pop_front();
-  const bool enough = dt >= 0.5 * W && rest_imu_.size() >= 5 &&
-                      rest_imu_.back().t - rest_imu_.front().t >= 0.5 * W;
+  const bool enough =
+      dt >= 0.5 * W && rest_imu_.size() >= 5 && rest_imu_.back().t - rest_imu_.front().t >= 0.5 * W;
   if (!enough) {
     closeWheelMotionRun();
     return;
@@ -69,8 +69,8 @@ void StreamChecker::onWheelDelivered(const WheelOdometrySample& w, std::size_t r
                            acc_std < cfg_.stream.wheel_rest_acc_std_m_s2;
   const double speed = std::hypot(w.x_m - w0.x_m, w.y_m - w0.y_m) / dt;
   const double yaw_rate = std::abs(wrapAngle(w.yaw_rad - w0.yaw_rad)) / dt;
-  const bool wheels_move = speed > cfg_.stream.wheel_rest_speed_m_s ||
-                           yaw_rate > cfg_.stream.wheel_rest_yaw_rate_rad_s;
+  const bool wheels_move =
+      speed > cfg_.stream.wheel_rest_speed_m_s || yaw_rate > cfg_.stream.wheel_rest_yaw_rate_rad_s;
   if (!(imu_at_rest && wheels_move)) {
     closeWheelMotionRun();
     return;
@@ -93,9 +93,10 @@ void StreamChecker::closeWheelMotionRun() {
   diag_.wheel_moving_at_rest_s += span;
   issue("wheel moves at rest", wheel_run_.first_record,
         at(wheel_run_.first_record) + ": wheel odometry moves (up to " +
-            num(wheel_run_.max_speed_m_s, 3) + " m/s) while the IMU is at rest, t = " +
-            num(wheel_run_.first_t, 6) + " .. " + num(wheel_run_.last_t, 6) + " s (" +
-            num(span, 3) + " s; [stream] wheel_rest_*): slip, a lifted robot, or odometry "
+            num(wheel_run_.max_speed_m_s, 3) +
+            " m/s) while the IMU is at rest, t = " + num(wheel_run_.first_t, 6) + " .. " +
+            num(wheel_run_.last_t, 6) + " s (" + num(span, 3) +
+            " s; [stream] wheel_rest_*): slip, a lifted robot, or odometry "
             "stamped on another clock?");
 }
 

@@ -175,6 +175,13 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
   s["moving_initialisations"] = st.moving_initialisations;
   s["initialisation_waits"] = st.init_waits;
   s["time_offset_s"] = vio.timeOffset();
+  if (cfg.estimator.wheel.enable)  // doc/wheels.md; absent when the wheels are not fused
+    s["wheel"] = {{"intervals_used", st.wheel_intervals_used},
+                  {"intervals_left_out", {{"stream_gap", st.wheel_intervals_gap}}},
+                  {"factors_solved", st.wheel_factors_solved},
+                  {"scale_forward", st.wheel_scale_v},
+                  {"scale_yaw_rate", st.wheel_scale_w},
+                  {"scale_estimated", cfg.estimator.wheel.estimate_scale}};
   s["wall_time_s"] = run.wall_s;
   s["frames_per_s"] = run.wall_s > 0 ? run.frames / run.wall_s : 0.0;
   const double n_tr = std::max(1, tm.frames_tracked), n_est = std::max(1, tm.frames_estimated);

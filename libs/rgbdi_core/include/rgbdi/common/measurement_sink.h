@@ -13,7 +13,8 @@ class MeasurementSink {
   virtual ~MeasurementSink() = default;
   virtual void feedImu(const ImuSample& imu) = 0;
   virtual void feedRgbd(const RgbdFrame& frame) = 0;
-  /// Wheel odometry; a consumer that has no use for it keeps this default, which drops it.
+  /// Wheel odometry; a consumer that has no use for it keeps this default, which drops it (a
+  /// sink that passes measurements on must pass these on too).
   virtual void feedWheel(const WheelOdometrySample& /*wheel*/) {}
   /// Called once after the last measurement (end of file, Ctrl-C, or sensor closed).
   virtual void endOfStream() {}

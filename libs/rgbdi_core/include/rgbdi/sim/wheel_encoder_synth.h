@@ -46,19 +46,19 @@ struct WheelEncoderOptions {
   /// [sim] wheel_encoders: "off", "on", or "auto" (on for the wheeled and tracked profiles, off
   /// for the hand-held one).
   std::string mode = "off";
-  double rate_hz = 50.0;              ///< [Hz] readings per second
-  double radius_m = 0.05;             ///< [m] nominal wheel radius (what the robot assumes)
-  double track_m = 0.30;              ///< [m] nominal track width (wheel to wheel)
-  double radius_error_left = 0.0;     ///< [unitless] true radius = nominal * (1 + this)
-  double radius_error_right = 0.0;    ///< [unitless]
-  double track_error = 0.0;           ///< [unitless] true track = nominal * (1 + this)
-  int ticks_per_rev = 2048;           ///< [ticks] encoder resolution
-  double time_offset_s = 0.0;         ///< [s] stamp = IMU-clock time - this
-  bool skid_steering = false;         ///< not an INI key: set for the tracked profile
-  double skid_turn_slip = 0.3;        ///< [unitless] s on flat ground (skid steering only)
-  double skid_slope_gain = 3.0;       ///< [1/rad] s grows by this per radian of pitch
-  double event_speed_m_s = 0.5;       ///< [m/s] spin: extra wheel speed; lifted: least speed
-  std::vector<WheelEvent> events;     ///< [sim] wheel_events = KIND:START_S:DURATION_S,...
+  double rate_hz = 50.0;            ///< [Hz] readings per second
+  double radius_m = 0.05;           ///< [m] nominal wheel radius (what the robot assumes)
+  double track_m = 0.30;            ///< [m] nominal track width (wheel to wheel)
+  double radius_error_left = 0.0;   ///< [unitless] true radius = nominal * (1 + this)
+  double radius_error_right = 0.0;  ///< [unitless]
+  double track_error = 0.0;         ///< [unitless] true track = nominal * (1 + this)
+  int ticks_per_rev = 2048;         ///< [ticks] encoder resolution
+  double time_offset_s = 0.0;       ///< [s] stamp = IMU-clock time - this
+  bool skid_steering = false;       ///< not an INI key: set for the tracked profile
+  double skid_turn_slip = 0.3;      ///< [unitless] s on flat ground (skid steering only)
+  double skid_slope_gain = 3.0;     ///< [1/rad] s grows by this per radian of pitch
+  double event_speed_m_s = 0.5;     ///< [m/s] spin: extra wheel speed; lifted: least speed
+  std::vector<WheelEvent> events;   ///< [sim] wheel_events = KIND:START_S:DURATION_S,...
 
   /// Reads [sim] wheel_encoders, wheel_rate_hz, wheel_radius_m, wheel_track_m,
   /// wheel_radius_error_left, wheel_radius_error_right, wheel_track_error, wheel_ticks_per_rev,

@@ -83,8 +83,7 @@ WheelEncoderOptions WheelEncoderOptions::load(IniReader& ini) {
   o.rate_hz = ini.getDouble(s, "wheel_rate_hz", o.rate_hz, 1.0, 1000.0);
   o.radius_m = ini.getDouble(s, "wheel_radius_m", o.radius_m, 0.005, 2.0);
   o.track_m = ini.getDouble(s, "wheel_track_m", o.track_m, 0.02, 10.0);
-  o.radius_error_left =
-      ini.getDouble(s, "wheel_radius_error_left", o.radius_error_left, -0.5, 0.5);
+  o.radius_error_left = ini.getDouble(s, "wheel_radius_error_left", o.radius_error_left, -0.5, 0.5);
   o.radius_error_right =
       ini.getDouble(s, "wheel_radius_error_right", o.radius_error_right, -0.5, 0.5);
   o.track_error = ini.getDouble(s, "wheel_track_error", o.track_error, -0.5, 0.5);

@@ -1,0 +1,29 @@
+// Options of the wheel odometry in the odometry ([wheel] section, doc/wheels.md).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/estimator/wheel_preintegration.h"
+
+namespace rgbdi::estimator {
+
+struct WheelOptions {
+  /// Fuse the wheel odometry of the input into the sliding window (false: it is ignored, and
+  /// the run is what it is without it; rgbdi-slam --no-wheels sets it false).
+  bool enable = false;
+  double time_offset_s = 0.0;  ///< [s] t_imu = t_wheel + this
+  /// Pose of the wheel frame (x forward, y left, z up, on the axle) in the body (IMU) frame.
+  Eigen::Isometry3d T_body_wheel = Eigen::Isometry3d::Identity();
+  WheelNoise noise;  ///< forward/lateral/vertical/yaw/tilt sigmas and their floors
+  /// Estimate the forward-speed and yaw-rate scale factors of the odometry online.
+  bool estimate_scale = true;
+  /// [unitless] sigma of the prior that holds each scale factor at 1 until the marginalisation
+  /// prior carries what the window learnt about it.
+  double scale_prior_sigma = 0.05;
+
+  /// Reads [wheel]; throws ConfigError on a value out of range or a matrix that is no rotation.
+  static WheelOptions load(IniReader& ini);
+};
+
+}  // namespace rgbdi::estimator
