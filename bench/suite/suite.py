@@ -102,8 +102,15 @@ def cmd_run(args):
             raise SystemExit(f"suite: {path} not found (build it first)")
     out = label_dir(args.label)
     os.makedirs(out, exist_ok=True)
+    extra_config = None
+    if args.extra_config:
+        with open(args.extra_config) as f:
+            extra_config = f.read()
     t_start = time.monotonic()
-    wanted = sorted({k for r in rows for k in r["sim_keys"]})
+    wanted = {}
+    for r in rows:
+        for k, v in r["sim_keys"].items():
+            wanted.setdefault(k, v)
     accepted, refused = suite_cache.probe_sim_keys(tools["sim"], os.path.join(out, "probe"),
                                                    wanted)
     cache = suite_cache.SequenceCache(cache_dir(), tools["sim"], tools["convert"], accepted)
@@ -136,7 +143,7 @@ def cmd_run(args):
                                      "layout", "duration_s")}
             res["status"] = "sequence generation failed: " + err
             return res
-        res = suite_run.run_slam(tools["slam"], r, path, out)
+        res = suite_run.run_slam(tools["slam"], r, path, out, extra_config=extra_config)
         print(f"suite: {r['id']}: {res['status']}"
               + (f", ATE final {res['ate_final']:.4f} m" if res["status"] == "ok" else ""),
               file=sys.stderr, flush=True)
@@ -191,7 +198,7 @@ def cmd_run(args):
         "generated": generated, "generation_wall_s": gen_wall, "generation_cpu_s": gen_cpu,
         "runs_wall_s": run_wall, "total_wall_s": time.monotonic() - t_start, "jobs": args.jobs,
         "only": args.only, "duration_override_s": args.duration, "cache_max_gb": cap_gb,
-        "cache_entries_pruned": len(pruned)}
+        "cache_entries_pruned": len(pruned), "extra_config": extra_config}
     with open(os.path.join(out, "results.json"), "w") as f:
         json.dump({"header": header, "results": results}, f, indent=1)
     suite_report.write_csv(results, os.path.join(out, "results.csv"),
@@ -211,6 +218,10 @@ def report_text(h, results):
         lines.append(f"Subset: the rows whose id matches '{h['only']}'.")
     if h.get("duration_override_s"):
         lines.append(f"Every simulated row shortened to {h['duration_override_s']:g} s.")
+    if h.get("extra_config"):
+        lines.append("Every run's configuration had this appended: "
+                     + " / ".join(l.strip() for l in h["extra_config"].splitlines() if l.strip())
+                     + ".")
     if h["sim_keys_refused"]:
         lines.append("World/motion keys this rgbdi-sim does not accept, run WITHOUT them (rows "
                      "differ only by seed noise/textures and speed): "
@@ -303,6 +314,8 @@ def main(argv):
                    help="build directory of rgbdi-sim and rawlog-convert (default: this tree's "
                    "build, whatever --build is, so that two builds run on the same sequences)")
     r.add_argument("--jobs", type=int, default=2)
+    r.add_argument("--extra-config", default=None,
+                   help="INI text appended to every run's configuration (a candidate default)")
     r.add_argument("--only", default=None, help="only rows whose id matches this regex")
     r.add_argument("--duration", type=float, default=None,
                    help="override the rows' duration [s] (quick checks of the machinery)")

@@ -21,11 +21,6 @@ import threading
 import time
 
 
-PROBE_VALUES = {"world_seed": "7", "room_margin_m": "1", "furniture_density": "0.5",
-                "furniture_lateral_max_m": "1", "texture_contrast": "0.7",
-                "exposure_gain_amplitude": "0.1", "exposure_period_s": "6", "speed_m_s": "0.5"}
-
-
 def tool_version(binary):
     """--version names the release only: the binary's own bytes tell one build from another, so
     a changed simulator or converter regenerates the sequences it made."""
@@ -37,24 +32,35 @@ def tool_version(binary):
     return out.stdout.strip() + " sha256:" + h.hexdigest()[:16]
 
 
-def probe_sim_keys(sim, work_dir, keys):
-    """The [sim] keys this rgbdi-sim accepts: each key alone in a --config, with a duration too
-    short for any profile, so that an accepted configuration fails later on the duration (exit
-    1) and an unknown key fails on the configuration (exit 2, naming the key)."""
+def probe_sim_keys(sim, work_dir, values):
+    """The [sim] keys this rgbdi-sim accepts, tried with the values the rows use (values: key ->
+    one row's value): all together first (keys that only go together, such as the two IMU stream
+    rates, are then judged together), and only when that is refused each key alone. A duration
+    too short for any profile makes an accepted configuration fail later (exit 1), while a key
+    the simulator does not know or a value out of its range fails on the configuration (exit 2,
+    naming the key). Returns (accepted keys, {refused key: the simulator's message})."""
     os.makedirs(work_dir, exist_ok=True)
-    accepted, refused = [], {}
-    for k in keys:
-        ini = os.path.join(work_dir, f"probe_{k}.ini")
+
+    def attempt(name, keys):
+        ini = os.path.join(work_dir, f"probe_{name}.ini")
         with open(ini, "w") as f:
-            f.write(f"[sim]\n{k} = {PROBE_VALUES.get(k, '1')}\n")
+            f.write("[sim]\n" + "".join(f"{k} = {values[k]}\n" for k in keys))
         p = subprocess.run([sim, "--profile", "handheld", "--duration", "0.01", "--config", ini,
                             "--out", os.path.join(work_dir, "probe_out")],
                            capture_output=True, text=True)
-        if p.returncode == 2 and k in p.stderr:
-            lines = p.stderr.strip().splitlines()
-            refused[k] = lines[-1].strip() if lines else "refused"
-        else:
-            accepted.append(k)
+        lines = p.stderr.strip().splitlines()
+        return p.returncode != 2, (lines[-1].strip() if lines else "refused")
+
+    keys = sorted(values)
+    ok, _ = attempt("all", keys)
+    accepted, refused = (keys, {}) if ok else ([], {})
+    if not ok:
+        for k in keys:
+            ok, why = attempt(k, [k])
+            if ok:
+                accepted.append(k)
+            else:
+                refused[k] = why
     shutil.rmtree(os.path.join(work_dir, "probe_out"), ignore_errors=True)
     return accepted, refused
 

@@ -37,6 +37,9 @@ def validate_definition(d, path):
     for section in ("draw", "profiles", "rates", "hard_cases", "recordings", "tiers", "compare"):
         if not isinstance(d.get(section), dict):
             fail(section, "missing (an object)")
+    for k, v in d.get("sensor", {}).items():
+        if not k.startswith("_") and not isinstance(v, (int, float)):
+            fail(f"sensor.{k}", "a number")
     for k in WORLD_KEYS + ["speed_factor", "speed_m_s_fast"]:
         r = d["draw"].get(k)
         if not isinstance(r, dict) or not isinstance(r.get("min"), (int, float)) or \
@@ -101,6 +104,10 @@ def draw_sim_keys(definition, name, seed, profile, fast=False):
     Returns (keys, speed_preset)."""
     d = definition["draw"]
     keys = {k: draw_value(d[k], unit_draw(name, seed, k)) for k in WORLD_KEYS}
+    # The D435i's sensor effects, the same on every row (a recording keeps its real IMU).
+    for k, v in definition.get("sensor", {}).items():
+        if not k.startswith("_") and not (profile == "recorded" and k.startswith("imu_")):
+            keys[k] = v
     preset = None
     if profile == "recorded":
         return keys, None

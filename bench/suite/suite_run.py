@@ -68,12 +68,21 @@ def metrics_from_summary(s, cpu, wall, rss_mb):
     return m
 
 
-def run_slam(slam, row, entry, runs_dir, extra_args=()):
-    """Runs rgbdi-slam on the row's sequence into runs_dir/<id>/; returns the row's result."""
+def run_slam(slam, row, entry, runs_dir, extra_args=(), extra_config=None):
+    """Runs rgbdi-slam on the row's sequence into runs_dir/<id>/; returns the row's result.
+    extra_config: INI text appended to the sequence's configuration (a candidate default judged
+    without a rebuild); the run's configuration is then runs_dir/<id>.ini."""
     out = os.path.join(runs_dir, row["id"])
     shutil.rmtree(out, ignore_errors=True)
+    config = os.path.join(entry, "slam.ini")
+    if extra_config:
+        with open(config) as f:
+            text = f.read()
+        config = out + ".ini"
+        with open(config, "w") as f:
+            f.write(text + "\n" + extra_config)
     cmd = [slam, "--input", os.path.join(entry, "sequence.rawlog"),
-           "--config", os.path.join(entry, "slam.ini"),
+           "--config", config,
            "--gt", os.path.join(entry, "groundtruth.tum"), "--out", out, "--quiet",
            *extra_args]
     result = {k: row[k] for k in ("id", "condition", "profile", "seed", "rate", "fps", "layout",

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "rgbdi/common/so3.h"
-#include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/estimator_options.h"
+#include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/estimator/wheel_preintegration.h"
 #include "testing/fixtures.h"
@@ -20,8 +20,8 @@ using Params = std::vector<std::vector<double>>;
 
 std::vector<double> poseBlock(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.rotation());
-  return {T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(),
-          q.w()};
+  return {
+      T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
 }
 
 Eigen::VectorXd evaluate(const ceres::CostFunction& f, const Params& p) {
@@ -76,16 +76,17 @@ Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f, const Params& par
 
 /// Readings of a robot driving a circle of radius rho at speed v (rho = 0: straight along x),
 /// from t0 at rate hz for n readings; its odometry frame starts at heading yaw0.
-std::deque<WheelOdometrySample> circleReadings(double v, double rho, double t0, double hz,
-                                               int n, double yaw0 = 0.0) {
+std::deque<WheelOdometrySample> circleReadings(double v, double rho, double t0, double hz, int n,
+                                               double yaw0 = 0.0) {
   std::deque<WheelOdometrySample> r;
   for (int k = 0; k < n; ++k) {
     WheelOdometrySample w;
     w.t = t0 + k / hz;
     const double s = v * k / hz;
     const double a = rho == 0.0 ? 0.0 : s / rho;
-    const Eigen::Vector2d local =
-        rho == 0.0 ? Eigen::Vector2d(s, 0.0) : Eigen::Vector2d(rho * std::sin(a), rho * (1 - std::cos(a)));
+    const Eigen::Vector2d local = rho == 0.0
+                                      ? Eigen::Vector2d(s, 0.0)
+                                      : Eigen::Vector2d(rho * std::sin(a), rho * (1 - std::cos(a)));
     const Eigen::Vector2d p = Eigen::Rotation2Dd(yaw0) * local;
     w.x_m = p.x();
     w.y_m = p.y();
@@ -138,8 +139,8 @@ TEST(WheelPreintegration, CircleAcrossTheYawWrapGivesTheChord) {
 }
 
 TEST(WheelPreintegration, YawScaleDerivativeMatchesNumeric) {
-  const auto pre = WheelPreintegration::between(circleReadings(0.4, 1.5, 0.0, 20.0, 60), 0.2,
-                                                2.7, 0.0, WheelNoise());
+  const auto pre = WheelPreintegration::between(circleReadings(0.4, 1.5, 0.0, 20.0, 60), 0.2, 2.7,
+                                                0.0, WheelNoise());
   ASSERT_TRUE(pre.has_value());
   Eigen::Vector2d dp, plus, minus, analytic;
   double dyaw = 0.0;
@@ -166,7 +167,8 @@ TEST(WheelFactor, ZeroAtTheTruthAndJacobiansMatchNumeric) {
   T_body_wheel.linear() = expSO3(Eigen::Vector3d(0.0, 0.0, 0.05));
   T_body_wheel.translation() = Eigen::Vector3d(0.1, 0.0, -0.2);
   const Eigen::Isometry3d T_world_odo =
-      Eigen::Translation3d(1.0, -2.0, 0.5) * Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 0).normalized());
+      Eigen::Translation3d(1.0, -2.0, 0.5) *
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 0).normalized());
   const auto readings = circleReadings(0.4, 2.0, 0.0, 50.0, 101);
   const double ta = 0.3, tb = 1.7;
   const auto pre = WheelPreintegration::between(readings, ta, tb, 0.0, WheelNoise());
@@ -180,7 +182,9 @@ TEST(WheelFactor, ZeroAtTheTruthAndJacobiansMatchNumeric) {
   };
   const WheelFactor f(*pre, T_body_wheel);
   Params params = {poseBlock(wheelPose(ta) * T_body_wheel.inverse()),
-                   poseBlock(wheelPose(tb) * T_body_wheel.inverse()), {1.0}, {1.0}};
+                   poseBlock(wheelPose(tb) * T_body_wheel.inverse()),
+                   {1.0},
+                   {1.0}};
   EXPECT_LT(f.error(params[0].data(), params[1].data(), 1.0, 1.0).norm(), 1e-4);  // chords
   // The wheels report 3 % too little distance and 5 % too much turning: the scales undo it.
   // Reported speed 0.4 / 1.03, yaw rate 0.2 * 1.05: radius 2 / (1.03 * 1.05).
@@ -196,7 +200,8 @@ TEST(WheelFactor, ZeroAtTheTruthAndJacobiansMatchNumeric) {
     Params p = params;
     for (int b = 0; b < 2; ++b) {
       PoseManifold m;
-      const Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::NullaryExpr([&] { return n(rng); });
+      const Eigen::Matrix<double, 6, 1> d =
+          Eigen::Matrix<double, 6, 1>::NullaryExpr([&] { return n(rng); });
       std::vector<double> out(7);
       m.Plus(p[static_cast<std::size_t>(b)].data(), d.data(), out.data());
       p[static_cast<std::size_t>(b)] = out;

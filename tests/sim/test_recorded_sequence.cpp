@@ -13,6 +13,7 @@
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/sensor_options.h"
+#include "rgbdi/eval/tum_reader.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "rgbdi/sim/sequence_writer.h"
 #include "testing/fixtures.h"
@@ -140,20 +141,6 @@ TEST(RecordedSequence, CutsToADurationAndRefusesASpin) {
   EXPECT_THROW(SimulatedSequence{spin}, std::invalid_argument);
 }
 
-std::vector<std::vector<double>> tumRows(const std::string& path) {
-  std::ifstream f(path);
-  std::vector<std::vector<double>> rows;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream is(line);
-    std::vector<double> v(8);
-    for (double& x : v) is >> x;
-    rows.push_back(v);
-  }
-  return rows;
-}
-
 TEST(RecordedSequence, WrittenRawlogHoldsTheRecordedImuExactly) {
   const std::string dir = test::makeTempDir("recorded_seq");
   const SimulatedSequence seq(options(1.0));
@@ -182,14 +169,14 @@ TEST(RecordedSequence, WrittenRawlogHoldsTheRecordedImuExactly) {
   EXPECT_EQ(frames, seq.frameCount());
 
   // groundtruth.tum: the recording's samples at their stamps within the replayed IMU span.
-  const auto gt = tumRows(s.groundtruth_path);
+  const Trajectory gt = eval::readTum(s.groundtruth_path);
   std::size_t n = 0;
   for (const RecordedPose& g : rec.ground_truth) {
     if (g.t < rec.imu.front().t || g.t > seq.imuSample(seq.imuCount() - 1).t) continue;
     ASSERT_LT(n, gt.size());
-    EXPECT_NEAR(gt[n][0], g.t, 1e-6);
-    EXPECT_NEAR(gt[n][1], g.p_world.x(), 1e-9);
-    EXPECT_NEAR(std::abs(gt[n][7]), std::abs(g.q_world_body.w()), 1e-9);
+    EXPECT_NEAR(gt[n].t, g.t, 1e-6);
+    EXPECT_NEAR(gt[n].p.x(), g.p_world.x(), 1e-9);
+    EXPECT_NEAR(std::abs(gt[n].q.w()), std::abs(g.q_world_body.w()), 1e-9);
     ++n;
   }
   EXPECT_EQ(n, gt.size());
@@ -213,8 +200,8 @@ TEST(RecordedSequence, WrittenRawlogHoldsTheRecordedImuExactly) {
   EXPECT_EQ(count["/camera/imu"], 201);
   EXPECT_EQ(count["/camera/color/image_raw"], 6);
   ASSERT_EQ(pose_stamps.size(), 41u);
-  EXPECT_NEAR(pose_stamps.front(), gt.front()[0], 1e-6);
-  EXPECT_NEAR(pose_stamps.back(), gt.back()[0], 1e-6);
+  EXPECT_NEAR(pose_stamps.front(), gt.front().t, 1e-6);
+  EXPECT_NEAR(pose_stamps.back(), gt.back().t, 1e-6);
   std::ifstream settings(s.simulation_path);
   std::stringstream text;
   text << settings.rdbuf();

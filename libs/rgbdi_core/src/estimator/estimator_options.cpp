@@ -9,6 +9,8 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
   o.keyframe_parallax_px =
       ini.getDouble(s, "keyframe_parallax_px", o.keyframe_parallax_px, 0.5, 200);
   o.keyframe_min_tracked = ini.getInt(s, "keyframe_min_tracked", o.keyframe_min_tracked, 0, 10000);
+  o.keyframe_parallax_without_rotation =
+      ini.getBool(s, "keyframe_parallax_without_rotation", o.keyframe_parallax_without_rotation);
   o.max_iterations = ini.getInt(s, "max_iterations", o.max_iterations, 1, 1000);
   o.max_solver_time_s = ini.getDouble(s, "max_solver_time_s", o.max_solver_time_s, 0.0, 10.0);
   o.solver_function_tolerance =

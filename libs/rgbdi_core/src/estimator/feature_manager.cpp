@@ -31,7 +31,8 @@ double triangulate(const FeatureTrack& f, const SlotPoses& T_wb, const Eigen::Is
 }  // namespace
 
 FeatureManager::FrameLinks FeatureManager::addFrame(
-    int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features) {
+    int slot, const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
+    const Eigen::Matrix3d* R_c2_c1) {
   int tracked = 0;
   for (const auto& [id, o] : features) {
     auto it = tracks_.find(id);
@@ -53,7 +54,13 @@ FeatureManager::FrameLinks FeatureManager::addFrame(
     if (f.start_slot <= slot - 2 && f.endSlot() >= slot - 1) {
       const auto& a = f.obs[static_cast<size_t>(slot - 2 - f.start_slot)].meas.xn;
       const auto& b = f.obs[static_cast<size_t>(slot - 1 - f.start_slot)].meas.xn;
-      sum += (a.head<2>() - b.head<2>()).norm();
+      if (R_c2_c1) {
+        const Eigen::Vector3d r = *R_c2_c1 * b;
+        if (!(r.z() > 0.0)) continue;  // behind the other camera: no parallax to compare
+        sum += (a.head<2>() - r.head<2>() / r.z()).norm();
+      } else {
+        sum += (a.head<2>() - b.head<2>()).norm();
+      }
       ++n;
     }
   }

@@ -31,7 +31,8 @@ std::vector<std::pair<std::uint64_t, TrackObservation>> FrameWindow::toObservati
 }
 
 double FrameWindow::add(const frontend::FeatureFrame& frame, double t, double td,
-                        const imu::ImuBuffer& imu, bool predict_from_previous, bool bridged) {
+                        const imu::ImuBuffer& imu, bool predict_from_previous, bool bridged,
+                        const Eigen::Isometry3d& T_body_cam) {
   const double t0 = threadCpuSeconds();
   double preintegration_ms = 0.0;
   WindowSlot s;
@@ -58,8 +59,17 @@ double FrameWindow::add(const frontend::FeatureFrame& frame, double t, double td
     if (bridged) s.bridged_s = t - prev.t;
   }
   slots_.push_back(std::move(s));
-  const FeatureManager::FrameLinks links = features_.addFrame(
-      static_cast<int>(slots_.size()) - 1, toObservations(frame.features, td));
+  // The keyframe parallax is measured between the two slots before the new one.
+  Eigen::Matrix3d R_c2_c1;
+  const bool without_rotation = opt_.keyframe_parallax_without_rotation && slots_.size() >= 3;
+  if (without_rotation) {
+    const Eigen::Matrix3d R_bc = T_body_cam.rotation();
+    const Eigen::Quaterniond q2 = slots_[slots_.size() - 3].q(), q1 = slots_[slots_.size() - 2].q();
+    R_c2_c1 = R_bc.transpose() * (q2.conjugate() * q1).toRotationMatrix() * R_bc;
+  }
+  const FeatureManager::FrameLinks links =
+      features_.addFrame(static_cast<int>(slots_.size()) - 1, toObservations(frame.features, td),
+                         without_rotation ? &R_c2_c1 : nullptr);
   const double min_parallax = opt_.keyframe_parallax_px / EstimatorOptions::kVirtualFocalPx;
   // A second-newest frame that shares no feature with the frame before it shows a new view (the
   // first frame after blind ones): a keyframe, or the window would never take the new features
@@ -113,7 +123,8 @@ void FrameWindow::rejectOutliers(double threshold_norm, const Eigen::Isometry3d&
     const Eigen::Vector3d p_w = T_w_ci * (f.obs.front().meas.xn / f.inv_depth);
     double err = 0.0;
     for (size_t k = 1; k < f.obs.size(); ++k) {
-      const Eigen::Isometry3d T_w_cj = slots_[static_cast<size_t>(f.start_slot) + k].T() * T_body_cam;
+      const Eigen::Isometry3d T_w_cj =
+          slots_[static_cast<size_t>(f.start_slot) + k].T() * T_body_cam;
       const Eigen::Vector3d p_c = T_w_cj.inverse() * p_w;
       err += p_c.z() > 0 ? (p_c.head<2>() / p_c.z() - f.obs[k].meas.xn.head<2>()).norm() : 1.0;
     }

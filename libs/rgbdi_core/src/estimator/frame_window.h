@@ -32,10 +32,10 @@ class FrameWindow {
   /// Appends `frame` at IMU-clock time `t` (its observations stamped with time offset `td`),
   /// pre-integrated from the previous slot over the samples of `imu`; the states start as the
   /// previous slot's, or its IMU prediction with `predict_from_previous`. `bridged`: blind frames
-  /// lie between the previous slot and this one. Returns the [ms] CPU time of the
-  /// pre-integration (0 for the first slot).
+  /// lie between the previous slot and this one. T_body_cam: for the keyframe parallax without
+  /// rotation. Returns the [ms] CPU time of the pre-integration (0 for the first slot).
   double add(const frontend::FeatureFrame& frame, double t, double td, const imu::ImuBuffer& imu,
-             bool predict_from_previous, bool bridged);
+             bool predict_from_previous, bool bridged, const Eigen::Isometry3d& T_body_cam);
   /// The second-newest slot (decided by the newest add) shows a view the window needs.
   bool newestButOneIsKeyframe() const { return newest_but_one_keyframe_; }
   /// Removes the second-newest slot, merging its IMU interval into the newest one's.

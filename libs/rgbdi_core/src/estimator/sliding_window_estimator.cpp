@@ -108,7 +108,7 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
                                      bool predict_from_previous) {
   FrameWindow& window = parts_->window.frames;
   last_preintegration_ms_ = window.add(frame, t, parts_->window.time_offset[0], parts_->imu,
-                                       predict_from_previous, bridging_);
+                                       predict_from_previous, bridging_, parts_->model.T_body_cam);
   bridging_ = false;
   if (predict_from_previous) assignMotionFieldVelocities(window.size() - 1);
   // Keep what the window needs, and enough history for the stillness test of initialisation:
@@ -335,6 +335,20 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
   const WindowWheels& wheels = parts_->window.wheels;
   stats_.wheel_intervals_used = wheels.intervals_used;
   stats_.wheel_intervals_gap = wheels.intervals_gap;
+  stats_.wheel_intervals_slip = wheels.intervals_slip;
+  stats_.wheel_intervals_stuck = wheels.intervals_stuck;
+  stats_.wheel_intervals_lifted = wheels.intervals_lifted;
+  stats_.wheel_factors_gated = wheels.factors_gated;
+  if (stats_.wheel_fault_episodes.size() != wheels.episodes.size() ||
+      (!wheels.episodes.empty() &&
+       stats_.wheel_fault_episodes.back().t_end != wheels.episodes.back().t_end)) {
+    stats_.wheel_fault_episodes.clear();
+    for (const auto& e : wheels.episodes)
+      stats_.wheel_fault_episodes.push_back({e.t_start, e.t_end,
+                                             e.verdict == WheelVerdict::Stuck    ? "stuck"
+                                             : e.verdict == WheelVerdict::Lifted ? "lifted"
+                                                                                 : "slip"});
+  }
   stats_.wheel_scale_v = wheels.scale_v[0];
   stats_.wheel_scale_w = wheels.scale_w[0];
 }

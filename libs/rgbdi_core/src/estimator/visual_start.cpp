@@ -27,11 +27,10 @@ MovingStart solveVisualStart(FrameWindow& window, const EstimatorOptions& opt,
   so.seed = window.back().frame_index + 1;
   const auto sfm = solveVisualSfm(frames, so);
   if (!sfm) return MovingStart::failed("visual SfM over the window failed (parallax or tracks)");
-  const auto align = alignWithScale(sfm->T_c0_c, T_body_cam, pre, imu.gravity_m_s2,
-                                    opt.init_max_scale_rel_sigma);
+  const auto align =
+      alignWithScale(sfm->T_c0_c, T_body_cam, pre, imu.gravity_m_s2, opt.init_max_scale_rel_sigma);
   if (!align)
-    return MovingStart::failed(
-        "scale/gravity alignment failed or the scale is not observable yet");
+    return MovingStart::failed("scale/gravity alignment failed or the scale is not observable yet");
   MovingStart start;
   start.bg = window[1].preint->biasGyr();  // re-propagated with the solved bias
   if (start.bg.norm() > opt.fail_max_gyr_bias_rad_s)

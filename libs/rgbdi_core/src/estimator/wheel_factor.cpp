@@ -41,7 +41,8 @@ bool WheelFactor::Evaluate(double const* const* parameters, double* residuals,
   // y = R_a^T (p_b + R_b p_bw - p_a): the wheel origin at b in body frame a.
   const Eigen::Vector3d y = Ra.transpose() * (pb + Rb * p_bw_ - pa);
   const Eigen::Vector3d r_p = R_bw_.transpose() * (y - p_bw_) - dp;
-  const Eigen::Matrix3d E = rotZ(dyaw).transpose() * R_bw_.transpose() * Ra.transpose() * Rb * R_bw_;
+  const Eigen::Matrix3d E =
+      rotZ(dyaw).transpose() * R_bw_.transpose() * Ra.transpose() * Rb * R_bw_;
   const Eigen::Vector3d r_theta = logSO3(E);
   const Eigen::Matrix<double, 6, 1>& w = preint_.sqrtInformation();
   Eigen::Map<Eigen::Matrix<double, 6, 1>> out(residuals);

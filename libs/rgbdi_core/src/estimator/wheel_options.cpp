@@ -9,8 +9,8 @@ WheelOptions WheelOptions::load(IniReader& ini) {
   const std::string s = "wheel";
   o.enable = ini.getBool(s, "enable", o.enable);
   o.time_offset_s = ini.getDouble(s, "time_offset_s", o.time_offset_s, -0.5, 0.5);
-  Eigen::VectorXd r = ini.getVector(
-      s, "R_body_wheel", (Eigen::VectorXd(9) << 1, 0, 0, 0, 1, 0, 0, 0, 1).finished());
+  Eigen::VectorXd r = ini.getVector(s, "R_body_wheel",
+                                    (Eigen::VectorXd(9) << 1, 0, 0, 0, 1, 0, 0, 0, 1).finished());
   Eigen::Matrix3d R;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) R(i, j) = r[3 * i + j];
@@ -43,6 +43,8 @@ WheelOptions WheelOptions::load(IniReader& ini) {
   n.min_sigma_rad = ini.getDouble(s, "min_sigma_rad", n.min_sigma_rad, 1e-6, 10.0);
   o.estimate_scale = ini.getBool(s, "estimate_scale", o.estimate_scale);
   o.scale_prior_sigma = ini.getDouble(s, "scale_prior_sigma", o.scale_prior_sigma, 1e-6, 10.0);
+  o.gate_chi2 = ini.getDouble(s, "gate_chi2", o.gate_chi2, 0.0, 1e9);
+  o.fault_motion_ratio = ini.getDouble(s, "fault_motion_ratio", o.fault_motion_ratio, 0.0, 1.0);
   return o;
 }
 

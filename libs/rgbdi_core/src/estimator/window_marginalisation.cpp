@@ -65,8 +65,12 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   // What the wheels told the window about this interval stays in the prior.
   WindowWheels& wheels = state.wheels;
   if (model.wheel.enable) {
-    if (auto pre = wheels.interval(s0.t, window[1].t, model.wheel)) {
-      ++wheels.intervals_used;
+    auto pre = wheels.interval(s0.t, window[1].t, model.wheel);
+    const WheelVerdict verdict =
+        pre ? wheels.check(*pre, s0.pose, window[1].pose, s0.t, window[1].t, model.wheel)
+            : WheelVerdict::Consistent;
+    if (pre) wheels.count(verdict, s0.t, window[1].t);
+    if (pre && verdict == WheelVerdict::Consistent) {
       info->add({std::make_shared<WheelFactor>(*pre, model.wheel.T_body_wheel),
                  nullptr,
                  {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w}});
@@ -81,7 +85,7 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
              {wheels.scale_w}});
         wheels.scale_prior_pending = false;
       }
-    } else {
+    } else if (!pre) {
       ++wheels.intervals_gap;
     }
   }

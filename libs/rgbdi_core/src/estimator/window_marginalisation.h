@@ -14,8 +14,7 @@ struct WindowState;
 
 /// Marginalises the oldest slot and removes it; returns its state (of odometry segment
 /// `segment`), final for the odometry.
-KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& model,
-                                    int segment);
+KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& model, int segment);
 
 /// Removes the second-newest slot (no keyframe), marginalising its pose out of the prior.
 void dropSecondNewestSlot(WindowState& state, const WindowCostModel& model);

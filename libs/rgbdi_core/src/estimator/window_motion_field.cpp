@@ -31,7 +31,8 @@ void assignMotionFieldVelocities(FrameWindow& window, std::size_t slot, const im
     TrackObservation& o = f.obs[static_cast<std::size_t>(slot_i - f.start_slot)];
     double z = o.depth_m;
     if (!(z > 0.0) && f.hasDepth()) {
-      const Eigen::Isometry3d T_w_ci = window[static_cast<std::size_t>(f.start_slot)].T() * T_body_cam;
+      const Eigen::Isometry3d T_w_ci =
+          window[static_cast<std::size_t>(f.start_slot)].T() * T_body_cam;
       z = (T_c_w * (T_w_ci * (f.obs.front().meas.xn / f.inv_depth))).z();
     }
     if (z > 0.0) known.push_back(z);

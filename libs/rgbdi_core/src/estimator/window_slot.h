@@ -19,8 +19,8 @@ struct WindowSlot {
   double t = 0.0;        ///< IMU-clock time [s]
   double t_image = 0.0;  ///< image stamp [s]
   std::uint64_t frame_index = 0;
-  double pose[7] = {0, 0, 0, 0, 0, 0, 1};         ///< T_world_body: [p, q(x, y, z, w)]
-  double sb[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};     ///< [v_world, bias_acc, bias_gyr]
+  double pose[7] = {0, 0, 0, 0, 0, 0, 1};       ///< T_world_body: [p, q(x, y, z, w)]
+  double sb[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};   ///< [v_world, bias_acc, bias_gyr]
   std::unique_ptr<imu::Preintegration> preint;  ///< previous slot -> this slot (null for slot 0)
   /// [s] of the interval from the previous slot carried by the IMU alone (blind frames in it)
   double bridged_s = 0.0;

@@ -17,7 +17,7 @@ struct WindowState;
 
 /// A moving start solved in a reference frame (the first camera's), or why there is none yet.
 struct MovingStart {
-  const char* failure = nullptr;  ///< why not (a string literal); null when solved
+  const char* failure = nullptr;              ///< why not (a string literal); null when solved
   std::vector<Eigen::Isometry3d> T_ref_body;  ///< every slot's metric body pose
   std::vector<Eigen::Vector3d> v_ref;         ///< [m/s] every slot's velocity
   Eigen::Vector3d g_ref = Eigen::Vector3d::Zero();  ///< [m/s^2] gravity

@@ -12,8 +12,13 @@ struct EstimatorOptions {
   int window_size = 10;                ///< [frames] keyframes in the sliding window
   double keyframe_parallax_px = 10.0;  ///< [px at focal 460] mean parallax making a keyframe
   int keyframe_min_tracked = 20;       ///< [count] fewer tracked features -> keyframe
-  int max_iterations = 8;              ///< [count] solver iterations per update
-  double max_solver_time_s = 0.0;      ///< [s] live-mode budget; 0 = unbounded (deterministic)
+  /// The keyframe parallax without the part the camera's rotation between the two frames
+  /// explains (from their window poses): rotation alone moves every feature but adds no
+  /// triangulation baseline, and at 15 Hz a hand-held camera's turning made most frames
+  /// keyframes. false = raw parallax (VINS).
+  bool keyframe_parallax_without_rotation = false;
+  int max_iterations = 8;          ///< [count] solver iterations per update
+  double max_solver_time_s = 0.0;  ///< [s] live-mode budget; 0 = unbounded (deterministic)
   /// [unitless] an update stops when an iteration lowers the cost by less than this fraction
   /// (Ceres' default function_tolerance is 1e-6), when the window holds depth-verified
   /// features. Iterations that gain less than 0.1 % moved no RGB-D trajectory by more than noise

@@ -62,9 +62,12 @@ class FeatureManager {
     int n_parallax = 0;     ///< features seen in both slots slot-2 and slot-1 (parallax's support)
     int n_tracked = 0;      ///< features of the new frame that were already tracked
   };
-  /// Adds the features of the frame in `slot` and says how it links to the window.
+  /// Adds the features of the frame in `slot` and says how it links to the window. With
+  /// R_c2_c1 (camera of slot-1 -> camera of slot-2), the parallax is measured after rotating the
+  /// slot-1 observations into the slot-2 camera: what the rotation alone explains is left out.
   FrameLinks addFrame(int slot,
-                      const std::vector<std::pair<std::uint64_t, TrackObservation>>& features);
+                      const std::vector<std::pair<std::uint64_t, TrackObservation>>& features,
+                      const Eigen::Matrix3d* R_c2_c1 = nullptr);
 
   /// Paper Algorithm 1 for every feature with >= 2 observations (re-run each frame so the mean
   /// uses every observation in the window):

@@ -87,6 +87,16 @@ struct EstimatorStats {
   /// their wheel factor, and without one (no readings covering them: a stream gap); wheel
   /// factors summed over the solves; the learned scale factors (true = scale * reported).
   int wheel_intervals_used = 0, wheel_intervals_gap = 0, wheel_factors_solved = 0;
+  /// Intervals left out because their factor disagreed with IMU and vision, by kind; factors
+  /// left out of solves by the gate (summed over updates).
+  int wheel_intervals_slip = 0, wheel_intervals_stuck = 0, wheel_intervals_lifted = 0;
+  int wheel_factors_gated = 0;
+  /// Runs of consecutive left-out intervals of one kind ("slip", "stuck", "lifted"), IMU clock.
+  struct WheelFaultEpisode {
+    double t_start = 0.0, t_end = 0.0;  ///< [s]
+    std::string kind;
+  };
+  std::vector<WheelFaultEpisode> wheel_fault_episodes;
   double wheel_scale_v = 1.0, wheel_scale_w = 1.0;
 };
 

@@ -21,6 +21,14 @@ struct WheelOptions {
   /// [unitless] sigma of the prior that holds each scale factor at 1 until the marginalisation
   /// prior carries what the window learnt about it.
   double scale_prior_sigma = 0.05;
+  /// [unitless] an interval whose wheel factor, at the window's states of its two frames (what
+  /// the IMU and vision say), has a squared normalised error above this is left out (slip, a
+  /// stuck wheel, a lifted robot); 0 = every interval is used.
+  double gate_chi2 = 30.0;
+  /// [unitless] a left-out interval is "stuck" when the wheels report less than this fraction
+  /// of the distance the window moved, "lifted" when the window moved less than this fraction
+  /// of what the wheels report, "slip" otherwise.
+  double fault_motion_ratio = 0.25;
 
   /// Reads [wheel]; throws ConfigError on a value out of range or a matrix that is no rotation.
   static WheelOptions load(IniReader& ini);

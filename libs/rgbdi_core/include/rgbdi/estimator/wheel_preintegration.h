@@ -24,14 +24,14 @@ namespace rgbdi::estimator {
 
 /// The noise model of the wheel odometry ([wheel] keys, see share/config.ini).
 struct WheelNoise {
-  double forward_sigma_per_sqrt_m = 0.02;    ///< [m / sqrt(m)]
-  double lateral_sigma_per_sqrt_m = 0.02;    ///< [m / sqrt(m)]
-  double vertical_sigma_per_sqrt_m = 0.05;   ///< [m / sqrt(m)]
-  double yaw_sigma_per_sqrt_rad = 0.05;      ///< [rad / sqrt(rad)]
-  double yaw_sigma_per_sqrt_m = 0.01;        ///< [rad / sqrt(m)]
-  double tilt_sigma_per_sqrt_m = 0.05;       ///< [rad / sqrt(m)] roll and pitch
-  double min_sigma_m = 0.002;                ///< [m] floor of every translation sigma
-  double min_sigma_rad = 0.002;              ///< [rad] floor of every rotation sigma
+  double forward_sigma_per_sqrt_m = 0.02;   ///< [m / sqrt(m)]
+  double lateral_sigma_per_sqrt_m = 0.02;   ///< [m / sqrt(m)]
+  double vertical_sigma_per_sqrt_m = 0.05;  ///< [m / sqrt(m)]
+  double yaw_sigma_per_sqrt_rad = 0.05;     ///< [rad / sqrt(rad)]
+  double yaw_sigma_per_sqrt_m = 0.01;       ///< [rad / sqrt(m)]
+  double tilt_sigma_per_sqrt_m = 0.05;      ///< [rad / sqrt(m)] roll and pitch
+  double min_sigma_m = 0.002;               ///< [m] floor of every translation sigma
+  double min_sigma_rad = 0.002;             ///< [rad] floor of every rotation sigma
 };
 
 class WheelPreintegration {
@@ -39,9 +39,9 @@ class WheelPreintegration {
   /// The interval [t_a, t_b] (IMU clock) from `readings` (time order; stamps + time_offset_s on
   /// the IMU clock). nullopt when the readings do not cover it (no reading at or before t_a, or
   /// none at or after t_b): a stream gap.
-  static std::optional<WheelPreintegration> between(
-      const std::deque<WheelOdometrySample>& readings, double t_a, double t_b,
-      double time_offset_s, const WheelNoise& noise);
+  static std::optional<WheelPreintegration> between(const std::deque<WheelOdometrySample>& readings,
+                                                    double t_a, double t_b, double time_offset_s,
+                                                    const WheelNoise& noise);
   /// From increments directly (tests): d_k [m] and a_k [rad].
   WheelPreintegration(std::vector<Eigen::Vector2d> d, std::vector<double> a,
                       const WheelNoise& noise);
