@@ -23,8 +23,8 @@ std::string sequenceWith(const std::string& name, const std::string& sim) {
   const std::string dir = makeTempDir("rgbdi_wheel_sim_cfg");
   const std::string cfg = dir + "/" + name + ".ini";
   std::ofstream(cfg) << "[sim]\n" << sim;
-  return rgbdi::test::cachedSimSequence("--profile wheeled_circle --duration 20 --fps 15 --config " +
-                                        cfg);
+  return rgbdi::test::cachedSimSequence(
+      "--profile wheeled_circle --duration 20 --fps 15 --config " + cfg);
 }
 
 struct SlamRun {
@@ -69,8 +69,9 @@ const char* const kWheelsOn = "[wheel]\nenable = true\n";
 TEST(WheelFusion, AWrongRadiusIsLearntAndTheOdometryIsNoWorse) {
   // Both wheels 3 % larger than the robot assumes: it reports 3 % too little distance and turn.
   const std::string seq = sequenceWith(
-      "radius", "wheel_encoders = on\nwheel_radius_error_left = 0.03\nwheel_radius_error_right = "
-                "0.03\n");
+      "radius",
+      "wheel_encoders = on\nwheel_radius_error_left = 0.03\nwheel_radius_error_right = "
+      "0.03\n");
   const SlamRun without = slam(seq, kWheelsOn, "--no-wheels");
   const SlamRun with = slam(seq, kWheelsOn);
   EXPECT_FALSE(without.summary.contains("wheel"));
@@ -79,7 +80,8 @@ TEST(WheelFusion, AWrongRadiusIsLearntAndTheOdometryIsNoWorse) {
   EXPECT_NEAR(w["scale_forward"].get<double>(), 1.03, 0.003 * 1.03) << w.dump();
   EXPECT_GT(w["intervals_used"].get<int>(), 80) << w.dump();
   EXPECT_EQ(w["intervals_left_out"]["stream_gap"].get<int>(), 0) << w.dump();
-  EXPECT_EQ(w["intervals_left_out"]["slip"].get<int>() + w["intervals_left_out"]["stuck"].get<int>() +
+  EXPECT_EQ(w["intervals_left_out"]["slip"].get<int>() +
+                w["intervals_left_out"]["stuck"].get<int>() +
                 w["intervals_left_out"]["lifted"].get<int>(),
             0)
       << w.dump();

@@ -321,6 +321,8 @@ const std::vector<Field> kFields = {
     {"wheel", "estimate_scale", [](const Defaults& d) { return text(d.system.estimator.wheel.estimate_scale); }},
     {"wheel", "scale_prior_sigma", [](const Defaults& d) { return text(d.system.estimator.wheel.scale_prior_sigma); }},
     {"wheel", "gate_chi2", [](const Defaults& d) { return text(d.system.estimator.wheel.gate_chi2); }},
+    {"wheel", "max_blind_s", [](const Defaults& d) { return text(d.system.estimator.wheel.max_blind_s); }},
+    {"wheel", "reading_lag_s", [](const Defaults& d) { return text(d.system.estimator.wheel.reading_lag_s); }},
     {"wheel", "fault_motion_ratio", [](const Defaults& d) { return text(d.system.estimator.wheel.fault_motion_ratio); }},
     {"loop", "enable", [](const Defaults& d) { return text(d.system.loop.enable); }},
     {"loop", "offline_lag_keyframes", [](const Defaults& d) { return text(d.system.loop.offline_lag_keyframes); }},

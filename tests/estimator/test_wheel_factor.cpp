@@ -152,6 +152,21 @@ TEST(WheelPreintegration, YawScaleDerivativeMatchesNumeric) {
   EXPECT_LT((analytic - (plus - minus) / (2 * h)).norm(), 1e-8);
 }
 
+TEST(WheelPreintegration, TheNewestIncrementGoesOnUpToTheExtrapolationLimit) {
+  const auto readings = circleReadings(0.5, 0.0, 10.0, 50.0, 51);  // 10.0 .. 11.0, 0.01 m each
+  EXPECT_FALSE(WheelPreintegration::between(readings, 10.5, 11.05, 0.0, WheelNoise(), 0.04));
+  const auto pre = WheelPreintegration::between(readings, 10.5, 11.03, 0.0, WheelNoise(), 0.04);
+  ASSERT_TRUE(pre.has_value());
+  Eigen::Vector2d dp;
+  pre->delta(1.0, 1.0, &dp, nullptr);
+  EXPECT_NEAR(dp.x(), 0.265, 1e-12);
+  // Both ends beyond the newest reading: only the extrapolated part.
+  const auto beyond = WheelPreintegration::between(readings, 11.01, 11.03, 0.0, WheelNoise(), 0.04);
+  ASSERT_TRUE(beyond.has_value());
+  beyond->delta(1.0, 1.0, &dp, nullptr);
+  EXPECT_NEAR(dp.x(), 0.01, 1e-12);
+}
+
 TEST(WheelPreintegration, IntervalNotCoveredIsAGap) {
   const auto readings = circleReadings(0.5, 0.0, 10.0, 50.0, 51);  // 10.0 .. 11.0
   EXPECT_FALSE(WheelPreintegration::between(readings, 9.99, 10.5, 0.0, WheelNoise()));

@@ -11,6 +11,7 @@
 #include "estimator/frame_window.h"
 #include "estimator/static_start.h"
 #include "estimator/visual_start.h"
+#include "estimator/wheel_dead_reckoning.h"
 #include "estimator/window_cost_model.h"
 #include "estimator/window_marginalisation.h"
 #include "estimator/window_motion_field.h"
@@ -212,10 +213,19 @@ bool SlidingWindowEstimator::track(const frontend::FeatureFrame& frame, double t
   // and would decide a blackout of exactly fail_max_blind_s (a whole number of frame periods)
   // by its last digits; the tolerance keeps round-off of the stamps out of it too.
   constexpr double kStampTolerance_s = 1e-3;
+  // With the wheels fused and their readings up to this frame, blind frames are carried by the
+  // IMU and the wheels for up to [wheel] max_blind_s.
+  const WheelOptions& wheel_opt = opt_.wheel;
+  const bool wheels_carry = out.blind && wheel_opt.enable &&
+                            wheel_opt.max_blind_s > opt_.fail_max_blind_s &&
+                            !parts_->window.wheels.readings.empty() &&
+                            parts_->window.wheels.readings.back().t + wheel_opt.time_offset_s >=
+                                t - wheel_opt.reading_lag_s;
+  const double max_blind_s = wheels_carry ? wheel_opt.max_blind_s : opt_.fail_max_blind_s;
   if (!out.blind) {
     last_sighted_t_ = frame.t;
   } else if (opt_.fail_max_blind_s > 0.0 &&
-             frame.t - last_sighted_t_ > opt_.fail_max_blind_s + kStampTolerance_s) {
+             frame.t - last_sighted_t_ > max_blind_s + kStampTolerance_s) {
     logFmt(mrpt::system::LVL_WARN,
            "t=%.3f: fewer than %d features for %.2f s: tracking lost, re-initialising\n", t,
            opt_.fail_min_features, frame.t - last_sighted_t_);
@@ -237,9 +247,32 @@ bool SlidingWindowEstimator::track(const frontend::FeatureFrame& frame, double t
   if (out.blind || between_updates) {
     // Also between estimator updates (update_rate_hz): the IMU propagation of the newest slot.
     propagateWithImu(t, out);
+    if (out.blind && wheel_opt.enable) {
+      // The position from the wheels (the IMU alone drifts by its velocity error).
+      const WindowSlot& s = window.back();
+      if (const auto dr = wheelInertialDeadReckoning(parts_->window.wheels, wheel_opt,
+                                                     parts_->imu.between(s.t, t), s.bg(), s.t,
+                                                     s.p(), s.q(), t)) {
+        out.T_world_body.translation() = dr->p_world_body;
+        out.v_world = dr->v_world;
+      }
+    }
     return false;
   }
+  const bool after_blind = bridging_;
   addSlot(frame, t, true);
+  if (after_blind && wheel_opt.enable && window.size() >= 2) {
+    // The first frame that sees again starts from the wheels' position, not the IMU's: the
+    // solve (and the gate of the wheel factor over the blind interval) starts near the truth.
+    const WindowSlot& prev = window[window.size() - 2];
+    WindowSlot& s = window.back();
+    if (const auto dr = wheelInertialDeadReckoning(parts_->window.wheels, wheel_opt,
+                                                   parts_->imu.between(prev.t, t), prev.bg(),
+                                                   prev.t, prev.p(), prev.q(), t)) {
+      s.setPose(dr->p_world_body, s.q());
+      s.setV(dr->v_world);
+    }
+  }
   out.ms_preintegration = last_preintegration_ms_;
   // The second-newest frame leaves the window after this update unless it is a keyframe.
   const bool leaving =

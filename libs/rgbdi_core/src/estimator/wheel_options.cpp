@@ -44,6 +44,8 @@ WheelOptions WheelOptions::load(IniReader& ini) {
   o.estimate_scale = ini.getBool(s, "estimate_scale", o.estimate_scale);
   o.scale_prior_sigma = ini.getDouble(s, "scale_prior_sigma", o.scale_prior_sigma, 1e-6, 10.0);
   o.gate_chi2 = ini.getDouble(s, "gate_chi2", o.gate_chi2, 0.0, 1e9);
+  o.max_blind_s = ini.getDouble(s, "max_blind_s", o.max_blind_s, 0.0, 3600.0);
+  o.reading_lag_s = ini.getDouble(s, "reading_lag_s", o.reading_lag_s, 0.0, 10.0);
   o.fault_motion_ratio = ini.getDouble(s, "fault_motion_ratio", o.fault_motion_ratio, 0.0, 1.0);
   return o;
 }

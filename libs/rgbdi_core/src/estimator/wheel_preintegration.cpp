@@ -48,16 +48,25 @@ WheelPreintegration::WheelPreintegration(std::vector<Eigen::Vector2d> d, std::ve
 
 std::optional<WheelPreintegration> WheelPreintegration::between(
     const std::deque<WheelOdometrySample>& readings, double t_a, double t_b, double time_offset_s,
-    const WheelNoise& noise) {
+    const WheelNoise& noise, double max_extrapolation_s) {
   const auto stamp = [&](std::size_t i) { return readings[i].t + time_offset_s; };
-  if (readings.empty() || !(t_b >= t_a) || stamp(0) > t_a || stamp(readings.size() - 1) < t_b)
+  if (readings.empty() || !(t_b >= t_a) || stamp(0) > t_a ||
+      stamp(readings.size() - 1) < t_b - max_extrapolation_s)
     return std::nullopt;
   // i0: the last reading at or before t_a.
   std::size_t i0 = 0;
   while (i0 + 1 < readings.size() && stamp(i0 + 1) <= t_a) ++i0;
   std::vector<Pose2> poses;  // the poses at t_a, at every reading inside (t_a, t_b), at t_b
   double ref = readings[i0].yaw_rad;
+  const std::size_t last = readings.size() - 1;
   const auto at = [&](double t, std::size_t i) {  // between reading i and i + 1
+    if (i == last && t > stamp(last) && last >= 1 && stamp(last) > stamp(last - 1)) {
+      // Beyond the newest reading (by at most max_extrapolation_s): its increment's rate goes on.
+      const Pose2 p = unwrapped(readings[last - 1], ref);
+      const Pose2 q = unwrapped(readings[last], p.yaw);
+      const double f = (t - stamp(last - 1)) / (stamp(last) - stamp(last - 1));
+      return Pose2{p.x + f * (q.x - p.x), p.y + f * (q.y - p.y), p.yaw + f * (q.yaw - p.yaw)};
+    }
     const Pose2 p = unwrapped(readings[i], ref);
     if (i + 1 >= readings.size() || stamp(i + 1) <= stamp(i)) return p;
     const Pose2 q = unwrapped(readings[i + 1], p.yaw);

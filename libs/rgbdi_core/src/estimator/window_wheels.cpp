@@ -79,7 +79,8 @@ void WindowWheels::add(const WheelOdometrySample& w) {
 
 std::optional<WheelPreintegration> WindowWheels::interval(double t_a, double t_b,
                                                           const WheelOptions& opt) const {
-  return WheelPreintegration::between(readings, t_a, t_b, opt.time_offset_s, opt.noise);
+  return WheelPreintegration::between(readings, t_a, t_b, opt.time_offset_s, opt.noise,
+                                      opt.reading_lag_s);
 }
 
 void WindowWheels::trimBefore(double t, const WheelOptions& opt) {

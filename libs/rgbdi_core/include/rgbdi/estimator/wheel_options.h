@@ -25,6 +25,14 @@ struct WheelOptions {
   /// the IMU and vision say), has a squared normalised error above this is left out (slip, a
   /// stuck wheel, a lifted robot); 0 = every interval is used.
   double gate_chi2 = 30.0;
+  /// [s] with the wheels fused and their readings up to the frame, blind frames (a blackout, a
+  /// bare wall, blur) are carried by the gyroscope and the wheels for up to this long before
+  /// tracking is lost ([estimator] fail_max_blind_s otherwise); their positions come from the
+  /// wheels, and the first frame that sees again starts from them.
+  double max_blind_s = 10.0;
+  /// [s] ... while the newest reading is at most this much older than the frame (readings come
+  /// at their own rate: the frame's newest one is up to a period old).
+  double reading_lag_s = 0.1;
   /// [unitless] a left-out interval is "stuck" when the wheels report less than this fraction
   /// of the distance the window moved, "lifted" when the window moved less than this fraction
   /// of what the wheels report, "slip" otherwise.

@@ -38,10 +38,13 @@ class WheelPreintegration {
  public:
   /// The interval [t_a, t_b] (IMU clock) from `readings` (time order; stamps + time_offset_s on
   /// the IMU clock). nullopt when the readings do not cover it (no reading at or before t_a, or
-  /// none at or after t_b): a stream gap.
+  /// none at or after t_b - max_extrapolation_s): a stream gap. Beyond the newest reading the
+  /// rate of its increment goes on (readings come at their own rate: a frame's newest one is
+  /// up to a period old).
   static std::optional<WheelPreintegration> between(const std::deque<WheelOdometrySample>& readings,
                                                     double t_a, double t_b, double time_offset_s,
-                                                    const WheelNoise& noise);
+                                                    const WheelNoise& noise,
+                                                    double max_extrapolation_s = 0.0);
   /// From increments directly (tests): d_k [m] and a_k [rad].
   WheelPreintegration(std::vector<Eigen::Vector2d> d, std::vector<double> a,
                       const WheelNoise& noise);
