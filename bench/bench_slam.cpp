@@ -65,6 +65,10 @@ class PacedSink : public MeasurementSink {
     pace(imu.t);
     sys_.feedImu(imu);
   }
+  void feedWheel(const WheelOdometrySample& wheel) override {
+    pace(wheel.t);
+    sys_.feedWheel(wheel);
+  }
   void feedRgbd(const RgbdFrame& frame) override {
     pace(frame.t);
     sys_.feedRgbd(frame);

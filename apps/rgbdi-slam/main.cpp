@@ -25,10 +25,12 @@ void onSignal(int) { g_stop.store(true); }
 
 const char* const kUsage =
     "usage: rgbdi-slam --input SEQ.rawlog --out DIR [--config FILE] [--gt GT.tum]\n"
-    "                  [--no-depth] [--no-loop] [--save-simplemap] [--sequential] [--quiet]\n"
+    "                  [--no-depth] [--no-loop] [--no-wheels] [--save-simplemap] [--sequential]\n"
+    "                  [--quiet]\n"
     "                  [--load-map DIR/map [--localize-only]] [--no-save-map]\n"
     "       rgbdi-slam --live SENSORS.ini --out DIR [--config FILE] [--duration S]\n"
-    "                  [--record RAW.rawlog] [--no-depth] [--no-loop] [--save-simplemap]\n"
+    "                  [--record RAW.rawlog] [--no-depth] [--no-loop] [--no-wheels]\n"
+    "                  [--save-simplemap]\n"
     "                  [--load-map DIR/map [--localize-only]] [--no-save-map] [--quiet]\n"
     "  -i, --input FILE  MRPT rawlog with CObservation3DRangeScan (colour+depth) and\n"
     "                    CObservationIMU (rawlog-convert makes one from bags and TUM folders)\n"
@@ -55,6 +57,7 @@ const char* const kUsage =
     "                    descriptors and points, pose graph, points.ply, map.bt)\n"
     "  --no-depth        monocular-inertial baseline: ignore depth\n"
     "  --no-loop         no loop closure (odometry and mapping only; [loop] enable = false)\n"
+    "  --no-wheels       ignore the wheel odometry of the input ([wheel] enable = false)\n"
     "  --save-simplemap  also write keyframes.simplemap (keyframe observations + poses)\n"
     "  --sequential      --input: run every stage on one thread (same outputs, for debugging)\n"
     "  --quiet           no progress line\n"
@@ -97,6 +100,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   cl.flag("--no-save-map", &no_save_map);
   cl.flag("--no-depth", &o.no_depth);
   cl.flag("--no-loop", &o.no_loop);
+  cl.flag("--no-wheels", &o.no_wheels);
   cl.flag("--save-simplemap", &o.save_simplemap);
   cl.flag("--sequential", &a.sequential);
   cl.flag("--quiet", &o.quiet);
@@ -129,6 +133,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   l.config_path = o.config_path;
   l.no_depth = o.no_depth;
   l.no_loop = o.no_loop;
+  l.no_wheels = o.no_wheels;
   l.quiet = o.quiet;
   l.save_simplemap = o.save_simplemap;
   return outcome;

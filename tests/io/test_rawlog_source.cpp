@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
-#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationBatteryState.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -720,9 +720,9 @@ TEST_F(RawlogSourceTest, OtherTypesAreSkippedAndCountedAndBadImuIsReported) {
     RawlogWriter w(path, writerOptions(Layout::SensoryFrames));
     w.write(imuAt(kT0));
     for (int i = 0; i < 3; ++i) {
-      auto odo = mrpt::obs::CObservationOdometry::Create();
-      odo->timestamp = fromSeconds(kT0 + 0.001 * i);
-      w.writeObservation(odo);
+      auto battery = mrpt::obs::CObservationBatteryState::Create();
+      battery->timestamp = fromSeconds(kT0 + 0.001 * i);
+      w.writeObservation(battery);
     }
     auto scan = mrpt::obs::CObservation2DRangeScan::Create();
     w.writeObservation(scan);
@@ -746,7 +746,7 @@ TEST_F(RawlogSourceTest, OtherTypesAreSkippedAndCountedAndBadImuIsReported) {
   EXPECT_EQ(d.observations, 7u);
   EXPECT_EQ(d.unusable, 1u);
   const std::map<std::string, std::size_t> skipped = {{"mrpt::obs::CObservation2DRangeScan", 1},
-                                                      {"mrpt::obs::CObservationOdometry", 3}};
+                                                      {"mrpt::obs::CObservationBatteryState", 3}};
   EXPECT_EQ(d.skipped, skipped);
   ASSERT_FALSE(d.warnings.empty());
   EXPECT_EQ(d.warnings[0],

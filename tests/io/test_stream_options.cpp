@@ -41,6 +41,12 @@ TEST(StreamOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.constant_image_max_range, d.constant_image_max_range);
   EXPECT_EQ(o.image_check_step_px, d.image_check_step_px);
   EXPECT_EQ(o.image_rate_limit_hz, d.image_rate_limit_hz);
+  EXPECT_EQ(o.wheel_gap_factor, d.wheel_gap_factor);
+  EXPECT_EQ(o.wheel_rest_window_s, d.wheel_rest_window_s);
+  EXPECT_EQ(o.wheel_rest_gyr_rad_s, d.wheel_rest_gyr_rad_s);
+  EXPECT_EQ(o.wheel_rest_acc_std_m_s2, d.wheel_rest_acc_std_m_s2);
+  EXPECT_EQ(o.wheel_rest_speed_m_s, d.wheel_rest_speed_m_s);
+  EXPECT_EQ(o.wheel_rest_yaw_rate_rad_s, d.wheel_rest_yaw_rate_rad_s);
   // Every key of [stream] is one that StreamOptions reads.
   ini.acceptConfigSectionsExcept({"stream"});
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());

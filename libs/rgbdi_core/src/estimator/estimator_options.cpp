@@ -83,6 +83,7 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
       ini.getDouble(s, "fail_max_vertical_jump_m", o.fail_max_vertical_jump_m, 0.01, 1000);
   o.fail_min_features = ini.getInt(s, "fail_min_features", o.fail_min_features, 0, 100000);
   o.fail_max_blind_s = ini.getDouble(s, "fail_max_blind_s", o.fail_max_blind_s, 0.0, 3600.0);
+  o.wheel = WheelOptions::load(ini);
   return o;
 }
 

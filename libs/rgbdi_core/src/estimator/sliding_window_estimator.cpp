@@ -11,6 +11,7 @@
 #include "estimator/frame_window.h"
 #include "estimator/static_start.h"
 #include "estimator/visual_start.h"
+#include "estimator/wheel_dead_reckoning.h"
 #include "estimator/window_cost_model.h"
 #include "estimator/window_marginalisation.h"
 #include "estimator/window_motion_field.h"
@@ -78,6 +79,15 @@ void SlidingWindowEstimator::feedImu(const ImuSample& s) {
   imu.push(s);
 }
 
+void SlidingWindowEstimator::feedWheel(const WheelOdometrySample& w) {
+  if (!opt_.wheel.enable) return;
+  WindowWheels& wheels = parts_->window.wheels;
+  wheels.add(w);
+  // Nothing before the oldest frame is needed (without frames: nothing before the newest).
+  const FrameWindow& window = parts_->window.frames;
+  wheels.trimBefore(window.empty() ? w.t + opt_.wheel.time_offset_s : window.front().t, opt_.wheel);
+}
+
 double SlidingWindowEstimator::latestImuTime() const {
   return parts_->imu.empty() ? -1e300 : parts_->imu.newestTime();
 }
@@ -129,6 +139,7 @@ bool SlidingWindowEstimator::tryStart(const frontend::FeatureFrame& frame, doubl
     if (!still.failure) {
       window.clear();
       state.prior.reset();
+      state.wheels.priorDropped();
       addSlot(frame, t, false);
       adoptRestingStart(state, still, p0, yaw0, opt_);
       ++stats_.static_initialisations;
@@ -167,6 +178,7 @@ bool SlidingWindowEstimator::start(const frontend::FeatureFrame& frame, double t
   last_sighted_t_ = frame.t;
   out.just_initialised = true;
   parts_->window.prior.reset();
+  parts_->window.wheels.priorDropped();
   window.features().updateDepths(window.poses(), parts_->model.T_body_cam, parts_->depth_check);
   for (std::size_t k = 0; k < window.size(); ++k) assignMotionFieldVelocities(k);
   if (window.size() >= 2) optimise(&out, false);
@@ -201,10 +213,19 @@ bool SlidingWindowEstimator::track(const frontend::FeatureFrame& frame, double t
   // and would decide a blackout of exactly fail_max_blind_s (a whole number of frame periods)
   // by its last digits; the tolerance keeps round-off of the stamps out of it too.
   constexpr double kStampTolerance_s = 1e-3;
+  // With the wheels fused and their readings up to this frame, blind frames are carried by the
+  // IMU and the wheels for up to [wheel] max_blind_s.
+  const WheelOptions& wheel_opt = opt_.wheel;
+  const bool wheels_carry = out.blind && wheel_opt.enable &&
+                            wheel_opt.max_blind_s > opt_.fail_max_blind_s &&
+                            !parts_->window.wheels.readings.empty() &&
+                            parts_->window.wheels.readings.back().t + wheel_opt.time_offset_s >=
+                                t - wheel_opt.reading_lag_s;
+  const double max_blind_s = wheels_carry ? wheel_opt.max_blind_s : opt_.fail_max_blind_s;
   if (!out.blind) {
     last_sighted_t_ = frame.t;
   } else if (opt_.fail_max_blind_s > 0.0 &&
-             frame.t - last_sighted_t_ > opt_.fail_max_blind_s + kStampTolerance_s) {
+             frame.t - last_sighted_t_ > max_blind_s + kStampTolerance_s) {
     logFmt(mrpt::system::LVL_WARN,
            "t=%.3f: fewer than %d features for %.2f s: tracking lost, re-initialising\n", t,
            opt_.fail_min_features, frame.t - last_sighted_t_);
@@ -226,9 +247,32 @@ bool SlidingWindowEstimator::track(const frontend::FeatureFrame& frame, double t
   if (out.blind || between_updates) {
     // Also between estimator updates (update_rate_hz): the IMU propagation of the newest slot.
     propagateWithImu(t, out);
+    if (out.blind && wheel_opt.enable) {
+      // The position from the wheels (the IMU alone drifts by its velocity error).
+      const WindowSlot& s = window.back();
+      if (const auto dr = wheelInertialDeadReckoning(parts_->window.wheels, wheel_opt,
+                                                     parts_->imu.between(s.t, t), s.bg(), s.t,
+                                                     s.p(), s.q(), t)) {
+        out.T_world_body.translation() = dr->p_world_body;
+        out.v_world = dr->v_world;
+      }
+    }
     return false;
   }
+  const bool after_blind = bridging_;
   addSlot(frame, t, true);
+  if (after_blind && wheel_opt.enable && window.size() >= 2) {
+    // The first frame that sees again starts from the wheels' position, not the IMU's: the
+    // solve (and the gate of the wheel factor over the blind interval) starts near the truth.
+    const WindowSlot& prev = window[window.size() - 2];
+    WindowSlot& s = window.back();
+    if (const auto dr = wheelInertialDeadReckoning(parts_->window.wheels, wheel_opt,
+                                                   parts_->imu.between(prev.t, t), prev.bg(),
+                                                   prev.t, prev.p(), prev.q(), t)) {
+      s.setPose(dr->p_world_body, s.q());
+      s.setV(dr->v_world);
+    }
+  }
   out.ms_preintegration = last_preintegration_ms_;
   // The second-newest frame leaves the window after this update unless it is a keyframe.
   const bool leaving =
@@ -305,6 +349,7 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   if (update.summary.termination == WindowSolverSummary::Termination::kNoConvergence)
     ++stats_.solver_iterations_capped;
   stats_.solver_factorisation_retries += update.summary.factorisation_retries;
+  stats_.wheel_factors_solved += update.n_wheel_factors;
   out->n_features_used = update.n_features_used;
   out->n_depth_verified = update.n_depth_verified;
   out->ms_optimisation = msSince(t0);
@@ -320,6 +365,25 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
     dropSecondNewestSlot(parts_->window, parts_->model);
   out->ms_marginalisation = msSince(t0);
   stats_.sum_ms_marginalisation += out->ms_marginalisation;
+  const WindowWheels& wheels = parts_->window.wheels;
+  stats_.wheel_intervals_used = wheels.intervals_used;
+  stats_.wheel_intervals_gap = wheels.intervals_gap;
+  stats_.wheel_intervals_slip = wheels.intervals_slip;
+  stats_.wheel_intervals_stuck = wheels.intervals_stuck;
+  stats_.wheel_intervals_lifted = wheels.intervals_lifted;
+  stats_.wheel_factors_gated = wheels.factors_gated;
+  if (stats_.wheel_fault_episodes.size() != wheels.episodes.size() ||
+      (!wheels.episodes.empty() &&
+       stats_.wheel_fault_episodes.back().t_end != wheels.episodes.back().t_end)) {
+    stats_.wheel_fault_episodes.clear();
+    for (const auto& e : wheels.episodes)
+      stats_.wheel_fault_episodes.push_back({e.t_start, e.t_end,
+                                             e.verdict == WheelVerdict::Stuck    ? "stuck"
+                                             : e.verdict == WheelVerdict::Lifted ? "lifted"
+                                                                                 : "slip"});
+  }
+  stats_.wheel_scale_v = wheels.scale_v[0];
+  stats_.wheel_scale_w = wheels.scale_w[0];
 }
 
 void SlidingWindowEstimator::reset(bool keep_anchor) {
@@ -330,6 +394,7 @@ void SlidingWindowEstimator::reset(bool keep_anchor) {
   if (!keep_anchor) have_anchor_ = false;
   parts_->window.frames.clear();
   parts_->window.prior.reset();
+  parts_->window.wheels.priorDropped();
   parts_->window.start_prior.active = false;
   parts_->static_start.clear();
   bridging_ = false;

@@ -24,7 +24,8 @@ struct WindowCostModel {
         time_offset_prior_mean_s(ext.time_offset_s),
         time_offset_prior_sigma_s(opt.time_offset_prior_sigma_s),
         hold_verified_depth_constant(opt.verified_depth == "constant"),
-        depth_noise_coeff(opt.depth_noise_coeff) {}
+        depth_noise_coeff(opt.depth_noise_coeff),
+        wheel(opt.wheel) {}
 
   /// Sigma of the prior of a verified inverse depth [1/m]: depth sigma = c z^2 means
   /// inverse-depth sigma = c, averaged over the independent observations that agreed.
@@ -43,6 +44,7 @@ struct WindowCostModel {
   /// marginalisation (else it is free, with a prior from the verified mean).
   bool hold_verified_depth_constant;
   double depth_noise_coeff;  ///< [1/m] inverse-depth sigma of one verified observation
+  WheelOptions wheel;        ///< the wheel factors' extrinsic, noise, time offset, scales
 };
 
 }  // namespace rgbdi::estimator

@@ -9,6 +9,7 @@
 #include "rgbdi/estimator/reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 
 namespace rgbdi::estimator {
@@ -19,6 +20,10 @@ namespace {
 std::set<const double*> constantBlocks(WindowState& state, const WindowCostModel& model) {
   std::set<const double*> constant;
   if (!model.estimate_time_offset) constant.insert(state.time_offset);
+  if (!model.wheel.estimate_scale) {
+    constant.insert(state.wheels.scale_v);
+    constant.insert(state.wheels.scale_w);
+  }
   return constant;
 }
 
@@ -57,6 +62,33 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   info->add({std::make_shared<imu::ImuFactor>(window[1].preint.get(), model.g_world),
              nullptr,
              {s0.pose, s0.sb, window[1].pose, window[1].sb}});
+  // What the wheels told the window about this interval stays in the prior.
+  WindowWheels& wheels = state.wheels;
+  if (model.wheel.enable) {
+    auto pre = wheels.interval(s0.t, window[1].t, model.wheel);
+    const WheelVerdict verdict =
+        pre ? wheels.check(*pre, s0.pose, window[1].pose, s0.t, window[1].t, model.wheel)
+            : WheelVerdict::Consistent;
+    if (pre) wheels.count(verdict, s0.t, window[1].t);
+    if (pre && verdict == WheelVerdict::Consistent) {
+      info->add({std::make_shared<WheelFactor>(*pre, model.wheel.T_body_wheel),
+                 nullptr,
+                 {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w}});
+      if (model.wheel.estimate_scale && wheels.scale_prior_pending) {
+        info->add(
+            {std::make_shared<ScalarPrior>(wheels.prior_mean_v, model.wheel.scale_prior_sigma),
+             nullptr,
+             {wheels.scale_v}});
+        info->add(
+            {std::make_shared<ScalarPrior>(wheels.prior_mean_w, model.wheel.scale_prior_sigma),
+             nullptr,
+             {wheels.scale_w}});
+        wheels.scale_prior_pending = false;
+      }
+    } else if (!pre) {
+      ++wheels.intervals_gap;
+    }
+  }
   auto loss = std::make_shared<ceres::CauchyLoss>(model.cauchy_loss_sigma);
   const int newest = static_cast<int>(N);
   for (auto& [id, f] : window.features().tracks()) {
@@ -94,7 +126,9 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
     state.prior = info;
   } else {
     state.prior.reset();
+    wheels.priorDropped();
   }
+  if (model.wheel.enable) wheels.trimBefore(window.front().t, model.wheel);
   return leaving;
 }
 
@@ -112,6 +146,7 @@ void dropSecondNewestSlot(WindowState& state, const WindowCostModel& model) {
       state.prior = info;
     } else {
       state.prior.reset();
+      state.wheels.priorDropped();
     }
   }
   std::unordered_map<const double*, double*> remap;

@@ -6,6 +6,7 @@
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 #include "rgbdi/imu/preintegration.h"
 
@@ -54,11 +55,33 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   };
   const ceres::CauchyLoss cauchy(model_.cauchy_loss_sigma);
 
+  // The wheel intervals covered by readings (none unless [wheel] enable).
+  WindowWheels& wheels = state.wheels;
+  std::vector<std::pair<std::size_t, WheelPreintegration>> wheel_intervals;
+  if (model_.wheel.enable)
+    for (std::size_t k = 1; k < window.size(); ++k)
+      if (auto pre = wheels.interval(window[k - 1].t, window[k].t, model_.wheel)) {
+        // Checked against what the IMU and vision made of the interval so far.
+        if (wheels.check(*pre, window[k - 1].pose, window[k].pose, window[k - 1].t, window[k].t,
+                         model_.wheel) == WheelVerdict::Consistent)
+          wheel_intervals.emplace_back(k, std::move(*pre));
+        else
+          ++wheels.factors_gated;
+      }
+  // The scales are variables while a wheel factor or the marginalisation prior holds them.
+  const bool wheel_scales =
+      model_.wheel.enable && model_.wheel.estimate_scale &&
+      (!wheel_intervals.empty() || (state.prior && !wheels.scale_prior_pending));
+
   for (auto& s : window) {
     solver.addFrameBlock(s.pose, 7);
     solver.addFrameBlock(s.sb, 9);
   }
   if (model_.estimate_time_offset) solver.addFrameBlock(td, 1);
+  if (wheel_scales) {
+    solver.addFrameBlock(wheels.scale_v, 1);
+    solver.addFrameBlock(wheels.scale_w, 1);
+  }
   if (state.prior) solver.addPrior(state.prior);
   // Gauge: hold position and yaw of the oldest pose (the prior carries no information on them).
   add(new GaugePrior(window.front().pose, kGaugeStiffness), nullptr, {window.front().pose});
@@ -80,8 +103,18 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     }
     add(new imu::ImuFactor(b.preint.get(), model_.g_world), nullptr, {a.pose, a.sb, b.pose, b.sb});
   }
+  for (const auto& [k, pre] : wheel_intervals)
+    add(new WheelFactor(pre, model_.wheel.T_body_wheel), nullptr,
+        {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w});
+  if (wheel_scales && wheels.scale_prior_pending) {
+    add(new ScalarPrior(wheels.prior_mean_v, model_.wheel.scale_prior_sigma), nullptr,
+        {wheels.scale_v});
+    add(new ScalarPrior(wheels.prior_mean_w, model_.wheel.scale_prior_sigma), nullptr,
+        {wheels.scale_w});
+  }
   const int newest = static_cast<int>(window.size()) - 1;
   WindowUpdate update;
+  update.n_wheel_factors = static_cast<int>(wheel_intervals.size());
   // The inverse depths are solved in one buffer filled in track-id order (the solver's order
   // is the order of addition: the same bits whichever thread built the tracks).
   std::vector<FeatureTrack*> solved;

@@ -1,7 +1,9 @@
 // Building and solving the window problem at each update: IMU factors between consecutive
-// slots, reprojection factors of the usable tracks (Cauchy loss), the gauge prior on the oldest
-// pose, the start prior while it lasts, the priors of verified depths, and the marginalisation
-// prior, solved by WindowSolver (window_solver.h) with the inverse depths eliminated.
+// slots, wheel factors of the intervals the wheel odometry covers ([wheel] enable) with the
+// prior of the scale factors while it lasts, reprojection factors of the usable tracks (Cauchy
+// loss), the gauge prior on the oldest pose, the start prior while it lasts, the priors of verified
+// depths, and the marginalisation prior, solved by WindowSolver (window_solver.h) with the inverse
+// depths eliminated.
 //
 // The solver, the reprojection factors and the work buffers are kept from update to update (one
 // problem of ~1,100 residuals per frame: reallocating them cost more than reusing them).
@@ -23,6 +25,7 @@ struct WindowState;
 struct WindowUpdate {
   int n_features_used = 0;      ///< tracks in the problem
   int n_depth_verified = 0;     ///< of which with a verified depth
+  int n_wheel_factors = 0;      ///< wheel-odometry intervals in the problem
   bool single_step = false;     ///< limited to one solver iteration
   WindowSolverSummary summary;  ///< the solver's
 };

@@ -1,12 +1,13 @@
 // The estimated state of the sliding window as its solve and its marginalisation see it: the
-// frames and feature tracks, the marginalisation prior, the camera-IMU time offset and the prior
-// on the first state that a start leaves.
+// frames and feature tracks, the marginalisation prior, the camera-IMU time offset, the prior
+// on the first state that a start leaves, and the wheel odometry.
 #pragma once
 
 #include <Eigen/Core>
 #include <memory>
 
 #include "estimator/frame_window.h"
+#include "estimator/window_wheels.h"
 #include "rgbdi/estimator/marginalization.h"
 
 namespace rgbdi::estimator {
@@ -30,6 +31,7 @@ struct WindowState {
   /// address is kept in the prior, so the state is not copied or moved).
   double time_offset[1];
   StartPrior start_prior;
+  WindowWheels wheels;  ///< used when [wheel] enable (the scale blocks' addresses are kept too)
 
   WindowState(const WindowState&) = delete;
   WindowState& operator=(const WindowState&) = delete;

@@ -14,6 +14,8 @@ void MeasurementSource::pump(MeasurementSink& sink, const std::atomic<bool>* sto
       if (!next(m)) break;
       if (auto* imu = std::get_if<ImuSample>(&m)) {
         sink.feedImu(*imu);
+      } else if (auto* wheel = std::get_if<WheelOdometrySample>(&m)) {
+        sink.feedWheel(*wheel);
       } else {
         sink.feedRgbd(std::get<RgbdFrame>(m));
       }

@@ -400,4 +400,49 @@ mrpt::obs::CObservationIMU::Ptr toMrpt(const ImuSample& imu, const std::string& 
   return obs;
 }
 
+WheelOdometrySample fromMrpt(const mrpt::obs::CObservationOdometry& obs) {
+  const auto who = [&] {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(6);
+    os << "odometry observation '" << obs.sensorLabel << "' at t = " << toSeconds(obs.timestamp)
+       << " s";
+    return os.str();
+  };
+  WheelOdometrySample w;
+  w.t = toSeconds(obs.timestamp);
+  w.x_m = obs.odometry.x();
+  w.y_m = obs.odometry.y();
+  w.yaw_rad = obs.odometry.phi();
+  w.has_velocities = storedFlag(obs.hasVelocities, who() + ": hasVelocities");
+  if (w.has_velocities) {
+    w.v_forward_m_s = obs.velocityLocal.vx;
+    w.v_lateral_m_s = obs.velocityLocal.vy;
+    w.yaw_rate_rad_s = obs.velocityLocal.omega;
+  }
+  w.has_encoders = storedFlag(obs.hasEncodersInfo, who() + ": hasEncodersInfo");
+  if (w.has_encoders) {
+    w.ticks_left = obs.encoderLeftTicks;
+    w.ticks_right = obs.encoderRightTicks;
+  }
+  return w;
+}
+
+mrpt::obs::CObservationOdometry::Ptr toMrpt(const WheelOdometrySample& wheel,
+                                            const std::string& sensorLabel) {
+  auto obs = mrpt::obs::CObservationOdometry::Create();
+  obs->sensorLabel = sensorLabel;
+  obs->timestamp = fromSeconds(wheel.t);
+  obs->odometry = mrpt::poses::CPose2D(wheel.x_m, wheel.y_m, wheel.yaw_rad);
+  obs->hasVelocities = wheel.has_velocities;
+  if (wheel.has_velocities)
+    obs->velocityLocal =
+        mrpt::math::TTwist2D(wheel.v_forward_m_s, wheel.v_lateral_m_s, wheel.yaw_rate_rad_s);
+  obs->hasEncodersInfo = wheel.has_encoders;
+  if (wheel.has_encoders) {
+    obs->encoderLeftTicks = wheel.ticks_left;
+    obs->encoderRightTicks = wheel.ticks_right;
+  }
+  return obs;
+}
+
 }  // namespace rgbdi::io

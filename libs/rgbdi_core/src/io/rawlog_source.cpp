@@ -5,6 +5,7 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -302,20 +303,40 @@ struct RawlogSource::Impl {
       }
       sample.acc *= cfg.stream.accel_scale;
       offer(Measurement(sample), rec);
+    } else if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+      WheelOdometrySample wheel;
+      try {
+        wheel = fromMrpt(*odo);
+      } catch (const ConversionError& e) {
+        checker.onUnusable(rec, checker.at(rec) + ": " + e.what() + "; skipped");
+        return;
+      }
+      if (!isFinite(wheel)) {
+        ++checker.counters().non_finite_wheel;
+        checker.onUnusable(rec, checker.at(rec) + ": wheel odometry at t = " + stampText(wheel.t) +
+                                    " s has a non-finite value (pose " + numText(wheel.x_m) + " " +
+                                    numText(wheel.y_m) + " " + numText(wheel.yaw_rad) +
+                                    ", velocity " + numText(wheel.v_forward_m_s) + " " +
+                                    numText(wheel.v_lateral_m_s) + " " +
+                                    numText(wheel.yaw_rate_rad_s) + "); skipped");
+        return;
+      }
+      offer(Measurement(wheel), rec);
     } else {
       checker.onSkipped(rec, o->GetRuntimeClass()->className);
     }
   }
 
   void offer(Measurement m, std::size_t rec) {
-    const bool imu = isImu(m);
+    const MeasurementKind kind = kindOf(m);
+    const bool imu = kind == MeasurementKind::Imu;
     const double t = measurementTime(m);
-    const double newest = imu ? buffer.newestImu() : buffer.newestRgbd();
+    const double newest = buffer.newest(kind);
     if (t < newest - cfg.stream.time_jump_back_s) {
       // A clock reset or two recordings joined: re-ordering cannot repair it and dropping a
       // second of data silently distorts the trajectory. Stop here; what came before is used.
-      fail(checker.at(rec) + ": " + (imu ? "IMU" : "RGB-D") + " stamp t = " + stampText(t) +
-           " s is " + stampText(newest - t) + " s older than the newest one read before it (" +
+      fail(checker.at(rec) + ": " + kindName(kind) + " stamp t = " + stampText(t) + " s is " +
+           stampText(newest - t) + " s older than the newest one read before it (" +
            stampText(newest) +
            " s): time goes backwards (clock reset or recordings joined?); reading stops at this "
            "record, the data before it is used (limit [stream] time_jump_back_s = " +
@@ -325,7 +346,7 @@ struct RawlogSource::Impl {
     if (imu) accountAcc(std::get<ImuSample>(m), rec);
     if (std::isfinite(t) && !(t >= first_t)) first_t = t;
     const auto verdict = buffer.push(std::move(m), rec);
-    checker.onArrival(imu, t, rec, verdict, newest);
+    checker.onArrival(kind, t, rec, verdict, newest);
     if (!units_decided && (acc_n >= static_cast<std::size_t>(cfg.stream.accel_check_samples) ||
                            t - first_t > cfg.stream.accel_check_max_s))
       decideUnits();

@@ -86,6 +86,10 @@ void RawlogWriter::write(const ImuSample& imu) {
   writeObservation(toMrpt(imu, options_.imu_label));
 }
 
+void RawlogWriter::write(const WheelOdometrySample& wheel) {
+  writeObservation(toMrpt(wheel, options_.wheel_label));
+}
+
 void RawlogWriter::write(const RgbdFrame& frame) {
   auto obs = toMrpt(frame, options_.T_body_cam, options_.camera_label);
   if (options_.external_images) {

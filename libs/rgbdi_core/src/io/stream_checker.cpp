@@ -50,7 +50,7 @@ StreamChecker::StreamChecker(std::string source, const StreamConfig& cfg,
     : source_(std::move(source)),
       cfg_(cfg),
       on_warning_(std::move(on_warning)),
-      prev_arrival_{kNaN, kNaN},
+      prev_arrival_{kNaN, kNaN, kNaN},
       prev_delivered_imu_t_(kNaN) {
   diag_.source = source_;
   diag_.imu.gap_limit_s = cfg_.stream.imu_gap_factor / cfg_.imu.rate_hz;
@@ -84,14 +84,17 @@ void StreamChecker::issue(const std::string& kind, std::size_t record, const std
   ++k.unlisted;
 }
 
-void StreamChecker::onArrival(bool imu, double t, std::size_t record,
+void StreamChecker::onArrival(MeasurementKind kind, double t, std::size_t record,
                               TimeOrderingBuffer::Verdict verdict, double newest_same_kind) {
-  const int k = imu ? 0 : 1;
-  const std::string name = k == 0 ? "IMU" : "RGB-D";
-  const std::string window_key = k == 0 ? "imu_reorder_window_s" : "image_reorder_window_s";
+  const int k = static_cast<int>(kind);
+  const bool rgbd = kind == MeasurementKind::Rgbd;
+  const std::string name = kindName(kind);
+  const std::string window_key = rgbd ? "image_reorder_window_s" : "imu_reorder_window_s";
   const double window =
-      k == 0 ? cfg_.stream.imu_reorder_window_s : cfg_.stream.image_reorder_window_s;
-  SensorStreamStats& st = k == 0 ? diag_.imu : diag_.images;
+      rgbd ? cfg_.stream.image_reorder_window_s : cfg_.stream.imu_reorder_window_s;
+  SensorStreamStats& st = kind == MeasurementKind::Imu     ? diag_.imu
+                          : kind == MeasurementKind::Wheel ? diag_.wheel
+                                                           : diag_.images;
   if (t < prev_arrival_[k]) ++st.non_monotonic;
   if (std::isfinite(t)) prev_arrival_[k] = t;
 
@@ -137,7 +140,12 @@ void StreamChecker::onArrival(bool imu, double t, std::size_t record,
 }
 
 void StreamChecker::onDelivered(const Measurement& m, std::size_t record) {
+  if (const auto* w = std::get_if<WheelOdometrySample>(&m)) {
+    onWheelDelivered(*w, record);
+    return;
+  }
   if (const auto* imu = std::get_if<ImuSample>(&m)) {
+    onImuForWheelCheck(*imu);
     SensorStreamStats& st = diag_.imu;
     if (st.delivered == 0) {
       st.first_t = imu->t;
@@ -424,6 +432,7 @@ void StreamChecker::finish() {
   closeConstantRun();
   finishImu();
   finishImages();
+  finishWheel();
   for (const auto& kind : issue_order_) {
     const IssueKind& k = issues_.at(kind);
     if (k.unlisted == 0) continue;

@@ -84,6 +84,19 @@ std::string StreamDiagnostics::report() const {
        << " m, median depth " << num(median_depth_m, 3) << " m\n";
   }
   os << "       order: " << ordering(images) << "\n";
+  if (hasWheel()) {
+    os << "Wheel: " << timing(wheel, "readings") << "\n";
+    if (wheel.delivered >= 2) {
+      os << "       median period " << num(wheel.median_period_s, 4) << " s, gaps " << wheel.gaps
+         << " (limit " << num(wheel.gap_limit_s, 4) << " s, largest dt " << num(wheel.max_gap_s, 4)
+         << " s)\n";
+    }
+    os << "       with velocities " << wheel_with_velocities << ", with encoder ticks "
+       << wheel_with_encoders << ", non-finite " << non_finite_wheel
+       << "; moving while the IMU is at rest: " << wheel_moving_at_rest << " times ("
+       << num(wheel_moving_at_rest_s, 3) << " s)\n";
+    os << "       order: " << ordering(wheel) << "\n";
+  }
   os << "Checks: size mismatches " << size_mismatches << ", missing intrinsics "
      << missing_intrinsics << ", depth unit suspects " << depth_unit_suspects
      << ", sensorPose vs [extrinsic] " << (extrinsic_mismatch ? "DISAGREE" : "agree or absent")
@@ -107,6 +120,14 @@ std::string StreamDiagnostics::toJson(int indent) const {
   j["frames_rate_limited"] = frames_rate_limited;
   j["imu"] = statsJson(imu);
   j["images"] = statsJson(images);
+  if (hasWheel()) {
+    j["wheel"] = statsJson(wheel);
+    j["wheel"]["with_velocities"] = wheel_with_velocities;
+    j["wheel"]["with_encoders"] = wheel_with_encoders;
+    j["wheel"]["non_finite"] = non_finite_wheel;
+    j["wheel"]["moving_at_rest"] = wheel_moving_at_rest;
+    j["wheel"]["moving_at_rest_s"] = wheel_moving_at_rest_s;
+  }
   j["frames_with_color"] = frames_with_color;
   j["frames_with_depth"] = frames_with_depth;
   j["frames_aligned"] = frames_aligned;

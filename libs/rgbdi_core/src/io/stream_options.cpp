@@ -38,6 +38,17 @@ StreamOptions StreamOptions::load(IniReader& ini) {
   o.image_check_step_px = ini.getInt(s, "image_check_step_px", o.image_check_step_px, 1, 64);
   o.image_rate_limit_hz =
       ini.getDouble(s, "image_rate_limit_hz", o.image_rate_limit_hz, 0.0, 1000.0);
+  o.wheel_gap_factor = ini.getDouble(s, "wheel_gap_factor", o.wheel_gap_factor, 1.0, 1000.0);
+  o.wheel_rest_window_s =
+      ini.getDouble(s, "wheel_rest_window_s", o.wheel_rest_window_s, 0.05, 100.0);
+  o.wheel_rest_gyr_rad_s =
+      ini.getDouble(s, "wheel_rest_gyr_rad_s", o.wheel_rest_gyr_rad_s, 0.0, 10.0);
+  o.wheel_rest_acc_std_m_s2 =
+      ini.getDouble(s, "wheel_rest_acc_std_m_s2", o.wheel_rest_acc_std_m_s2, 0.0, 100.0);
+  o.wheel_rest_speed_m_s =
+      ini.getDouble(s, "wheel_rest_speed_m_s", o.wheel_rest_speed_m_s, 0.0, 100.0);
+  o.wheel_rest_yaw_rate_rad_s =
+      ini.getDouble(s, "wheel_rest_yaw_rate_rad_s", o.wheel_rest_yaw_rate_rad_s, 0.0, 100.0);
   return o;
 }
 

@@ -5,6 +5,7 @@
 #include <mrpt/hwdrivers/CGenericSensor.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
 #include <chrono>
@@ -188,6 +189,17 @@ struct LiveSource::Impl {
           ++unusable;
           problems.push_back(who(s) + ": " + e.what() + "; skipped");
         }
+      } else if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+        try {
+          const WheelOdometrySample w = io::fromMrpt(*odo);
+          if (!isFinite(w))
+            throw io::ConversionError("wheel odometry at t = " + fixed(w.t, 6) +
+                                      " s has a non-finite value");
+          ms.emplace_back(w);
+        } catch (const io::ConversionError& e) {
+          ++unusable;
+          problems.push_back(who(s) + ": " + e.what() + "; skipped");
+        }
       } else {
         ++other;
       }
@@ -215,9 +227,12 @@ struct LiveSource::Impl {
   void offer(Slot& s, io::Measurement m) {
     if (input_ended) return;  // after a fault or stop: nothing more enters the stream
     const auto now = Steady::now();
-    const bool imu = io::isImu(m);
+    const io::MeasurementKind kind = io::kindOf(m);
+    const bool imu = kind == io::MeasurementKind::Imu;
     const double t = io::measurementTime(m);
-    if (imu) {
+    if (kind == io::MeasurementKind::Wheel) {
+      // Wheel odometry: ordered and checked with the rest; its stalls are not watched.
+    } else if (imu) {
       if (s.imu_stalled) {
         s.imu_stalled = false;
         event(who(s) + ": IMU data resumed after " + fixed(since(s.last_imu_arrival, now), 3) +
@@ -243,13 +258,14 @@ struct LiveSource::Impl {
       ++s.counts.frames;
       ++stats.frames_received;
     }
-    const double newest = imu ? buffer.newestImu() : buffer.newestRgbd();
+    const double newest = buffer.newest(kind);
     const std::size_t rec = arrivals++;
     const auto verdict = buffer.push(std::move(m), rec);
-    checker.onArrival(imu, t, rec, verdict, newest);
+    checker.onArrival(kind, t, rec, verdict, newest);
     const bool kept = verdict == io::TimeOrderingBuffer::Verdict::Accepted ||
                       verdict == io::TimeOrderingBuffer::Verdict::Reordered;
-    if (!kept) ++(imu ? stats.imu_rejected : stats.frames_rejected);
+    if (!kept && kind != io::MeasurementKind::Wheel)
+      ++(imu ? stats.imu_rejected : stats.frames_rejected);
     stats.ordering_high_water = std::max(stats.ordering_high_water, buffer.size());
   }
 
@@ -259,7 +275,7 @@ struct LiveSource::Impl {
     bool any = false;
     while (buffer.pop(item)) {
       any = true;
-      if (io::isImu(item.m)) {
+      if (!std::holds_alternative<RgbdFrame>(item.m)) {  // IMU and wheel odometry: never dropped
         imu_q.push_back(std::move(item));
       } else {
         frame_q.push_back(std::move(item));
@@ -383,7 +399,7 @@ struct LiveSource::Impl {
     if (auto* f = std::get_if<RgbdFrame>(&item.m)) {
       f->index = stats.frames_delivered++;
       frame_latency.add(latency);
-    } else {
+    } else if (io::isImu(item.m)) {
       ++stats.imu_delivered;
       imu_latency.add(latency);
     }
@@ -485,6 +501,8 @@ bool LiveSource::next(io::Measurement& out) {
       if (s.recorder) {
         if (auto* imu = std::get_if<ImuSample>(&out)) {
           s.recorder->write(*imu);
+        } else if (auto* wheel = std::get_if<WheelOdometrySample>(&out)) {
+          s.recorder->write(*wheel);
         } else {
           s.recorder->write(std::get<RgbdFrame>(out));
         }

@@ -32,7 +32,8 @@ struct Item {
 
 struct RgbdiRawlogReplay::Impl {
   // Settings (loadConfig).
-  std::string section, file, camera_label = "RGBD", imu_label = "IMU";
+  std::string section, file, camera_label = "RGBD", imu_label = "IMU",
+                             wheel_label = "WHEEL_ODOMETRY";
   double speed = 1.0;
   bool restamp = true;
   int read_ahead = 256;
@@ -121,6 +122,7 @@ void RgbdiRawlogReplay::loadConfig_sensorSpecific(const mrpt::config::CConfigFil
   d.read_ahead = k.getInt("read_ahead", d.read_ahead, 1, 1000000);
   d.camera_label = k.getString("camera_label", d.camera_label);
   d.imu_label = k.getString("imu_label", d.imu_label);
+  d.wheel_label = k.getString("wheel_label", d.wheel_label);
   d.bag_keys = BagPlaybackKeys::load(k, true);
 }
 
@@ -173,6 +175,9 @@ void RgbdiRawlogReplay::doProcess() {
         if (auto* imu = std::get_if<ImuSample>(&it.m)) {
           imu->t = d.clock->outputStamp(imu->t);
           out.push_back(io::toMrpt(*imu, d.imu_label));
+        } else if (auto* wheel = std::get_if<WheelOdometrySample>(&it.m)) {
+          wheel->t = d.clock->outputStamp(wheel->t);
+          out.push_back(io::toMrpt(*wheel, d.wheel_label));
         } else {
           auto& f = std::get<RgbdFrame>(it.m);
           f.t = d.clock->outputStamp(f.t);

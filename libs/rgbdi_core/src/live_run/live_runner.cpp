@@ -44,6 +44,7 @@ class DeliveryTap : public MeasurementSink {
  public:
   DeliveryTap(MeasurementSink& next, PoseLatencyMeter& meter) : next_(next), meter_(meter) {}
   void feedImu(const ImuSample& imu) override { next_.feedImu(imu); }
+  void feedWheel(const WheelOdometrySample& wheel) override { next_.feedWheel(wheel); }
   void feedRgbd(const RgbdFrame& frame) override {
     meter_.delivered(frame.t, wallNow());  // before feeding: the odometry queue may block
     next_.feedRgbd(frame);
@@ -180,6 +181,7 @@ int liveExitStatus(const LiveRunResult& result) {
 LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log) {
   SystemConfig cfg = loadRunConfig(opt.config_path);
   if (opt.no_loop) cfg.loop.enable = false;
+  if (opt.no_wheels) cfg.estimator.wheel.enable = false;
   prepareOutputDir(opt.out_dir);
   std::unique_ptr<live::LiveSource> source = openSensors(opt.sensors_path, cfg.streamConfig());
   if (!opt.record_path.empty()) {

@@ -15,6 +15,7 @@ nlohmann::json runSlam(const SlamRunOptions& opt, std::ostream& log) {
   if (!fs::exists(opt.input)) throw UserError(opt.input + ": input file does not exist");
   SystemConfig cfg = loadRunConfig(opt.config_path);
   if (opt.no_loop) cfg.loop.enable = false;
+  if (opt.no_wheels) cfg.estimator.wheel.enable = false;
   if (cfg.estimator.max_solver_time_s > 0.0) {
     // A wall-clock budget makes the result depend on the machine's load: offline runs stay
     // deterministic (same input + config = same output), so it applies to --live only.

@@ -149,6 +149,16 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
   return j;
 }
 
+namespace {
+/// The wheel gate's left-out episodes, times since the stream's start [s].
+nlohmann::json wheelEpisodes(const estimator::EstimatorStats& st, double t0) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& e : st.wheel_fault_episodes)
+    list.push_back({{"kind", e.kind}, {"start_s", e.t_start - t0}, {"end_s", e.t_end - t0}});
+  return list;
+}
+}  // namespace
+
 nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunEvaluation& ev,
                            const nlohmann::json& outputs) {
   const VioSystem& vio = sys.odometry();
@@ -175,6 +185,19 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
   s["moving_initialisations"] = st.moving_initialisations;
   s["initialisation_waits"] = st.init_waits;
   s["time_offset_s"] = vio.timeOffset();
+  if (cfg.estimator.wheel.enable)  // doc/wheels.md; absent when the wheels are not fused
+    s["wheel"] = {{"intervals_used", st.wheel_intervals_used},
+                  {"intervals_left_out",
+                   {{"stream_gap", st.wheel_intervals_gap},
+                    {"slip", st.wheel_intervals_slip},
+                    {"stuck", st.wheel_intervals_stuck},
+                    {"lifted", st.wheel_intervals_lifted}}},
+                  {"factors_solved", st.wheel_factors_solved},
+                  {"factors_gated", st.wheel_factors_gated},
+                  {"scale_forward", st.wheel_scale_v},
+                  {"scale_yaw_rate", st.wheel_scale_w},
+                  {"scale_estimated", cfg.estimator.wheel.estimate_scale},
+                  {"left_out_episodes", wheelEpisodes(st, have_t ? run.stream_t0 : 0.0)}};
   s["wall_time_s"] = run.wall_s;
   s["frames_per_s"] = run.wall_s > 0 ? run.frames / run.wall_s : 0.0;
   const double n_tr = std::max(1, tm.frames_tracked), n_est = std::max(1, tm.frames_estimated);

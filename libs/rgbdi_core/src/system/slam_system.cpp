@@ -69,6 +69,11 @@ SlamSystem::~SlamSystem() = default;
 
 void SlamSystem::feedImu(const ImuSample& imu) { odometry_stage_->submit({imu, std::nullopt}); }
 
+void SlamSystem::feedWheel(const WheelOdometrySample& wheel) {
+  // Without fusion the readings need not cross to the odometry thread at all.
+  if (cfg_.estimator.wheel.enable) odometry_stage_->submit({wheel, std::nullopt});
+}
+
 void SlamSystem::feedRgbd(const RgbdFrame& frame) {
   OdometryInput in{options_.threaded ? ownedCopy(frame) : frame, std::nullopt};
   // The image is prepared here, on the feeding thread, while the odometry thread tracks the
@@ -181,6 +186,8 @@ bool SlamSystem::joinsLoopClosing(const KeyframePacket& p) {
 void SlamSystem::handleMeasurement(OdometryInput& in) {
   if (auto* imu = std::get_if<ImuSample>(&in.measurement)) {
     vio_.feedImu(*imu);
+  } else if (auto* wheel = std::get_if<WheelOdometrySample>(&in.measurement)) {
+    vio_.feedWheel(*wheel);
   } else {
     const RgbdFrame& frame = std::get<RgbdFrame>(in.measurement);
     if (in.prepared) {

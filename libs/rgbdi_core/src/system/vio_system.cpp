@@ -30,6 +30,8 @@ PinholeCamera VioSystem::cameraFor(const RgbdFrame& frame) const {
   return cfg_.camera.camera;
 }
 
+void VioSystem::feedWheel(const WheelOdometrySample& wheel) { estimator_->feedWheel(wheel); }
+
 void VioSystem::feedImu(const ImuSample& imu) {
   estimator_->feedImu(imu);
   if (gyro_history_.empty() || imu.t > gyro_history_.newestTime()) {

@@ -21,6 +21,9 @@ class FanOutSink : public MeasurementSink {
   void feedRgbd(const RgbdFrame& frame) override {
     for (MeasurementSink* s : sinks_) s->feedRgbd(frame);
   }
+  void feedWheel(const WheelOdometrySample& wheel) override {
+    for (MeasurementSink* s : sinks_) s->feedWheel(wheel);
+  }
   void endOfStream() override {
     for (MeasurementSink* s : sinks_) s->endOfStream();
   }

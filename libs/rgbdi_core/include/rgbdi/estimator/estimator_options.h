@@ -4,6 +4,7 @@
 #include <string>
 
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/estimator/wheel_options.h"
 
 namespace rgbdi::estimator {
 
@@ -98,6 +99,9 @@ struct EstimatorOptions {
   /// so that the same config works for any camera resolution.
   static constexpr double kVirtualFocalPx = 460.0;
 
+  WheelOptions wheel;  ///< the [wheel] section (doc/wheels.md)
+
+  /// Reads [estimator] and [wheel].
   static EstimatorOptions load(IniReader& ini);
 };
 

@@ -18,6 +18,7 @@
 
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/common/types.h"
+#include "rgbdi/common/wheel_odometry.h"
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/frontend/feature_frame.h"
 
@@ -82,6 +83,21 @@ struct EstimatorStats {
   /// IMU data up to the image" when it could try neither), over every start of the run (the
   /// first and those after resets). Ordered by the reason's text.
   std::map<std::string, int> init_waits;
+  /// Wheel odometry ([wheel] enable): intervals between window frames that left the window with
+  /// their wheel factor, and without one (no readings covering them: a stream gap); wheel
+  /// factors summed over the solves; the learned scale factors (true = scale * reported).
+  int wheel_intervals_used = 0, wheel_intervals_gap = 0, wheel_factors_solved = 0;
+  /// Intervals left out because their factor disagreed with IMU and vision, by kind; factors
+  /// left out of solves by the gate (summed over updates).
+  int wheel_intervals_slip = 0, wheel_intervals_stuck = 0, wheel_intervals_lifted = 0;
+  int wheel_factors_gated = 0;
+  /// Runs of consecutive left-out intervals of one kind ("slip", "stuck", "lifted"), IMU clock.
+  struct WheelFaultEpisode {
+    double t_start = 0.0, t_end = 0.0;  ///< [s]
+    std::string kind;
+  };
+  std::vector<WheelFaultEpisode> wheel_fault_episodes;
+  double wheel_scale_v = 1.0, wheel_scale_w = 1.0;
 };
 
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {
@@ -92,6 +108,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
 
   /// IMU samples in time order.
   void feedImu(const ImuSample& s);
+  /// Wheel-odometry readings in time order (kept only when [wheel] enable).
+  void feedWheel(const WheelOdometrySample& w);
   /// Latest IMU time received (frames must wait until this passes their time).
   double latestImuTime() const;
   /// Current time offset estimate: t_imu = t_image + timeOffset().

@@ -1,5 +1,5 @@
 // The source side of the measurement stream: one interface for rawlogs, converted datasets and
-// live sensors. A source yields measurements in non-decreasing time order across both kinds,
+// live sensors. A source yields measurements in non-decreasing time order across all kinds,
 // either pulled one at a time (next) or pushed into a MeasurementSink (pump).
 #pragma once
 
@@ -13,12 +13,28 @@
 namespace rgbdi::io {
 
 /// One element of the stream.
-using Measurement = std::variant<ImuSample, RgbdFrame>;
+using Measurement = std::variant<ImuSample, RgbdFrame, WheelOdometrySample>;
+
+/// The kinds of measurement, in the order equal stamps are delivered: a frame's IMU and wheel
+/// intervals are complete when the frame arrives.
+enum class MeasurementKind { Imu = 0, Wheel = 1, Rgbd = 2 };
+constexpr int kMeasurementKinds = 3;
 
 inline double measurementTime(const Measurement& m) {
   return std::visit([](const auto& x) { return x.t; }, m);
 }
 inline bool isImu(const Measurement& m) { return std::holds_alternative<ImuSample>(m); }
+inline bool isWheel(const Measurement& m) { return std::holds_alternative<WheelOdometrySample>(m); }
+inline MeasurementKind kindOf(const Measurement& m) {
+  if (isImu(m)) return MeasurementKind::Imu;
+  return isWheel(m) ? MeasurementKind::Wheel : MeasurementKind::Rgbd;
+}
+/// "IMU", "wheel odometry", "RGB-D": for messages.
+inline const char* kindName(MeasurementKind k) {
+  return k == MeasurementKind::Imu     ? "IMU"
+         : k == MeasurementKind::Wheel ? "wheel odometry"
+                                       : "RGB-D";
+}
 
 class MeasurementSource {
  public:

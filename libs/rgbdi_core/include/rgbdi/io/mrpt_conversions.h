@@ -17,6 +17,7 @@
 #include <mrpt/img/TCamera.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Geometry>
@@ -24,6 +25,7 @@
 #include <string>
 
 #include "rgbdi/common/types.h"
+#include "rgbdi/common/wheel_odometry.h"
 
 namespace rgbdi::io {
 
@@ -71,5 +73,13 @@ mrpt::obs::CObservation3DRangeScan::Ptr toMrpt(const RgbdFrame& frame,
 /// Throws ConversionError naming the sensor label and stamp when acc or gyro data is missing.
 ImuSample fromMrpt(const mrpt::obs::CObservationIMU& obs);
 mrpt::obs::CObservationIMU::Ptr toMrpt(const ImuSample& imu, const std::string& sensorLabel);
+
+/// Wheel-odometry observation -> sample: the cumulative 2-D pose, velocityLocal (vx, vy, omega)
+/// when hasVelocities, the encoder ticks when hasEncodersInfo. Throws ConversionError naming the
+/// sensor label and stamp when a presence flag is damaged (values are taken as stored: see
+/// isFinite()).
+WheelOdometrySample fromMrpt(const mrpt::obs::CObservationOdometry& obs);
+mrpt::obs::CObservationOdometry::Ptr toMrpt(const WheelOdometrySample& wheel,
+                                            const std::string& sensorLabel);
 
 }  // namespace rgbdi::io

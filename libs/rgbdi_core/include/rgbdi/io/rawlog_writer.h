@@ -1,4 +1,4 @@
-// Writes IMU samples and RGB-D frames (or any MRPT object) to a rawlog that MRPT tools
+// Writes IMU samples, RGB-D frames, wheel odometry (or any MRPT object) to a rawlog that MRPT tools
 // (rawlog-edit, RawLogViewer) and RawlogSource read. The file is written under a temporary name
 // and renamed on close(), so an interrupted run never leaves a truncated rawlog behind.
 //
@@ -17,6 +17,7 @@
 #include <string>
 
 #include "rgbdi/common/types.h"
+#include "rgbdi/common/wheel_odometry.h"
 
 namespace rgbdi::io {
 
@@ -30,6 +31,7 @@ struct RawlogWriterOptions {
   bool external_images = false;  ///< colour PNG + depth range files in <stem>_Images/
   std::string imu_label = "IMU";
   std::string camera_label = "RGBD";
+  std::string wheel_label = "WHEEL_ODOMETRY";  ///< of the CObservationOdometry records
   /// Pose of the colour camera optical frame in the body frame, stored as each frame's sensorPose.
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
 };
@@ -45,6 +47,7 @@ class RawlogWriter {
 
   void write(const ImuSample& imu);
   void write(const RgbdFrame& frame);
+  void write(const WheelOdometrySample& wheel);
   /// An observation, wrapped according to the layout.
   void writeObservation(const mrpt::obs::CObservation::Ptr& obs);
   /// Any serializable object as one top-level record, whatever the layout.

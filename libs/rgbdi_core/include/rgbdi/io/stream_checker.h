@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <deque>
 #include <functional>
 #include <map>
 #include <string>
@@ -27,11 +28,10 @@ class StreamChecker {
   /// Direct access for the counters the source keeps itself (records, skipped, error, ...).
   StreamDiagnostics& counters() { return diag_; }
 
-  /// A measurement (IMU sample if `imu`, else RGB-D frame, stamped `t`) offered to the ordering
-  /// buffer, with the buffer's verdict and the newest stamp of the same kind before it (NaN if
-  /// none).
-  void onArrival(bool imu, double t, std::size_t record, TimeOrderingBuffer::Verdict verdict,
-                 double newest_same_kind);
+  /// A measurement of `kind` stamped `t` offered to the ordering buffer, with the buffer's
+  /// verdict and the newest stamp of the same kind before it (NaN if none).
+  void onArrival(MeasurementKind kind, double t, std::size_t record,
+                 TimeOrderingBuffer::Verdict verdict, double newest_same_kind);
   /// A measurement handed to the consumer.
   void onDelivered(const Measurement& m, std::size_t record);
   /// An RGB-D/IMU observation that could not be converted (message from the converter).
@@ -63,6 +63,11 @@ class StreamChecker {
   void closeConstantRun();
   void finishImu();
   void finishImages();
+  /// Wheel odometry (stream_checker_wheel.cpp): counts, and the check against the IMU at rest.
+  void onWheelDelivered(const WheelOdometrySample& w, std::size_t record);
+  void onImuForWheelCheck(const ImuSample& s);
+  void closeWheelMotionRun();
+  void finishWheel();
   std::string records(std::size_t a, std::size_t b) const;
 
   std::string source_;
@@ -74,7 +79,7 @@ class StreamChecker {
   std::map<std::string, IssueKind> issues_;
   std::vector<std::string> issue_order_;
 
-  double prev_arrival_[2];
+  double prev_arrival_[kMeasurementKinds];
   double prev_delivered_imu_t_;
   double acc_norm_sum_ = 0.0;
   std::size_t first_imu_record_ = 0, last_imu_record_ = 0;
@@ -88,6 +93,16 @@ class StreamChecker {
     double first_t = 0.0, last_t = 0.0;
     int lo = 255, hi = 0;  ///< [grey levels] range of the sampled values over the run
   } constant_run_;
+
+  std::vector<std::pair<double, std::size_t>> wheel_stamps_;  ///< (t, record) delivered
+  std::deque<ImuSample> rest_imu_;              ///< IMU of the last wheel_rest_window_s
+  std::deque<WheelOdometrySample> rest_wheel_;  ///< wheel readings of that window
+  struct WheelMotionRun {
+    bool open = false;
+    std::size_t first_record = 0;
+    double first_t = 0.0, last_t = 0.0;
+    double max_speed_m_s = 0.0;
+  } wheel_run_;
 };
 
 }  // namespace rgbdi::io

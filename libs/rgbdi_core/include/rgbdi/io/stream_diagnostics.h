@@ -10,14 +10,14 @@
 
 namespace rgbdi::io {
 
-/// Timing statistics of one kind of measurement (IMU samples or RGB-D frames).
+/// Timing statistics of one kind of measurement (IMU samples, RGB-D frames, wheel odometry).
 struct SensorStreamStats {
   std::size_t delivered = 0;       ///< passed on to the consumer
   double first_t = 0.0;            ///< [s] first delivered stamp
   double last_t = 0.0;             ///< [s] last delivered stamp
   double duration_s = 0.0;         ///< [s] last_t - first_t
   double rate_hz = 0.0;            ///< [Hz] (delivered - 1) / duration_s
-  double median_period_s = 0.0;    ///< [s] RGB-D only (IMU: 1 / rate_hz)
+  double median_period_s = 0.0;    ///< [s] RGB-D and wheel odometry (IMU: 1 / rate_hz)
   std::size_t gaps = 0;            ///< consecutive delivered stamps further apart than the limit
   double gap_limit_s = 0.0;        ///< [s] the limit used
   double max_gap_s = 0.0;          ///< [s] largest dt between consecutive delivered stamps
@@ -41,6 +41,16 @@ struct StreamDiagnostics {
 
   SensorStreamStats imu;
   SensorStreamStats images;
+  /// Wheel odometry (CObservationOdometry); report() and toJson() show it only when the stream
+  /// has some (hasWheel()).
+  SensorStreamStats wheel;
+  std::size_t wheel_with_velocities = 0;  ///< readings that carry velocities
+  std::size_t wheel_with_encoders = 0;    ///< readings that carry encoder ticks
+  std::size_t non_finite_wheel = 0;       ///< readings with a NaN/inf value: skipped
+  /// Episodes (and their total time) in which the wheels moved while the IMU was at rest
+  /// ([stream] wheel_rest_*).
+  std::size_t wheel_moving_at_rest = 0;
+  double wheel_moving_at_rest_s = 0.0;  ///< [s]
 
   std::size_t frames_with_color = 0;
   std::size_t frames_with_depth = 0;
@@ -72,6 +82,12 @@ struct StreamDiagnostics {
   bool refused = false;
 
   bool ok() const { return error.empty(); }
+  /// Whether any wheel-odometry reading arrived (delivered or not).
+  bool hasWheel() const {
+    return wheel.delivered + wheel.duplicates + wheel.dropped_late + wheel.invalid_stamps +
+               non_finite_wheel >
+           0;
+  }
   /// Multi-line human-readable summary (counts, rates, durations, gaps, checks, warnings).
   std::string report() const;
   /// The same content as a JSON object (keys match the field names).

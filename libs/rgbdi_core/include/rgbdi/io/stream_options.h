@@ -29,6 +29,16 @@ struct StreamOptions {
   int image_check_step_px = 8;           ///< [px] pixel step of the constant-image sampling
   /// [Hz] RGB-D frames used per second at most (FrameRateLimiter); 0 = every frame.
   double image_rate_limit_hz = 0.0;
+  double wheel_gap_factor = 2.5;  ///< wheel-odometry gap when dt > factor * its median period
+  /// The check "wheel odometry moves while the IMU is at rest" (a slipping or lifted wheel, a
+  /// stream of another robot): over each window of this length the IMU is at rest when the norm
+  /// of its mean angular rate and the standard deviation of |acc| are below the limits, and the
+  /// wheels move when their mean speed or yaw rate over the window is above theirs.
+  double wheel_rest_window_s = 1.0;         ///< [s]
+  double wheel_rest_gyr_rad_s = 0.02;       ///< [rad/s]
+  double wheel_rest_acc_std_m_s2 = 0.05;    ///< [m/s^2]
+  double wheel_rest_speed_m_s = 0.05;       ///< [m/s]
+  double wheel_rest_yaw_rate_rad_s = 0.05;  ///< [rad/s]
 
   static StreamOptions load(IniReader& ini);
 };

@@ -1,7 +1,8 @@
 // Bounded re-ordering of a measurement stream that arrives almost, but not exactly, in time order
 // (grabbers write IMU and camera data from different threads; drivers repeat or swap stamps).
 //
-// Rules, per kind k (IMU or RGB-D) with window w_k, and W = max(w_imu, w_rgbd):
+// Rules, per kind k (IMU, wheel odometry or RGB-D) with window w_k (wheel odometry, a small
+// message stream like the IMU's, has the IMU window), and W = max(w_imu, w_rgbd):
 //  * a measurement older than the newest one of its kind by more than w_k is dropped (TooLate);
 //  * one with a stamp already seen for its kind is dropped (Duplicate);
 //  * one older than what was already released is dropped (BehindOutput) — only possible when
@@ -9,8 +10,8 @@
 //  * otherwise it is kept (Reordered if a newer one of its kind arrived before it).
 // A kept measurement is released once it is at least W older than the newest stamp seen, so the
 // buffer holds at most W seconds of data and the output is non-decreasing in time across kinds.
-// Equal stamps release IMU before RGB-D (the frame's IMU interval is then complete), then in
-// arrival order.
+// Equal stamps release IMU, then wheel odometry, then RGB-D (the frame's IMU and wheel intervals
+// are then complete), then in arrival order.
 #pragma once
 
 #include <cstddef>
@@ -44,23 +45,25 @@ class TimeOrderingBuffer {
   std::size_t size() const { return heap_.size(); }
   /// Newest stamp of each kind seen so far (NaN before the first one).
   double newestImu() const { return newest_[0]; }
-  double newestRgbd() const { return newest_[1]; }
+  double newestRgbd() const { return newest_[2]; }
+  double newestWheel() const { return newest_[1]; }
+  double newest(MeasurementKind k) const { return newest_[static_cast<int>(k)]; }
 
  private:
-  static int kindOf(const Measurement& m) { return isImu(m) ? 0 : 1; }
+  static int kindIndex(const Measurement& m) { return static_cast<int>(kindOf(m)); }
   static bool later(const Item& a, const Item& b);
 
-  double window_[2];
+  double window_[kMeasurementKinds];
   double max_window_;
-  double newest_[2];
+  double newest_[kMeasurementKinds];
   double newest_any_;
   double released_t_;
   bool any_released_ = false;
   bool finished_ = false;
   std::uint64_t seq_ = 0;
-  std::vector<Item> heap_;       ///< min-heap on (t, kind, seq)
-  std::set<double> pending_[2];  ///< stamps buffered per kind (duplicate detection)
-  double last_released_[2];      ///< newest released stamp per kind (duplicate detection)
+  std::vector<Item> heap_;                       ///< min-heap on (t, kind, seq)
+  std::set<double> pending_[kMeasurementKinds];  ///< stamps buffered per kind (duplicates)
+  double last_released_[kMeasurementKinds];      ///< newest released stamp per kind (duplicates)
 };
 
 }  // namespace rgbdi::io

@@ -1,5 +1,6 @@
 // RgbdiRawlogReplay: plays a recording as a live sensor, paced by its stamps. Input: an MRPT
-// rawlog (read with io::RawlogSource: both layouts, gzip, external images) or a ROS1 bag that
+// rawlog (read with io::RawlogSource: both layouts, gzip, external images; its wheel odometry
+// is replayed too) or a ROS1 bag that
 // rawlog-convert reads (RealSense SDK recording, VINS-RGBD dataset layout, other topics;
 // converted on the fly with bag::BagConverter as rawlog-convert converts it with the equivalent
 // options below). A reader thread fills a
@@ -12,7 +13,8 @@
 //   speed      = 1.0      [data s / wall s] playback speed
 //   stamps     = now      now: re-stamped onto the wall clock; source: the recorded stamps
 //   read_ahead = 256      [measurements] read-ahead queue length
-//   camera_label = RGBD, imu_label = IMU   sensorLabel of the observations
+//   camera_label = RGBD, imu_label = IMU, wheel_label = WHEEL_ODOMETRY   sensorLabel of the
+//                      observations
 // ROS1 bags only (an error with a rawlog; see live/bag_playback_keys.h):
 //   config = FILE       rgbdi INI as rawlog-convert --config ([camera], [extrinsic] where the bag
 //                       has none; [convert] pairing, waits, depth units, require_colour)

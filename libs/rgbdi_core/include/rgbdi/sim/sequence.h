@@ -33,6 +33,7 @@
 #include "rgbdi/sim/renderer.h"
 #include "rgbdi/sim/scene.h"
 #include "rgbdi/sim/sensor_noise.h"
+#include "rgbdi/sim/wheel_encoder_synth.h"
 
 namespace rgbdi::sim {
 
@@ -80,13 +81,15 @@ struct SimOptions {
   /// ground truth in a world built around it. nullptr: a synthesised profile.
   std::shared_ptr<const Recording> recording;
   RecordedWorldOptions recorded_world;  ///< [sim] recorded_*
+  /// Wheel encoders and odometry ([sim] wheel_*; skid steering on the tracked profile).
+  WheelEncoderOptions wheel;
 
   /// [sim] (fps, seed, time_offset_s, frame_stamp_jitter_s, start_time_s, config_noise_inflation,
   /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px, spin_start_s,
   /// spin_duration_s, spin_turns and the keys of ProfileOptions, ProfileSceneOptions,
-  /// RecordedWorldOptions, ImuSynthOptions, DepthNoiseOptions, DepthArtefactOptions,
-  /// ColorNoiseOptions, ExposureOptions), [camera] and [extrinsic]. The profile kind is not read
-  /// (command line).
+  /// RecordedWorldOptions, WheelEncoderOptions, ImuSynthOptions, DepthNoiseOptions,
+  /// DepthArtefactOptions, ColorNoiseOptions, ExposureOptions), [camera] and [extrinsic]. The
+  /// profile kind is not read (command line).
   static SimOptions load(IniReader& ini);
 };
 
@@ -135,6 +138,10 @@ class SimulatedSequence {
   /// The separate streams when on (null otherwise).
   const ImuSplitStream* imuSplitStream() const { return split_.get(); }
   std::size_t frameCount() const { return frame_count_; }
+  /// Wheel-odometry readings (none unless the encoders are on for this profile:
+  /// SimOptions::wheel; never for a recording).
+  bool hasWheels() const { return wheel_ != nullptr; }
+  const std::vector<WheelOdometrySample>& wheelSamples() const;
 
   /// IMU sample k (simulated, or the recording's as read) with its IMU-clock stamp.
   ImuSample imuSample(std::size_t k) const;
@@ -169,8 +176,8 @@ class SimulatedSequence {
   /// the stamp jitter), each the pose at the frame's exposure time.
   Trajectory cameraTrajectory() const;
 
-  /// Delivers all IMU samples and frames in non-decreasing stamp order (an IMU sample before a
-  /// frame with the same stamp), then endOfStream() (also when stopped early via *stop).
+  /// Delivers all IMU samples, wheel readings and frames in non-decreasing stamp order (at equal
+  /// stamps: IMU, wheel, frame), then endOfStream() (also when stopped early via *stop).
   void pump(MeasurementSink& sink, const std::atomic<bool>* stop = nullptr) const;
 
  private:
@@ -189,6 +196,7 @@ class SimulatedSequence {
   RecordedMotion recorded_;                ///< empty unless isRecorded()
   std::unique_ptr<Renderer> renderer_;
   std::unique_ptr<ExposureGain> exposure_;
+  std::unique_ptr<WheelEncoderSynth> wheel_;  ///< null when the encoders are off
   std::size_t frame_count_ = 0, imu_count_ = 0;
 };
 

@@ -2,7 +2,8 @@
 //
 //   DIR/sequence.rawlog        observations-only rawlog: CObservation3DRangeScan (colour +
 //                              depth in mm, both cameras' intrinsics, cameras coincide) and
-//                              CObservationIMU, in time order
+//                              CObservationIMU (and CObservationOdometry when the wheel
+//                              encoders are on), in time order
 //   DIR/sequence_Images/       colour as PNG, depth as MRPT external range files (unless the
 //                              images are embedded in the rawlog: external_images = false)
 //   DIR/groundtruth.tum        body (IMU) frame at every IMU sample (IMU clock)
@@ -45,7 +46,7 @@ struct SequenceWriterOptions {
 
 struct SequenceWriteSummary {
   bool completed = false;  ///< false when stopped early (no rawlog/bag is left then)
-  std::size_t frames = 0, imu_samples = 0;
+  std::size_t frames = 0, imu_samples = 0, wheel_readings = 0;
   double wall_time_s = 0.0;
   std::string rawlog_path, bag_path, groundtruth_path, groundtruth_cam_path, config_path,
       simulation_path, vins_config_path;

@@ -26,6 +26,7 @@ struct LiveRunOptions {
   double duration_s = 0.0;   ///< [s] wall time after which the run stops; 0 = no limit
   bool no_depth = false;     ///< monocular-inertial baseline
   bool no_loop = false;      ///< loop closure off
+  bool no_wheels = false;    ///< wheel odometry ignored
   bool quiet = false;        ///< no progress line
   bool save_simplemap = false;
   MapRunOptions map;                        ///< --load-map, --localize-only, --no-save-map

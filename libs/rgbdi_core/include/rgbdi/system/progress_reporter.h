@@ -43,6 +43,7 @@ class ProgressReporter : public MeasurementSink {
 
   void feedImu(const ImuSample& imu) override;
   void feedRgbd(const RgbdFrame& frame) override;
+  void feedWheel(const WheelOdometrySample& wheel) override { sink_.feedWheel(wheel); }
   void endOfStream() override;
 
   /// Prints the line now (also when quiet is false and the interval has not passed).

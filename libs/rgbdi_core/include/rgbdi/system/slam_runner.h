@@ -19,6 +19,7 @@ struct SlamRunOptions {
   std::string gt_path;      ///< optional ground truth (TUM); body frame unless gt_frame = "camera"
   bool no_depth = false;    ///< monocular baseline
   bool no_loop = false;     ///< loop closure off (overrides [loop] enable)
+  bool no_wheels = false;   ///< wheel odometry ignored (overrides [wheel] enable)
   bool quiet = false;       ///< no progress line
   /// The log is a terminal: the progress line is redrawn in place; otherwise one line per tenth
   /// of the stream (ProgressReporter::setInteractive).

@@ -94,6 +94,7 @@ class SlamSystem : public MeasurementSink {
   ~SlamSystem() override;
 
   void feedImu(const ImuSample& imu) override;
+  void feedWheel(const WheelOdometrySample& wheel) override;
   void feedRgbd(const RgbdFrame& frame) override;
   /// Flushes the odometry window, lets every stage finish (final pose-graph solve, map
   /// correction, occupancy rebuild) and joins the threads. Rethrows a stage's failure.

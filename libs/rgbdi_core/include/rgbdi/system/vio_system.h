@@ -32,6 +32,8 @@ class VioSystem : public MeasurementSink {
   ~VioSystem() override;
 
   void feedImu(const ImuSample& imu) override;
+  /// Wheel odometry for the estimator (used when [wheel] enable, doc/wheels.md).
+  void feedWheel(const WheelOdometrySample& wheel) override;
   void feedRgbd(const RgbdFrame& frame) override;
   /// The same with the frame's image prepared ahead (frontend::ImagePreparer with this system's
   /// [frontend] options, e.g. on the feeding thread). Same result as without it.

@@ -65,6 +65,7 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.spin_duration_s = ini.getDouble(s, "spin_duration_s", o.spin_duration_s, 0.0, 1.0e6);
   o.spin_turns = ini.getDouble(s, "spin_turns", o.spin_turns, -100.0, 100.0);
   o.recorded_world = RecordedWorldOptions::load(ini);
+  o.wheel = WheelEncoderOptions::load(ini);
   return o;
 }
 
@@ -128,6 +129,12 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
     }
     imu_ = std::make_unique<ImuSynthesizer>(profile_.trajectory, options_.imu, options_.seed);
     imu_count_ = split_ ? split_->samples().size() : imu_->sampleCount();
+    const bool wheeled = options_.profile.kind != ProfileKind::Handheld;
+    if (options_.wheel.mode == "on" || (options_.wheel.mode == "auto" && wheeled)) {
+      options_.wheel.skid_steering = options_.profile.kind == ProfileKind::TrackedSlopes;
+      wheel_ = std::make_unique<WheelEncoderSynth>(options_.wheel, *profile_.trajectory,
+                                                   options_.start_time_s);
+    }
   }
   scene_ = std::make_unique<Scene>(buildProfileScene(profile_, options_.seed, options_.scene));
   // Aliased end walls must also be lit alike: a light without an x component shades the -x and
@@ -144,6 +151,11 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
 }
 
 SimulatedSequence::~SimulatedSequence() = default;
+
+const std::vector<WheelOdometrySample>& SimulatedSequence::wheelSamples() const {
+  static const std::vector<WheelOdometrySample> kNone;
+  return wheel_ ? wheel_->samples() : kNone;
+}
 
 double SimulatedSequence::imuTime(std::size_t k) const {
   return split_ ? split_->samples()[k].t : imu_->sampleTime(k);
@@ -323,14 +335,18 @@ void SimulatedSequence::pump(MeasurementSink& sink, const std::atomic<bool>* sto
   if (options_.prefetch_frames)
     prefetch = std::make_unique<FramePrefetcher>([this](std::size_t i) { return renderFrame(i); },
                                                  frame_count_, kPrefetchDepth);
-  std::size_t k = 0, i = 0;
+  std::size_t k = 0, i = 0, w = 0;
   const std::size_t n_imu = imuCount();
-  while (k < n_imu || i < frame_count_) {
+  const std::vector<WheelOdometrySample>& wheels = wheelSamples();
+  while (k < n_imu || i < frame_count_ || w < wheels.size()) {
     if (stop && stop->load()) break;
     const double t_imu = k < n_imu ? imuStamp(k) : INFINITY;
     const double t_frame = i < frame_count_ ? frameStamp(i) : INFINITY;
-    if (t_imu <= t_frame) {
+    const double t_wheel = w < wheels.size() ? wheels[w].t : INFINITY;
+    if (t_imu <= t_frame && t_imu <= t_wheel) {
       sink.feedImu(imuSample(k++));
+    } else if (t_wheel <= t_frame) {
+      sink.feedWheel(wheels[w++]);
     } else {
       sink.feedRgbd(prefetch ? prefetch->next() : renderFrame(i));
       ++i;

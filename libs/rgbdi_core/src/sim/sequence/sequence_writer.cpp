@@ -79,6 +79,11 @@ class WritingSink : public MeasurementSink {
     ++imu_samples_;
   }
 
+  void feedWheel(const WheelOdometrySample& wheel) override {
+    rawlog_.write(wheel);  // the bag has no odometry topic (absent)
+    ++wheel_readings_;
+  }
+
   void feedRgbd(const RgbdFrame& frame) override {
     rawlog_.write(frame);
     if (bag_) bag_->writeRgbd(frame);
@@ -90,6 +95,7 @@ class WritingSink : public MeasurementSink {
 
   std::size_t frames() const { return frames_; }
   std::size_t imuSamples() const { return imu_samples_; }
+  std::size_t wheelReadings() const { return wheel_readings_; }
   double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
  private:
@@ -116,7 +122,7 @@ class WritingSink : public MeasurementSink {
   const SequenceWriterOptions& options_;
   ProgressGate gate_;
   Clock::time_point start_;
-  std::size_t frames_ = 0, imu_samples_ = 0;
+  std::size_t frames_ = 0, imu_samples_ = 0, wheel_readings_ = 0;
   Trajectory recorded_truth_;  ///< a recording's ground-truth samples (bag only)
   std::size_t next_truth_ = 0;
 };
@@ -250,6 +256,23 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "wheeled_camera_height_m", iniNumber(p.wheeled_camera_height_m), "[m]");
   iniLine(os, "tracked_camera_height_m", iniNumber(p.tracked_camera_height_m), "[m]");
   iniLine(os, "handheld_camera_height_m", iniNumber(p.handheld_camera_height_m), "[m]");
+  if (seq.hasWheels()) {  // otherwise the defaults (encoders off) regenerate the sequence
+    const WheelEncoderOptions& w = o.wheel;
+    iniLine(os, "wheel_encoders", "on", "off|on|auto");
+    iniLine(os, "wheel_rate_hz", iniNumber(w.rate_hz), "[Hz]");
+    iniLine(os, "wheel_radius_m", iniNumber(w.radius_m), "[m] nominal");
+    iniLine(os, "wheel_track_m", iniNumber(w.track_m), "[m] nominal");
+    iniLine(os, "wheel_radius_error_left", iniNumber(w.radius_error_left), "[unitless]");
+    iniLine(os, "wheel_radius_error_right", iniNumber(w.radius_error_right), "[unitless]");
+    iniLine(os, "wheel_track_error", iniNumber(w.track_error), "[unitless]");
+    iniLine(os, "wheel_ticks_per_rev", std::to_string(w.ticks_per_rev), "[ticks]");
+    iniLine(os, "wheel_time_offset_s", iniNumber(w.time_offset_s), "[s]");
+    iniLine(os, "wheel_skid_turn_slip", iniNumber(w.skid_turn_slip), "[unitless] tracked only");
+    iniLine(os, "wheel_skid_slope_gain", iniNumber(w.skid_slope_gain), "[1/rad] tracked only");
+    iniLine(os, "wheel_event_speed_m_s", iniNumber(w.event_speed_m_s), "[m/s]");
+    iniLine(os, "wheel_events", WheelEncoderOptions::eventsText(w.events),
+            "KIND:START_S:DURATION_S,... (spin|stuck|lifted|pushed)");
+  }
   if (seq.isRecorded()) {
     const RecordedWorldOptions& w = o.recorded_world;
     iniLine(os, "recorded_room_margin_m", iniNumber(w.room_margin_m), "[m]");
@@ -320,6 +343,7 @@ SequenceWriteSummary writeSequence(const SimulatedSequence& seq, const std::stri
   seq.pump(sink, stop);
   s.frames = sink.frames();
   s.imu_samples = sink.imuSamples();
+  s.wheel_readings = sink.wheelReadings();
   s.completed = s.frames == seq.frameCount() && s.imu_samples == seq.imuCount();
   if (s.completed) {
     rawlog.close();

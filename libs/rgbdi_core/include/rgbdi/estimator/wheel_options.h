@@ -1,0 +1,45 @@
+// Options of the wheel odometry in the odometry ([wheel] section, doc/wheels.md).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "rgbdi/common/ini_reader.h"
+#include "rgbdi/estimator/wheel_preintegration.h"
+
+namespace rgbdi::estimator {
+
+struct WheelOptions {
+  /// Fuse the wheel odometry of the input into the sliding window (false: it is ignored, and
+  /// the run is what it is without it; rgbdi-slam --no-wheels sets it false).
+  bool enable = false;
+  double time_offset_s = 0.0;  ///< [s] t_imu = t_wheel + this
+  /// Pose of the wheel frame (x forward, y left, z up, on the axle) in the body (IMU) frame.
+  Eigen::Isometry3d T_body_wheel = Eigen::Isometry3d::Identity();
+  WheelNoise noise;  ///< forward/lateral/vertical/yaw/tilt sigmas and their floors
+  /// Estimate the forward-speed and yaw-rate scale factors of the odometry online.
+  bool estimate_scale = true;
+  /// [unitless] sigma of the prior that holds each scale factor at 1 until the marginalisation
+  /// prior carries what the window learnt about it.
+  double scale_prior_sigma = 0.05;
+  /// [unitless] an interval whose wheel factor, at the window's states of its two frames (what
+  /// the IMU and vision say), has a squared normalised error above this is left out (slip, a
+  /// stuck wheel, a lifted robot); 0 = every interval is used.
+  double gate_chi2 = 30.0;
+  /// [s] with the wheels fused and their readings up to the frame, blind frames (a blackout, a
+  /// bare wall, blur) are carried by the gyroscope and the wheels for up to this long before
+  /// tracking is lost ([estimator] fail_max_blind_s otherwise); their positions come from the
+  /// wheels, and the first frame that sees again starts from them.
+  double max_blind_s = 10.0;
+  /// [s] ... while the newest reading is at most this much older than the frame (readings come
+  /// at their own rate: the frame's newest one is up to a period old).
+  double reading_lag_s = 0.1;
+  /// [unitless] a left-out interval is "stuck" when the wheels report less than this fraction
+  /// of the distance the window moved, "lifted" when the window moved less than this fraction
+  /// of what the wheels report, "slip" otherwise.
+  double fault_motion_ratio = 0.25;
+
+  /// Reads [wheel]; throws ConfigError on a value out of range or a matrix that is no rotation.
+  static WheelOptions load(IniReader& ini);
+};
+
+}  // namespace rgbdi::estimator

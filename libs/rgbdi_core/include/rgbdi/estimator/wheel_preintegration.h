@@ -1,0 +1,71 @@
+// The wheel odometry between two window frames, pre-integrated into a planar relative motion of
+// the wheel frame, with its noise and its dependence on the two odometry scale factors.
+//
+// The readings' cumulative poses (x, y, yaw in the odometry frame) are cut at the frames' times
+// (IMU clock: reading stamp + [wheel] time_offset_s; the pose there interpolated linearly between
+// the two readings around it) and split into increments: increment k moves by d_k (in the wheel
+// frame at its start) and turns by a_k. With a forward-speed scale s_v and a yaw-rate scale s_w
+// (true = scale * reported), the motion from frame a to frame b in the wheel frame at a is
+//   dp(s) = s_v sum_k R(s_w phi_k) d_k,  dyaw(s) = s_w phi_n,  phi_k = a_0 + ... + a_(k-1),
+// evaluated exactly for any s (a few dozen increments per interval), with d dp / d s_w.
+// Noise (diagonal, in the wheel frame at a): per metre travelled along (sigma_forward), across
+// (sigma_lateral) and off the ground plane (sigma_vertical), per radian turned and per metre for
+// the yaw, per metre for roll and pitch, each with a floor for a standing robot.
+#pragma once
+
+#include <Eigen/Core>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "rgbdi/common/wheel_odometry.h"
+
+namespace rgbdi::estimator {
+
+/// The noise model of the wheel odometry ([wheel] keys, see share/config.ini).
+struct WheelNoise {
+  double forward_sigma_per_sqrt_m = 0.02;   ///< [m / sqrt(m)]
+  double lateral_sigma_per_sqrt_m = 0.02;   ///< [m / sqrt(m)]
+  double vertical_sigma_per_sqrt_m = 0.05;  ///< [m / sqrt(m)]
+  double yaw_sigma_per_sqrt_rad = 0.05;     ///< [rad / sqrt(rad)]
+  double yaw_sigma_per_sqrt_m = 0.01;       ///< [rad / sqrt(m)]
+  double tilt_sigma_per_sqrt_m = 0.05;      ///< [rad / sqrt(m)] roll and pitch
+  double min_sigma_m = 0.002;               ///< [m] floor of every translation sigma
+  double min_sigma_rad = 0.002;             ///< [rad] floor of every rotation sigma
+};
+
+class WheelPreintegration {
+ public:
+  /// The interval [t_a, t_b] (IMU clock) from `readings` (time order; stamps + time_offset_s on
+  /// the IMU clock). nullopt when the readings do not cover it (no reading at or before t_a, or
+  /// none at or after t_b - max_extrapolation_s): a stream gap. Beyond the newest reading the
+  /// rate of its increment goes on (readings come at their own rate: a frame's newest one is
+  /// up to a period old).
+  static std::optional<WheelPreintegration> between(const std::deque<WheelOdometrySample>& readings,
+                                                    double t_a, double t_b, double time_offset_s,
+                                                    const WheelNoise& noise,
+                                                    double max_extrapolation_s = 0.0);
+  /// From increments directly (tests): d_k [m] and a_k [rad].
+  WheelPreintegration(std::vector<Eigen::Vector2d> d, std::vector<double> a,
+                      const WheelNoise& noise);
+
+  /// The motion at scales (s_v, s_w): translation (x, y) and yaw; d dp / d s_w if asked.
+  void delta(double s_v, double s_w, Eigen::Vector2d* dp, double* dyaw,
+             Eigen::Vector2d* ddp_dsw = nullptr) const;
+  /// [rad] the reported yaw change phi_n (= d dyaw / d s_w).
+  double reportedYaw() const { return phi_end_; }
+  /// [m] distance travelled as reported (sum of |d_k|).
+  double distance() const { return distance_; }
+  /// Square root of the information (diagonal) of [dp (3), rotation (3)].
+  const Eigen::Matrix<double, 6, 1>& sqrtInformation() const { return sqrt_info_; }
+  std::size_t increments() const { return d_.size(); }
+
+ private:
+  std::vector<Eigen::Vector2d> d_;
+  std::vector<double> phi_;  ///< reported yaw at the start of each increment
+  double phi_end_ = 0.0;
+  double distance_ = 0.0;
+  Eigen::Matrix<double, 6, 1> sqrt_info_;
+};
+
+}  // namespace rgbdi::estimator

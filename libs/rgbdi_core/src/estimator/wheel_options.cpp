@@ -1,0 +1,53 @@
+#include "rgbdi/estimator/wheel_options.h"
+
+#include <sstream>
+
+namespace rgbdi::estimator {
+
+WheelOptions WheelOptions::load(IniReader& ini) {
+  WheelOptions o;
+  const std::string s = "wheel";
+  o.enable = ini.getBool(s, "enable", o.enable);
+  o.time_offset_s = ini.getDouble(s, "time_offset_s", o.time_offset_s, -0.5, 0.5);
+  Eigen::VectorXd r = ini.getVector(s, "R_body_wheel",
+                                    (Eigen::VectorXd(9) << 1, 0, 0, 0, 1, 0, 0, 0, 1).finished());
+  Eigen::Matrix3d R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = r[3 * i + j];
+  const double orth_err = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
+  if (orth_err > 1e-3 || R.determinant() < 0.0) {
+    std::ostringstream os;
+    os << "not a rotation matrix (|R^T R - I| = " << orth_err << ", det = " << R.determinant()
+       << "); give 9 numbers row-major with |R^T R - I| <= 1e-3 and det = +1";
+    ini.fail(s, "R_body_wheel", os.str());
+  }
+  o.T_body_wheel.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+  const Eigen::VectorXd t = ini.getVector(s, "t_body_wheel_m", Eigen::VectorXd::Zero(3));
+  if (t.norm() > 5.0)
+    ini.fail(s, "t_body_wheel_m", "translation longer than 5 m; accepted range |t| <= 5 m");
+  o.T_body_wheel.translation() = t;
+  WheelNoise& n = o.noise;
+  n.forward_sigma_per_sqrt_m =
+      ini.getDouble(s, "forward_sigma_per_sqrt_m", n.forward_sigma_per_sqrt_m, 1e-6, 10.0);
+  n.lateral_sigma_per_sqrt_m =
+      ini.getDouble(s, "lateral_sigma_per_sqrt_m", n.lateral_sigma_per_sqrt_m, 1e-6, 10.0);
+  n.vertical_sigma_per_sqrt_m =
+      ini.getDouble(s, "vertical_sigma_per_sqrt_m", n.vertical_sigma_per_sqrt_m, 1e-6, 10.0);
+  n.yaw_sigma_per_sqrt_rad =
+      ini.getDouble(s, "yaw_sigma_per_sqrt_rad", n.yaw_sigma_per_sqrt_rad, 1e-6, 10.0);
+  n.yaw_sigma_per_sqrt_m =
+      ini.getDouble(s, "yaw_sigma_per_sqrt_m", n.yaw_sigma_per_sqrt_m, 1e-6, 10.0);
+  n.tilt_sigma_per_sqrt_m =
+      ini.getDouble(s, "tilt_sigma_per_sqrt_m", n.tilt_sigma_per_sqrt_m, 1e-6, 10.0);
+  n.min_sigma_m = ini.getDouble(s, "min_sigma_m", n.min_sigma_m, 1e-6, 10.0);
+  n.min_sigma_rad = ini.getDouble(s, "min_sigma_rad", n.min_sigma_rad, 1e-6, 10.0);
+  o.estimate_scale = ini.getBool(s, "estimate_scale", o.estimate_scale);
+  o.scale_prior_sigma = ini.getDouble(s, "scale_prior_sigma", o.scale_prior_sigma, 1e-6, 10.0);
+  o.gate_chi2 = ini.getDouble(s, "gate_chi2", o.gate_chi2, 0.0, 1e9);
+  o.max_blind_s = ini.getDouble(s, "max_blind_s", o.max_blind_s, 0.0, 3600.0);
+  o.reading_lag_s = ini.getDouble(s, "reading_lag_s", o.reading_lag_s, 0.0, 10.0);
+  o.fault_motion_ratio = ini.getDouble(s, "fault_motion_ratio", o.fault_motion_ratio, 0.0, 1.0);
+  return o;
+}
+
+}  // namespace rgbdi::estimator

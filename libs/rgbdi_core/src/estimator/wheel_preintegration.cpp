@@ -1,0 +1,109 @@
+#include "rgbdi/estimator/wheel_preintegration.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rgbdi::estimator {
+namespace {
+
+struct Pose2 {
+  double x = 0.0, y = 0.0, yaw = 0.0;
+};
+
+Eigen::Matrix2d rot2(double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return (Eigen::Matrix2d() << c, -s, s, c).finished();
+}
+
+/// The pose of reading i with its yaw unwrapped against `ref` (readings wrap at +-pi).
+Pose2 unwrapped(const WheelOdometrySample& w, double ref) {
+  return {w.x_m, w.y_m, ref + std::remainder(w.yaw_rad - ref, 2.0 * M_PI)};
+}
+
+}  // namespace
+
+WheelPreintegration::WheelPreintegration(std::vector<Eigen::Vector2d> d, std::vector<double> a,
+                                         const WheelNoise& noise)
+    : d_(std::move(d)) {
+  phi_.reserve(a.size());
+  double phi = 0.0;
+  for (std::size_t k = 0; k < d_.size(); ++k) {
+    phi_.push_back(phi);
+    phi += a[k];
+    distance_ += d_[k].norm();
+  }
+  phi_end_ = phi;
+  const auto sigma = [](double per, double amount, double floor) {
+    return std::max(floor, per * std::sqrt(std::abs(amount)));
+  };
+  const double yaw_var = std::pow(noise.yaw_sigma_per_sqrt_rad, 2) * std::abs(phi_end_) +
+                         std::pow(noise.yaw_sigma_per_sqrt_m, 2) * distance_;
+  const double s_yaw = std::max(noise.min_sigma_rad, std::sqrt(yaw_var));
+  const double s_tilt = sigma(noise.tilt_sigma_per_sqrt_m, distance_, noise.min_sigma_rad);
+  sqrt_info_ << 1.0 / sigma(noise.forward_sigma_per_sqrt_m, distance_, noise.min_sigma_m),
+      1.0 / sigma(noise.lateral_sigma_per_sqrt_m, distance_, noise.min_sigma_m),
+      1.0 / sigma(noise.vertical_sigma_per_sqrt_m, distance_, noise.min_sigma_m), 1.0 / s_tilt,
+      1.0 / s_tilt, 1.0 / s_yaw;
+}
+
+std::optional<WheelPreintegration> WheelPreintegration::between(
+    const std::deque<WheelOdometrySample>& readings, double t_a, double t_b, double time_offset_s,
+    const WheelNoise& noise, double max_extrapolation_s) {
+  const auto stamp = [&](std::size_t i) { return readings[i].t + time_offset_s; };
+  if (readings.empty() || !(t_b >= t_a) || stamp(0) > t_a ||
+      stamp(readings.size() - 1) < t_b - max_extrapolation_s)
+    return std::nullopt;
+  // i0: the last reading at or before t_a.
+  std::size_t i0 = 0;
+  while (i0 + 1 < readings.size() && stamp(i0 + 1) <= t_a) ++i0;
+  std::vector<Pose2> poses;  // the poses at t_a, at every reading inside (t_a, t_b), at t_b
+  double ref = readings[i0].yaw_rad;
+  const std::size_t last = readings.size() - 1;
+  const auto at = [&](double t, std::size_t i) {  // between reading i and i + 1
+    if (i == last && t > stamp(last) && last >= 1 && stamp(last) > stamp(last - 1)) {
+      // Beyond the newest reading (by at most max_extrapolation_s): its increment's rate goes on.
+      const Pose2 p = unwrapped(readings[last - 1], ref);
+      const Pose2 q = unwrapped(readings[last], p.yaw);
+      const double f = (t - stamp(last - 1)) / (stamp(last) - stamp(last - 1));
+      return Pose2{p.x + f * (q.x - p.x), p.y + f * (q.y - p.y), p.yaw + f * (q.yaw - p.yaw)};
+    }
+    const Pose2 p = unwrapped(readings[i], ref);
+    if (i + 1 >= readings.size() || stamp(i + 1) <= stamp(i)) return p;
+    const Pose2 q = unwrapped(readings[i + 1], p.yaw);
+    const double f = std::clamp((t - stamp(i)) / (stamp(i + 1) - stamp(i)), 0.0, 1.0);
+    return Pose2{p.x + f * (q.x - p.x), p.y + f * (q.y - p.y), p.yaw + f * (q.yaw - p.yaw)};
+  };
+  poses.push_back(at(t_a, i0));
+  std::size_t i = i0 + 1;
+  for (; i < readings.size() && stamp(i) < t_b; ++i) {
+    poses.push_back(unwrapped(readings[i], poses.back().yaw));
+    ref = poses.back().yaw;
+  }
+  ref = poses.back().yaw;
+  poses.push_back(at(t_b, i - 1));
+  std::vector<Eigen::Vector2d> d;
+  std::vector<double> a;
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    const Pose2& p = poses[k - 1];
+    const Pose2& q = poses[k];
+    d.push_back(rot2(-p.yaw) * Eigen::Vector2d(q.x - p.x, q.y - p.y));
+    a.push_back(q.yaw - p.yaw);
+  }
+  return WheelPreintegration(std::move(d), std::move(a), noise);
+}
+
+void WheelPreintegration::delta(double s_v, double s_w, Eigen::Vector2d* dp, double* dyaw,
+                                Eigen::Vector2d* ddp_dsw) const {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero(), dp_dsw = Eigen::Vector2d::Zero();
+  const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished();  // d R / da
+  for (std::size_t k = 0; k < d_.size(); ++k) {
+    const Eigen::Vector2d r = rot2(s_w * phi_[k]) * d_[k];
+    p += r;
+    dp_dsw += phi_[k] * (J * r);
+  }
+  if (dp) *dp = s_v * p;
+  if (dyaw) *dyaw = s_w * phi_end_;
+  if (ddp_dsw) *ddp_dsw = s_v * dp_dsw;
+}
+
+}  // namespace rgbdi::estimator

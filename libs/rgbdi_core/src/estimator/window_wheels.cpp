@@ -1,0 +1,98 @@
+#include "estimator/window_wheels.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "rgbdi/estimator/wheel_factor.h"
+
+namespace rgbdi::estimator {
+
+bool WindowWheels::tickIncrements(double t_a, double t_b, const WheelOptions& opt,
+                                  std::int64_t* left, std::int64_t* right) const {
+  // The newest reading at or before t_a and the oldest at or after t_b.
+  const WheelOdometrySample* a = nullptr;
+  const WheelOdometrySample* b = nullptr;
+  for (const WheelOdometrySample& w : readings) {
+    const double t = w.t + opt.time_offset_s;
+    if (t <= t_a) a = &w;
+    if (t >= t_b && !b) b = &w;
+  }
+  if (!a || !b || !a->has_encoders || !b->has_encoders) return false;
+  *left = static_cast<std::int64_t>(b->ticks_left) - a->ticks_left;
+  *right = static_cast<std::int64_t>(b->ticks_right) - a->ticks_right;
+  return true;
+}
+
+WheelVerdict WindowWheels::check(const WheelPreintegration& pre, const double* pose_a,
+                                 const double* pose_b, double t_a, double t_b,
+                                 const WheelOptions& opt) const {
+  if (opt.gate_chi2 <= 0.0) return WheelVerdict::Consistent;
+  const WheelFactor f(pre, opt.T_body_wheel);
+  const Eigen::Matrix<double, 6, 1> e = f.error(pose_a, pose_b, scale_v[0], scale_w[0]);
+  if (e.cwiseProduct(pre.sqrtInformation()).squaredNorm() <= opt.gate_chi2)
+    return WheelVerdict::Consistent;
+  Eigen::Vector2d dp;
+  pre.delta(scale_v[0], scale_w[0], &dp, nullptr);
+  const double wheels_m = dp.norm();
+  // The window's own motion in the wheel frame: the error plus what the wheels said.
+  const double window_m = (e.head<3>() + Eigen::Vector3d(dp.x(), dp.y(), 0.0)).norm();
+  if (wheels_m < opt.fault_motion_ratio * window_m) return WheelVerdict::Stuck;
+  // One wheel's encoder standing while the other turns: a blocked wheel dragged along.
+  std::int64_t left = 0, right = 0;
+  if (tickIncrements(t_a, t_b, opt, &left, &right)) {
+    const std::int64_t lo = std::min(std::abs(left), std::abs(right));
+    const std::int64_t hi = std::max(std::abs(left), std::abs(right));
+    if (hi > 0 && static_cast<double>(lo) < opt.fault_motion_ratio * static_cast<double>(hi))
+      return WheelVerdict::Stuck;
+  }
+  if (window_m < opt.fault_motion_ratio * wheels_m) return WheelVerdict::Lifted;
+  return WheelVerdict::Slip;
+}
+
+void WindowWheels::count(WheelVerdict v, double t_a, double t_b) {
+  if (v != WheelVerdict::Consistent) {
+    if (!episodes.empty() && episodes.back().verdict == v && episodes.back().t_end >= t_a)
+      episodes.back().t_end = t_b;
+    else
+      episodes.push_back({t_a, t_b, v});
+  }
+  switch (v) {
+    case WheelVerdict::Consistent:
+      ++intervals_used;
+      break;
+    case WheelVerdict::Slip:
+      ++intervals_slip;
+      break;
+    case WheelVerdict::Stuck:
+      ++intervals_stuck;
+      break;
+    case WheelVerdict::Lifted:
+      ++intervals_lifted;
+      break;
+  }
+}
+
+void WindowWheels::add(const WheelOdometrySample& w) {
+  if (!isFinite(w) || (!readings.empty() && w.t <= readings.back().t)) return;
+  readings.push_back(w);
+}
+
+std::optional<WheelPreintegration> WindowWheels::interval(double t_a, double t_b,
+                                                          const WheelOptions& opt) const {
+  return WheelPreintegration::between(readings, t_a, t_b, opt.time_offset_s, opt.noise,
+                                      opt.reading_lag_s);
+}
+
+void WindowWheels::trimBefore(double t, const WheelOptions& opt) {
+  // Keep the newest reading at or before t: the interval from t interpolates from it.
+  while (readings.size() >= 2 && readings[1].t + opt.time_offset_s <= t) readings.pop_front();
+}
+
+void WindowWheels::priorDropped() {
+  if (scale_prior_pending) return;  // its prior is still the problem's, around its mean
+  scale_prior_pending = true;
+  prior_mean_v = scale_v[0];
+  prior_mean_w = scale_w[0];
+}
+
+}  // namespace rgbdi::estimator
