@@ -57,7 +57,8 @@ inline std::vector<DepthSample> scan(const std::vector<Box>& boxes, const Eigen:
     }
     if (best > 1e8) continue;
     const Eigen::Vector2d hit = cam.head<2>() + best * d;
-    for (double dz : {-0.1, 0.0, 0.2}) out.push_back({cam, Eigen::Vector3d(hit.x(), hit.y(), kCamZ + dz)});
+    for (double dz : {-0.1, 0.0, 0.2})
+      out.push_back({cam, Eigen::Vector3d(hit.x(), hit.y(), kCamZ + dz)});
     if (k % 4 == 0)
       for (double f : {0.2, 0.4, 0.6, 0.8}) {
         const Eigen::Vector2d p = cam.head<2>() + f * best * d;

@@ -36,7 +36,7 @@ TEST(FitConfirmation, ASecondAgreeingFitFarEnoughAlongConfirms) {
   const Eigen::Vector3d p(1, 0, 0);
   EXPECT_FALSE(c.add(fitAt(0.0, 2.0, 30), p, unchanged));
   EXPECT_TRUE(c.waiting());
-  EXPECT_FALSE(c.add(fitAt(1.0, 2.05, 30), p, unchanged));  // agrees, only 1 m later
+  EXPECT_FALSE(c.add(fitAt(1.0, 2.05, 30), p, unchanged));   // agrees, only 1 m later
   const auto A = c.add(fitAt(1.5, 2.05, 31), p, unchanged);  // agrees, 1.5 m after the first
   ASSERT_TRUE(A);
   EXPECT_NEAR(A->translation().x(), 2.05, 1e-12);

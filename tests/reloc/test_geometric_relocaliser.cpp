@@ -70,8 +70,8 @@ TEST(GeometricRelocaliser, RefineRecoversASmallYawAndShift) {
   const PointIndex index(map_points, 1e-4, 0.15);  // no thinning: exact correspondences exist
   int pairs = 0;
   double rms = 1.0;
-  const Eigen::Isometry3d T = GeometricRelocaliser::refine(local, index, Eigen::Isometry3d::Identity(),
-                                                           0.15, 50, &pairs, &rms);
+  const Eigen::Isometry3d T = GeometricRelocaliser::refine(
+      local, index, Eigen::Isometry3d::Identity(), 0.15, 50, &pairs, &rms);
   EXPECT_NEAR((T.translation() - motion.translation()).norm(), 0.0, 1e-6);
   EXPECT_NEAR(Eigen::AngleAxisd(T.linear().transpose() * motion.linear()).angle(), 0.0, 1e-6);
   EXPECT_GT(pairs, static_cast<int>(0.8 * local.size()));  // points with a surface normal
@@ -83,7 +83,8 @@ TEST(GeometricRelocaliser, FitsAMovedRoomInXYZAndYaw) {
   const std::vector<DepthSample> world = asymmetricRoom(cam);
   const GeometricRelocaliser reloc(world, options());
   // The part's frame: the room turned by 90 deg, moved by whole cells and 0.25 m down.
-  const Eigen::Isometry3d T_part_map = yawPose(M_PI / 2, Eigen::Vector3d(-7 * kCell, 12 * kCell, -0.25));
+  const Eigen::Isometry3d T_part_map =
+      yawPose(M_PI / 2, Eigen::Vector3d(-7 * kCell, 12 * kCell, -0.25));
   const RelocFit f = reloc.fit(jobOf(moved(world, M_PI / 2, T_part_map.translation())));
   ASSERT_EQ(f.outcome, FitOutcome::kFit) << toString(f.outcome);
   const Eigen::Isometry3d expected = T_part_map.inverse();

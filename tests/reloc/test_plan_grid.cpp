@@ -52,7 +52,7 @@ TEST(PlanGrid, AFloorSampleKeepsItsHeightAndFreesOnlyTheRayInsideTheBand) {
 
 TEST(PlanGrid, CeilingSamplesAndFarSamplesAreNoObstacles) {
   const Eigen::Vector3d cam(at(0), at(0), 0.3);
-  const PlanGrid g = PlanGrid::build({{cam, Eigen::Vector3d(at(10), at(0), 2.3)},  // ceiling
+  const PlanGrid g = PlanGrid::build({{cam, Eigen::Vector3d(at(10), at(0), 2.3)},    // ceiling
                                       {cam, Eigen::Vector3d(at(0), at(100), 0.3)}},  // 5 m away
                                      options());
   EXPECT_EQ(g.height(), 1);  // the far sample is not used at all

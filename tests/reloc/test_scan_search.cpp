@@ -71,8 +71,8 @@ TEST(ScanSearch, APointSymmetricRoomIsTwoPlaces) {
   const std::vector<DepthSample> world = scan({cells(0, 0, 60, 40)}, cam);
   const ScanSearch search(PlanGrid::build(world, gridOptions()), searchOptions());
   const std::vector<DepthSample> local_samples = moved(world, 0.0, Eigen::Vector3d(1.0, 1.0, 0.0));
-  const ScanSearchResult r =
-      search.search(PlanGrid::build(local_samples, gridOptions()), local_samples.front().origin.head<2>());
+  const ScanSearchResult r = search.search(PlanGrid::build(local_samples, gridOptions()),
+                                           local_samples.front().origin.head<2>());
   ASSERT_EQ(r.places.size(), 2u);
   EXPECT_EQ(r.places[0].score, r.places[1].score);
   EXPECT_NEAR(std::abs(r.places[0].alignment.yaw - r.places[1].alignment.yaw), M_PI, 1e-12);
@@ -85,9 +85,10 @@ TEST(ScanSearch, TwinRoomsAreTwoPlaces) {
   const std::vector<DepthSample> twin = asymmetricRoom(cam_b, 80, 0);
   world.insert(world.end(), twin.begin(), twin.end());
   const ScanSearch search(PlanGrid::build(world, gridOptions()), searchOptions());
-  const std::vector<DepthSample> local_samples = moved(asymmetricRoom(cam_a), 0.3, Eigen::Vector3d(0.5, 2, 0));
-  const ScanSearchResult r =
-      search.search(PlanGrid::build(local_samples, gridOptions()), local_samples.front().origin.head<2>());
+  const std::vector<DepthSample> local_samples =
+      moved(asymmetricRoom(cam_a), 0.3, Eigen::Vector3d(0.5, 2, 0));
+  const ScanSearchResult r = search.search(PlanGrid::build(local_samples, gridOptions()),
+                                           local_samples.front().origin.head<2>());
   // Turned by 0.3 rad (off the 5 deg lattice) the two rooms score a little differently, both
   // within the margin; the places are the two rooms, 4 m apart (to a cell).
   ASSERT_EQ(r.places.size(), 2u);
@@ -103,8 +104,8 @@ TEST(ScanSearch, AnOtherWorldFitsNowhere) {
   // A long corridor of 8 x 1 m: nowhere in the 3 x 2 m room.
   const std::vector<DepthSample> corridor =
       scan({cells(0, 0, 160, 20)}, Eigen::Vector3d(at(80), at(10), kCamZ));
-  const ScanSearchResult r = search.search(PlanGrid::build(corridor, gridOptions()),
-                                           Eigen::Vector2d(at(80), at(10)));
+  const ScanSearchResult r =
+      search.search(PlanGrid::build(corridor, gridOptions()), Eigen::Vector2d(at(80), at(10)));
   EXPECT_TRUE(r.places.empty());
 }
 

@@ -146,8 +146,8 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   const Eigen::Vector2d t2 = a.t - R.toRotationMatrix() * a.pivot;
   Eigen::Isometry3d T = yawPose(a.yaw, Eigen::Vector3d(t2.x(), t2.y(), dz));
   if (options_.refine_iterations > 0) {
-    const std::vector<Eigen::Vector3d> local_points =
-        PointIndex::thin(pointsOf(job.samples, options_.grid.max_range_m), options_.grid.resolution_m);
+    const std::vector<Eigen::Vector3d> local_points = PointIndex::thin(
+        pointsOf(job.samples, options_.grid.max_range_m), options_.grid.resolution_m);
     T = refine(local_points, points_, T, options_.refine_max_distance_m, options_.refine_iterations,
                &f.refine_pairs, &f.refine_rms_m);
   }

@@ -22,8 +22,7 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   q.yaw_step_deg = ini.getDouble(s, "yaw_step_deg", q.yaw_step_deg, 0.05, 45.0);
   q.pyramid_levels = ini.getInt(s, "pyramid_levels", q.pyramid_levels, 0, 12);
   q.hypothesis_margin = ini.getDouble(s, "hypothesis_margin", q.hypothesis_margin, 0.0, 1.0);
-  q.place_separation_m =
-      ini.getDouble(s, "place_separation_m", q.place_separation_m, 0.0, 1000.0);
+  q.place_separation_m = ini.getDouble(s, "place_separation_m", q.place_separation_m, 0.0, 1000.0);
   q.place_separation_deg =
       ini.getDouble(s, "place_separation_deg", q.place_separation_deg, 0.0, 180.0);
   q.min_overlap_fraction =
@@ -35,13 +34,12 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   o.submap_min_occupied_cells =
       ini.getInt(s, "submap_min_occupied_cells", o.submap_min_occupied_cells, 1, 1000000);
   o.attempt_interval_m = ini.getDouble(s, "attempt_interval_m", o.attempt_interval_m, 0.0, 1000.0);
-  o.result_lag_keyframes =
-      ini.getInt(s, "result_lag_keyframes", o.result_lag_keyframes, 1, 1000);
+  o.result_lag_keyframes = ini.getInt(s, "result_lag_keyframes", o.result_lag_keyframes, 1, 1000);
   o.confirm_distance_m = ini.getDouble(s, "confirm_distance_m", o.confirm_distance_m, 0.0, 1000.0);
-  o.confirm_max_disagreement_m = ini.getDouble(s, "confirm_max_disagreement_m",
-                                               o.confirm_max_disagreement_m, 0.0, 100.0);
-  o.confirm_max_disagreement_deg = ini.getDouble(s, "confirm_max_disagreement_deg",
-                                                 o.confirm_max_disagreement_deg, 0.0, 180.0);
+  o.confirm_max_disagreement_m =
+      ini.getDouble(s, "confirm_max_disagreement_m", o.confirm_max_disagreement_m, 0.0, 100.0);
+  o.confirm_max_disagreement_deg =
+      ini.getDouble(s, "confirm_max_disagreement_deg", o.confirm_max_disagreement_deg, 0.0, 180.0);
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
   o.refine_iterations = ini.getInt(s, "refine_iterations", o.refine_iterations, 0, 1000);

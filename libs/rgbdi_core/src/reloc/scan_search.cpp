@@ -104,11 +104,12 @@ ScanSearchResult ScanSearch::search(const PlanGrid& local, const Eigen::Vector2d
   const int n_yaw = std::max(1, static_cast<int>(std::lround(360.0 / options_.yaw_step_deg)));
   const double yaw_step = 2.0 * M_PI / n_yaw;
   const int top = options_.pyramid_levels;
-  const int min_score =
-      static_cast<int>(std::ceil(options_.min_overlap_fraction * 2.0 * static_cast<double>(pts.size())));
+  const int min_score = static_cast<int>(
+      std::ceil(options_.min_overlap_fraction * 2.0 * static_cast<double>(pts.size())));
   int best = 0;
   const auto threshold = [&] {
-    return std::max(min_score, static_cast<int>(std::ceil(best * (1.0 - options_.hypothesis_margin))));
+    return std::max(min_score,
+                    static_cast<int>(std::ceil(best * (1.0 - options_.hypothesis_margin))));
   };
   std::vector<Leaf> leaves;
 
@@ -189,11 +190,11 @@ ScanSearchResult ScanSearch::search(const PlanGrid& local, const Eigen::Vector2d
     a.yaw = wrapAngle(l.yaw_index * yaw_step);
     a.t = map_.centre(l.ox, l.oy);
     a.pivot = pivot;
-    const bool known = std::any_of(out.candidates.begin(), out.candidates.end(),
-                                   [&](const PlanHypothesis& h) {
-                                     return (h.alignment.t - a.t).norm() <= options_.place_separation_m &&
-                                            std::abs(wrapAngle(h.alignment.yaw - a.yaw)) <= sep_yaw;
-                                   });
+    const bool known =
+        std::any_of(out.candidates.begin(), out.candidates.end(), [&](const PlanHypothesis& h) {
+          return (h.alignment.t - a.t).norm() <= options_.place_separation_m &&
+                 std::abs(wrapAngle(h.alignment.yaw - a.yaw)) <= sep_yaw;
+        });
     if (known) continue;
     if (static_cast<int>(out.candidates.size()) >= options_.max_hypotheses) {
       out.truncated = true;

@@ -51,7 +51,8 @@ class FitConfirmation {
   int disagreements() const { return disagreements_; }
   /// The fit's alignment for the part's poses as they are now: the anchor stays where the fit
   /// put it.
-  static Eigen::Isometry3d alignmentNow(const RelocFit& fit, const Eigen::Isometry3d& T_anchor_now) {
+  static Eigen::Isometry3d alignmentNow(const RelocFit& fit,
+                                        const Eigen::Isometry3d& T_anchor_now) {
     return fit.T_map_part * fit.T_anchor * T_anchor_now.inverse();
   }
 

@@ -18,12 +18,12 @@ namespace rgbdi::reloc {
 
 /// One attempt: the part's latest depth samples (its current frame) and where it is.
 struct RelocJob {
-  std::uint64_t number = 0;  ///< 1, 2, ... in submission order
-  int segment = 0;           ///< odometry segment of the part
-  std::uint64_t anchor_id = 0;  ///< newest keyframe of the submap
+  std::uint64_t number = 0;                                    ///< 1, 2, ... in submission order
+  int segment = 0;                                             ///< odometry segment of the part
+  std::uint64_t anchor_id = 0;                                 ///< newest keyframe of the submap
   Eigen::Isometry3d T_anchor = Eigen::Isometry3d::Identity();  ///< its pose (part frame)
-  double travelled_m = 0.0;  ///< [m] odometry path length at the anchor
-  double t_query = 0.0;      ///< [s] stamp of the anchor (run clock)
+  double travelled_m = 0.0;          ///< [m] odometry path length at the anchor
+  double t_query = 0.0;              ///< [s] stamp of the anchor (run clock)
   std::vector<DepthSample> samples;  ///< part frame
 };
 

@@ -35,7 +35,7 @@ struct ScanSearchOptions {
   double place_separation_deg = 20.0;  ///< [deg]
   /// [fraction] of the local occupied cells that must land on the map's occupied cells (or next
   /// to them: half credit) for a hypothesis to count.
-  double min_overlap_fraction = 0.5;
+  double min_overlap_fraction = 0.3;
   /// [fraction] of the compared cells whose free space conflicts (local obstacles in the map's
   /// free space, local free space on the map's obstacles) above which a hypothesis is refused.
   double max_conflict_fraction = 0.05;
@@ -49,14 +49,14 @@ struct RelocOptions {
   /// [m] path length of the part's latest keyframes that make the local plan.
   double submap_path_m = 3.0;
   /// [count] occupied cells the local plan needs before it is searched.
-  int submap_min_occupied_cells = 150;
-  double attempt_interval_m = 0.5;  ///< [m] path between two searches of one part
+  int submap_min_occupied_cells = 100;
+  double attempt_interval_m = 0.25;  ///< [m] path between two searches of one part
   /// [count] the result of a search started at loop keyframe k is taken at keyframe k + this
   /// (offline: a defined point, so threaded and sequential runs agree; live: when ready).
   int result_lag_keyframes = 3;
   /// A fit is only used once a second, independent fit (a search started at least this much
   /// path later) puts the part at the same place within these bounds.
-  double confirm_distance_m = 1.5;            ///< [m]
+  double confirm_distance_m = 0.75;           ///< [m]
   double confirm_max_disagreement_m = 0.10;   ///< [m]
   double confirm_max_disagreement_deg = 2.0;  ///< [deg]
   /// ICP refinement of a hypothesis on the 3-D depth samples (nearest neighbours within this
@@ -67,7 +67,7 @@ struct RelocOptions {
   int min_floor_cells = 20;
   /// The join: loop edges from the part's latest keyframes (at most this many) to the map
   /// keyframe nearest each (within join_max_distance_m of where the fit puts it).
-  int join_keyframes = 6;             ///< [count]
+  int join_keyframes = 6;            ///< [count]
   double join_max_distance_m = 1.5;  ///< [m]
 
   /// Reads and validates every [relocalise] key (ConfigError names file, key and range).

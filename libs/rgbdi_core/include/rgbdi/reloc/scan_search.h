@@ -18,8 +18,8 @@ namespace rgbdi::reloc {
 
 /// A 2-D rigid alignment local plan -> map plan: p_map = R(yaw) (p_local - pivot) + t.
 struct PlanAlignment {
-  double yaw = 0.0;                              ///< [rad]
-  Eigen::Vector2d t = Eigen::Vector2d::Zero();   ///< [m] where the pivot lands in the map
+  double yaw = 0.0;                                 ///< [rad]
+  Eigen::Vector2d t = Eigen::Vector2d::Zero();      ///< [m] where the pivot lands in the map
   Eigen::Vector2d pivot = Eigen::Vector2d::Zero();  ///< [m] local frame
   Eigen::Vector2d apply(const Eigen::Vector2d& p) const;
 };
@@ -27,15 +27,15 @@ struct PlanAlignment {
 /// One distinct place the local plan fits.
 struct PlanHypothesis {
   PlanAlignment alignment;
-  int score = 0;                 ///< [points] 2 per obstacle on an obstacle, 1 next to one
-  double overlap = 0.0;          ///< [fraction] score / (2 x local obstacle cells)
-  int compared = 0;              ///< [count] local cells that met known map cells
-  int conflicts = 0;             ///< [count] of those, free-space conflicts
+  int score = 0;         ///< [points] 2 per obstacle on an obstacle, 1 next to one
+  double overlap = 0.0;  ///< [fraction] score / (2 x local obstacle cells)
+  int compared = 0;      ///< [count] local cells that met known map cells
+  int conflicts = 0;     ///< [count] of those, free-space conflicts
   double conflict_fraction = 0.0;
 };
 
 struct ScanSearchResult {
-  int local_obstacles = 0;                 ///< [count] occupied cells of the local plan
+  int local_obstacles = 0;  ///< [count] occupied cells of the local plan
   /// Distinct places within the margin of the best score, best first, before the free-space
   /// check (at most max_hypotheses).
   std::vector<PlanHypothesis> candidates;
