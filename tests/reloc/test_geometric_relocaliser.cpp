@@ -68,14 +68,29 @@ TEST(GeometricRelocaliser, RefineRecoversASmallYawAndShift) {
   std::vector<Eigen::Vector3d> local;
   for (const Eigen::Vector3d& p : map_points) local.push_back(motion.inverse() * p);
   const PointIndex index(map_points, 1e-4, 0.15);  // no thinning: exact correspondences exist
-  int pairs = 0;
-  double rms = 1.0;
-  const Eigen::Isometry3d T = GeometricRelocaliser::refine(
-      local, index, Eigen::Isometry3d::Identity(), 0.15, 50, &pairs, &rms);
-  EXPECT_NEAR((T.translation() - motion.translation()).norm(), 0.0, 1e-6);
-  EXPECT_NEAR(Eigen::AngleAxisd(T.linear().transpose() * motion.linear()).angle(), 0.0, 1e-6);
-  EXPECT_GT(pairs, static_cast<int>(0.8 * local.size()));  // points with a surface normal
-  EXPECT_LT(rms, 1e-6);
+  const GeometricRelocaliser::Refinement r =
+      GeometricRelocaliser::refine(local, index, Eigen::Isometry3d::Identity(), 0.15, 50);
+  EXPECT_NEAR((r.T.translation() - motion.translation()).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(Eigen::AngleAxisd(r.T.linear().transpose() * motion.linear()).angle(), 0.0, 1e-6);
+  EXPECT_GT(r.pairs, static_cast<int>(0.8 * local.size()));  // points with a surface normal
+  EXPECT_LT(r.rms_m, 1e-6);
+  EXPECT_GT(r.horizontal_constraint, 0.1);  // walls facing x and y
+}
+
+TEST(GeometricRelocaliser, ALoneWallDoesNotPinTheHorizontalPosition) {
+  // One wall (normal along y) and a floor: nothing holds the fit along x.
+  std::vector<Eigen::Vector3d> map_points;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 10; ++k) map_points.emplace_back(0.013 * i, 0.0, 0.05 * k);
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 10; ++j) map_points.emplace_back(0.025 * i, 0.021 * j + 0.05, 0.0);
+  const PointIndex index(map_points, 1e-4, 0.15);
+  const GeometricRelocaliser::Refinement r =
+      GeometricRelocaliser::refine(map_points, index, Eigen::Isometry3d::Identity(), 0.15, 5);
+  EXPECT_LT(r.rms_m, 1e-9);
+  EXPECT_LT(r.horizontal_constraint, 1e-3);  // every normal is along y or z
+  RelocOptions o;
+  EXPECT_LT(r.horizontal_constraint, o.refine_min_horizontal_constraint);
 }
 
 TEST(GeometricRelocaliser, FitsAMovedRoomInXYZAndYaw) {

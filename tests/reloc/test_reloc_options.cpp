@@ -49,6 +49,9 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.confirm_max_disagreement_deg, d.confirm_max_disagreement_deg);
   EXPECT_EQ(o.refine_max_distance_m, d.refine_max_distance_m);
   EXPECT_EQ(o.refine_iterations, d.refine_iterations);
+  EXPECT_EQ(o.refine_min_pair_fraction, d.refine_min_pair_fraction);
+  EXPECT_EQ(o.refine_max_rms_m, d.refine_max_rms_m);
+  EXPECT_EQ(o.refine_min_horizontal_constraint, d.refine_min_horizontal_constraint);
   EXPECT_EQ(o.min_floor_cells, d.min_floor_cells);
   EXPECT_EQ(o.join_keyframes, d.join_keyframes);
   EXPECT_EQ(o.join_max_distance_m, d.join_max_distance_m);

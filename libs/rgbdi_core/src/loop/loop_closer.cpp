@@ -356,7 +356,7 @@ LoopUpdate LoopCloser::joinByAlignment(int segment, const Eigen::Isometry3d& T_o
     r.constraint.T_from_to = graph_.pose(map_id).inverse() * T_origin_part * graph_.pose(p->id);
     r.edge_id =
         graph_.addLoopEdge(r.constraint.from_id, r.constraint.to_id, r.constraint.T_from_to);
-    r.t_query = t_query;
+    r.t_query = p->t - t_shift_;  // the part keyframe's own stamp (run clock)
     r.geometric = true;
     loops_.push_back(r);
     ++update.accepted;

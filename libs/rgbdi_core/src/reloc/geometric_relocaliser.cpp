@@ -1,5 +1,6 @@
 #include "rgbdi/reloc/geometric_relocaliser.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,6 +32,8 @@ const char* toString(FitOutcome o) {
       return "ambiguous";
     case FitOutcome::kNoHeight:
       return "no height";
+    case FitOutcome::kUnrefined:
+      return "not confirmed by ICP";
     case FitOutcome::kFit:
       return "fit";
   }
@@ -62,19 +65,19 @@ bool GeometricRelocaliser::floorOffset(const PlanGrid& map, const PlanGrid& loca
   return true;
 }
 
-Eigen::Isometry3d GeometricRelocaliser::refine(const std::vector<Eigen::Vector3d>& local,
-                                               const PointIndex& map, Eigen::Isometry3d T,
-                                               double max_distance_m, int iterations, int* pairs,
-                                               double* rms_m) {
+GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
+    const std::vector<Eigen::Vector3d>& local, const PointIndex& map, const Eigen::Isometry3d& T0,
+    double max_distance_m, int iterations) {
   // Point-to-plane: each local point's distance along the normal of its nearest map point,
   // linearised in (yaw step, tx, ty, tz) about the current T; the yaw keeps T 4-DOF.
-  *pairs = 0;
-  *rms_m = 0.0;
+  Refinement out;
+  Eigen::Isometry3d T = T0;
   const std::vector<Eigen::Vector3d>& mp = map.points();
   const std::vector<Eigen::Vector3d>& mn = map.normals();
   for (int it = 0; it < iterations; ++it) {
     Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
     Eigen::Vector4d g = Eigen::Vector4d::Zero();
+    Eigen::Matrix2d nn = Eigen::Matrix2d::Zero();
     double sq = 0.0;
     int n = 0;
     for (const Eigen::Vector3d& l : local) {
@@ -89,11 +92,16 @@ Eigen::Isometry3d GeometricRelocaliser::refine(const std::vector<Eigen::Vector3d
       J << nrm.dot(Eigen::Vector3d(-q.y(), q.x(), 0.0)), nrm.x(), nrm.y(), nrm.z();
       H += J * J.transpose();
       g += J * r;
+      nn += nrm.head<2>() * nrm.head<2>().transpose();
       sq += r * r;
       ++n;
     }
-    *pairs = n;
-    *rms_m = n > 0 ? std::sqrt(sq / n) : 0.0;
+    out.pairs = n;
+    out.rms_m = n > 0 ? std::sqrt(sq / n) : 0.0;
+    out.horizontal_constraint =
+        nn.trace() > 0.0
+            ? Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(nn / nn.trace()).eigenvalues()(0)
+            : 0.0;
     if (n < 10) break;
     const Eigen::Vector4d step = -H.ldlt().solve(g);
     if (!step.allFinite()) break;
@@ -101,9 +109,11 @@ Eigen::Isometry3d GeometricRelocaliser::refine(const std::vector<Eigen::Vector3d
     next.linear() = next.linear() * T.linear();
     next.translation() = T.translation() + step.tail<3>();
     T = next;
+    out.T = T;
     if (step.tail<3>().norm() < 1e-7 && std::abs(step(0)) < 1e-8) break;
   }
-  return T;
+  out.T = T;
+  return out;
 }
 
 RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
@@ -148,8 +158,18 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   if (options_.refine_iterations > 0) {
     const std::vector<Eigen::Vector3d> local_points = PointIndex::thin(
         pointsOf(job.samples, options_.grid.max_range_m), options_.grid.resolution_m);
-    T = refine(local_points, points_, T, options_.refine_max_distance_m, options_.refine_iterations,
-               &f.refine_pairs, &f.refine_rms_m);
+    const Refinement r3 = refine(local_points, points_, T, options_.refine_max_distance_m,
+                                 options_.refine_iterations);
+    T = r3.T;
+    f.refine_pairs = r3.pairs;
+    f.refine_rms_m = r3.rms_m;
+    f.refine_horizontal_constraint = r3.horizontal_constraint;
+    // A fit the 3-D samples do not confirm (few pairs, far apart at the end, or free to slide
+    // along a wall) is no fit.
+    if (r3.pairs < options_.refine_min_pair_fraction * static_cast<double>(local_points.size()) ||
+        r3.rms_m > options_.refine_max_rms_m ||
+        r3.horizontal_constraint < options_.refine_min_horizontal_constraint)
+      return finish(FitOutcome::kUnrefined);
   }
   f.T_map_part = T;
   return finish(FitOutcome::kFit);

@@ -43,6 +43,11 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
   o.refine_iterations = ini.getInt(s, "refine_iterations", o.refine_iterations, 0, 1000);
+  o.refine_min_pair_fraction =
+      ini.getDouble(s, "refine_min_pair_fraction", o.refine_min_pair_fraction, 0.0, 1.0);
+  o.refine_max_rms_m = ini.getDouble(s, "refine_max_rms_m", o.refine_max_rms_m, 0.0, 10.0);
+  o.refine_min_horizontal_constraint = ini.getDouble(s, "refine_min_horizontal_constraint",
+                                                     o.refine_min_horizontal_constraint, 0.0, 0.5);
   o.min_floor_cells = ini.getInt(s, "min_floor_cells", o.min_floor_cells, 1, 1000000);
   o.join_keyframes = ini.getInt(s, "join_keyframes", o.join_keyframes, 1, 1000);
   o.join_max_distance_m =

@@ -44,6 +44,7 @@ void GeoRelocStage::handle(reloc::RelocJob& job) {
   }
   reloc::RelocFit fit = relocaliser_->fit(job);
   std::lock_guard<std::mutex> lock(mutex_);
+  ++report_.searched;
   report_.ms_total += fit.ms;
   report_.ms_max = std::max(report_.ms_max, fit.ms);
   if (results_.size() < job.number) results_.resize(job.number);
@@ -92,9 +93,8 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
     }
     if (closer.connectedToOrigin(fit.segment)) continue;  // placed meanwhile (visually)
     taken_.push_back(fit);
-    const auto confirmed =
-        confirm_.add(fit, closer.pose(newest.id).translation(),
-                     [&closer](std::uint64_t id) { return closer.pose(id); });
+    const auto confirmed = confirm_.add(fit, closer.pose(newest.id).translation(),
+                                        [&closer](std::uint64_t id) { return closer.pose(id); });
     std::lock_guard<std::mutex> lock(mutex_);
     GeoRelocReport& r = report_;
     ++r.results;
@@ -111,6 +111,9 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
       case reloc::FitOutcome::kNoHeight:
         ++r.no_height;
         break;
+      case reloc::FitOutcome::kUnrefined:
+        ++r.unrefined;
+        break;
       case reloc::FitOutcome::kFit:
         ++r.fits;
         break;
@@ -122,9 +125,9 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
     r.max_places = std::max(r.max_places, fit.places);
     if (!confirmed) continue;
     ++r.confirmed;
-    const loop::LoopUpdate u = closer.joinByAlignment(fit.segment, *confirmed, options_.join_keyframes,
-                                                      options_.join_max_distance_m,
-                                                      newest.t - closer.timeShift());
+    const loop::LoopUpdate u =
+        closer.joinByAlignment(fit.segment, *confirmed, options_.join_keyframes,
+                               options_.join_max_distance_m, newest.t - closer.timeShift());
     if (u.solved) {
       ++r.joined;
       solved = true;
@@ -138,7 +141,8 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
     last_attempt_travelled_ = newest.travelled_m;
     reloc::RelocJob job = makeJob(closer, cam);
     job.number = ++jobs_;
-    pending_.push_back({job.number, keyframes_ + static_cast<std::uint64_t>(options_.result_lag_keyframes)});
+    pending_.push_back(
+        {job.number, keyframes_ + static_cast<std::uint64_t>(options_.result_lag_keyframes)});
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++report_.attempts;

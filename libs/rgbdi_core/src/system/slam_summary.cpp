@@ -153,6 +153,7 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
         {"no_place", r.no_place},
         {"ambiguous", r.ambiguous},
         {"no_height", r.no_height},
+        {"not_confirmed_by_icp", r.unrefined},
         {"fits", r.fits},
         {"disagreements", r.disagreements},
         {"confirmed", r.confirmed},
@@ -162,7 +163,8 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
         {"last_outcome", r.last_outcome},
         {"last_places", r.last_places},
         {"max_places", r.max_places},
-        {"ms_per_attempt_mean", r.results > 0 ? r.ms_total / r.attempts : 0.0},
+        {"ms_per_attempt_mean",
+         r.searched > 0 ? r.ms_total / static_cast<double>(r.searched) : 0.0},
         {"ms_per_attempt_max", r.ms_max},
         {"map_plan_build_ms", r.map_build_ms}};
     // Every search whose result was taken: when, what it found, where it put the part.

@@ -32,6 +32,7 @@ enum class FitOutcome {
   kNoPlace,    ///< no alignment reaches the overlap, or all conflict with the map's free space
   kAmbiguous,  ///< more than one distinct place fits equally well
   kNoHeight,   ///< the place fits, but the height offset could not be found
+  kUnrefined,  ///< the ICP refinement found too few pairs or ended too far from the map
   kFit,        ///< one place
 };
 const char* toString(FitOutcome o);
@@ -49,11 +50,12 @@ struct RelocFit {
   int places = 0;           ///< [count] of those, agreeing with the map's free space
   /// The part's frame -> the map's frame (yaw about z and a translation); set for kFit.
   Eigen::Isometry3d T_map_part = Eigen::Isometry3d::Identity();
-  double overlap = 0.0;            ///< [fraction] of the winner
-  double conflict_fraction = 0.0;  ///< [fraction] of the winner
-  int refine_pairs = 0;            ///< [count] ICP correspondences at the end
-  double refine_rms_m = 0.0;       ///< [m] their RMS distance
-  double ms = 0.0;                 ///< [ms] wall time of the attempt
+  double overlap = 0.0;                       ///< [fraction] of the winner
+  double conflict_fraction = 0.0;             ///< [fraction] of the winner
+  int refine_pairs = 0;                       ///< [count] ICP correspondences at the end
+  double refine_rms_m = 0.0;                  ///< [m] their RMS distance
+  double refine_horizontal_constraint = 0.0;  ///< see GeometricRelocaliser::Refinement
+  double ms = 0.0;                            ///< [ms] wall time of the attempt
 };
 
 class GeometricRelocaliser {
@@ -64,12 +66,20 @@ class GeometricRelocaliser {
   const ScanSearch& search() const { return search_; }
   const PointIndex& mapPoints() const { return points_; }
 
-  /// 4-DOF point-to-point ICP of `local` onto `map` from T (yaw about z, translation):
-  /// nearest neighbours within max_distance_m, `iterations` closed-form steps. Returns the
-  /// refined transform; pairs and RMS of the last step.
-  static Eigen::Isometry3d refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
-                                  Eigen::Isometry3d T, double max_distance_m, int iterations,
-                                  int* pairs, double* rms_m);
+  /// Result of refine().
+  struct Refinement {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    int pairs = 0;       ///< [count] correspondences of the last step
+    double rms_m = 0.0;  ///< [m] their RMS point-to-plane distance
+    /// [fraction] how well the pairs pin the horizontal position: the smaller eigenvalue of
+    /// sum n_xy n_xy^T / its trace over the pairs' map normals (0: free to slide along a wall,
+    /// 0.5: walls facing two perpendicular directions equally).
+    double horizontal_constraint = 0.0;
+  };
+  /// 4-DOF point-to-plane ICP of `local` onto `map` from T (yaw about z, translation):
+  /// nearest neighbours within max_distance_m, at most `iterations` Gauss-Newton steps.
+  static Refinement refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
+                           const Eigen::Isometry3d& T, double max_distance_m, int iterations);
   /// Median of map floor height - local floor height over cells both saw as floor, with the
   /// local plan placed by `a`; false with fewer than min_cells such cells.
   static bool floorOffset(const PlanGrid& map, const PlanGrid& local, const PlanAlignment& a,

@@ -63,6 +63,13 @@ struct RelocOptions {
   /// distance, these many iterations).
   double refine_max_distance_m = 0.15;  ///< [m]
   int refine_iterations = 15;           ///< [count] 0 = off
+  /// After the refinement at least this fraction of the local samples (thinned) must have a map
+  /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
+  double refine_min_pair_fraction = 0.5;  ///< [fraction]
+  double refine_max_rms_m = 0.03;         ///< [m]
+  /// ... and the pairs' normals must pin both horizontal directions: the smaller eigenvalue of
+  /// sum n_xy n_xy^T / trace at least this (0 .. 0.5; a lone wall lets the fit slide along it).
+  double refine_min_horizontal_constraint = 0.05;  ///< [fraction]
   /// [count] cells of floor seen in both plans needed to find the height offset.
   int min_floor_cells = 20;
   /// The join: loop edges from the part's latest keyframes (at most this many) to the map

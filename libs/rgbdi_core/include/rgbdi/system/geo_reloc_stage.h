@@ -30,7 +30,7 @@ namespace rgbdi::system {
 struct GeoRelocReport {
   std::uint64_t attempts = 0;  ///< searches started
   std::uint64_t results = 0;   ///< searches whose result was taken
-  std::uint64_t too_little = 0, no_place = 0, ambiguous = 0, no_height = 0, fits = 0;
+  std::uint64_t too_little = 0, no_place = 0, ambiguous = 0, no_height = 0, unrefined = 0, fits = 0;
   std::uint64_t disagreements = 0;  ///< fits that did not confirm the proposal before them
   std::uint64_t confirmed = 0;      ///< confirmed fits handed to loop closing as joins
   std::uint64_t joined = 0;         ///< of those, joins made
@@ -38,7 +38,8 @@ struct GeoRelocReport {
   std::string last_outcome = "none";
   int last_places = 0;
   int last_candidates = 0;
-  int max_places = 0;  ///< most distinct places of one attempt
+  int max_places = 0;                   ///< most distinct places of one attempt
+  std::uint64_t searched = 0;           ///< searches the worker finished
   double ms_total = 0.0, ms_max = 0.0;  ///< [ms] wall time of the searches (worker thread)
   double map_build_ms = 0.0;            ///< [ms] the map's plan, built on the worker thread
 };
