@@ -176,12 +176,15 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
                           {"candidates", f.candidates},
                           {"places", f.places},
                           {"ms", f.ms}};
-      if (f.outcome == reloc::FitOutcome::kFit) {
-        const Eigen::Isometry3d P = f.T_map_part * f.T_anchor;  // the anchor in the map
+      if (f.outcome == reloc::FitOutcome::kFit || f.outcome == reloc::FitOutcome::kUnrefined) {
         e["overlap"] = f.overlap;
         e["conflict_fraction"] = f.conflict_fraction;
         e["refine_pairs"] = f.refine_pairs;
         e["refine_rms_m"] = f.refine_rms_m;
+        e["refine_horizontal_constraint"] = f.refine_horizontal_constraint;
+      }
+      if (f.outcome == reloc::FitOutcome::kFit) {
+        const Eigen::Isometry3d P = f.T_map_part * f.T_anchor;  // the anchor in the map
         e["T_map_body_xyz_yaw"] = {P.translation().x(), P.translation().y(), P.translation().z(),
                                    std::atan2(P.linear()(1, 0), P.linear()(0, 0))};
         e["stamp"] = f.t_query;

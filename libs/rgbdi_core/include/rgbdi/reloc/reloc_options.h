@@ -66,7 +66,7 @@ struct RelocOptions {
   /// After the refinement at least this fraction of the local samples (thinned) must have a map
   /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
   double refine_min_pair_fraction = 0.5;  ///< [fraction]
-  double refine_max_rms_m = 0.03;         ///< [m]
+  double refine_max_rms_m = 0.06;         ///< [m]
   /// ... and the pairs' normals must pin both horizontal directions: the smaller eigenvalue of
   /// sum n_xy n_xy^T / trace at least this (0 .. 0.5; a lone wall lets the fit slide along it).
   double refine_min_horizontal_constraint = 0.05;  ///< [fraction]
