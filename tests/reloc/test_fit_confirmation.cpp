@@ -10,6 +10,7 @@ using namespace rgbdi::reloc;
 namespace {
 RelocOptions options() {
   RelocOptions o;
+  o.confirm_fits = 2;
   o.confirm_distance_m = 1.5;
   o.confirm_max_disagreement_m = 0.10;
   o.confirm_max_disagreement_deg = 2.0;
@@ -75,4 +76,17 @@ TEST(FitConfirmation, AlignmentsFollowTheAnchorsCurrentPose) {
   const Eigen::Isometry3d A = FitConfirmation::alignmentNow(f, now);
   // The anchor stays where the fit put it: map x = 2 + 1 = 3.
   EXPECT_NEAR((A * now.translation()).x(), 3.0, 1e-12);
+}
+
+TEST(FitConfirmation, ThreeFitsMustAgreeWhenAsked) {
+  RelocOptions o = options();
+  o.confirm_fits = 3;
+  FitConfirmation c(o);
+  const Eigen::Vector3d p(1, 0, 0);
+  EXPECT_FALSE(c.add(fitAt(0.0, 2.0, 30), p, unchanged));
+  EXPECT_FALSE(c.add(fitAt(2.0, 2.05, 30), p, unchanged));  // far enough, but only the second
+  EXPECT_FALSE(c.add(fitAt(2.5, 5.0, 30), p, unchanged));   // disagrees: starts over
+  EXPECT_FALSE(c.add(fitAt(3.0, 5.0, 30), p, unchanged));
+  EXPECT_FALSE(c.add(fitAt(3.25, 5.0, 30), p, unchanged));  // three, but 0.75 m < 1.5 m
+  EXPECT_TRUE(c.add(fitAt(4.0, 5.0, 30), p, unchanged));
 }

@@ -44,6 +44,7 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.submap_min_occupied_cells, d.submap_min_occupied_cells);
   EXPECT_EQ(o.attempt_interval_m, d.attempt_interval_m);
   EXPECT_EQ(o.result_lag_keyframes, d.result_lag_keyframes);
+  EXPECT_EQ(o.confirm_fits, d.confirm_fits);
   EXPECT_EQ(o.confirm_distance_m, d.confirm_distance_m);
   EXPECT_EQ(o.confirm_max_disagreement_m, d.confirm_max_disagreement_m);
   EXPECT_EQ(o.confirm_max_disagreement_deg, d.confirm_max_disagreement_deg);
@@ -66,5 +67,6 @@ TEST(RelocOptions, BadValuesNameTheKey) {
             std::string::npos);
   EXPECT_NE(loadError("[relocalise]\nresult_lag_keyframes = 0\n").find("result_lag_keyframes"),
             std::string::npos);
+  EXPECT_NE(loadError("[relocalise]\nconfirm_fits = 1\n").find("confirm_fits"), std::string::npos);
   EXPECT_EQ(loadError("[relocalise]\ngeometric = false\n"), "");
 }

@@ -43,7 +43,8 @@ TEST(TwinRooms, EachRoomIsTheOtherTurnedByAHalfTurn) {
   for (int k = 0; k < 2000; ++k) {
     const Eigen::Vector3d p(ux(rng), uy(rng), uz(rng));
     const double a = ua(rng);
-    const Eigen::Vector3d d(std::cos(a) * 0.9, std::sin(a) * 0.9, std::sqrt(1.0 - 0.81) * (k % 2 ? 1 : -1));
+    const Eigen::Vector3d d(std::cos(a) * 0.9, std::sin(a) * 0.9,
+                            std::sqrt(1.0 - 0.81) * (k % 2 ? 1 : -1));
     const Eigen::Vector3d p2(2 * c.x() - p.x(), 2 * c.y() - p.y(), p.z());
     const Eigen::Vector3d d2(-d.x(), -d.y(), d.z());
     Hit h1, h2;

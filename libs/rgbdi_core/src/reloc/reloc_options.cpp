@@ -35,6 +35,7 @@ RelocOptions RelocOptions::load(IniReader& ini) {
       ini.getInt(s, "submap_min_occupied_cells", o.submap_min_occupied_cells, 1, 1000000);
   o.attempt_interval_m = ini.getDouble(s, "attempt_interval_m", o.attempt_interval_m, 0.0, 1000.0);
   o.result_lag_keyframes = ini.getInt(s, "result_lag_keyframes", o.result_lag_keyframes, 1, 1000);
+  o.confirm_fits = ini.getInt(s, "confirm_fits", o.confirm_fits, 2, 100);
   o.confirm_distance_m = ini.getDouble(s, "confirm_distance_m", o.confirm_distance_m, 0.0, 1000.0);
   o.confirm_max_disagreement_m =
       ini.getDouble(s, "confirm_max_disagreement_m", o.confirm_max_disagreement_m, 0.0, 100.0);

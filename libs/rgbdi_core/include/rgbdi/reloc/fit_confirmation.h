@@ -1,8 +1,10 @@
 // When a geometric fit is trusted: a fit (one distinct place, overlap and free space checked by
-// the search) is only a proposal until a second, independent fit — from a search started at
-// least confirm_distance_m of path later, on the depth seen since — puts the part at the same
-// place (within confirm_max_disagreement_m / _deg where the part is now). A fit that disagrees
-// with the proposal replaces it; ambiguous or failed attempts leave it waiting.
+// the search) is only a proposal until confirm_fits fits in all (separate global searches on
+// the growing local plan), the last started at least confirm_distance_m of path after the
+// first, put the part at the same place (within confirm_max_disagreement_m / _deg where the
+// part is now). A fit that disagrees with the proposal replaces it (a wrong place, e.g. the
+// twin of two identical rooms that won one search, rarely holds still over several); ambiguous
+// or failed attempts leave it waiting.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -30,16 +32,20 @@ class FitConfirmation {
     const Eigen::Isometry3d A_new = alignmentNow(fit, anchorPose(fit.anchor_id));
     if (!proposal_) {
       proposal_ = fit;
+      agreeing_ = 1;
       return std::nullopt;
     }
     const Eigen::Isometry3d A_old = alignmentNow(*proposal_, anchorPose(proposal_->anchor_id));
     if (!agree(A_old, A_new, p_part_now)) {
       ++disagreements_;
       proposal_ = fit;
+      agreeing_ = 1;
       return std::nullopt;
     }
-    if (fit.travelled_m - proposal_->travelled_m < options_.confirm_distance_m)
-      return std::nullopt;  // agrees, but not independent yet: keep the older proposal
+    ++agreeing_;
+    if (agreeing_ < options_.confirm_fits ||
+        fit.travelled_m - proposal_->travelled_m < options_.confirm_distance_m)
+      return std::nullopt;  // agrees, but not enough yet: keep the older proposal
     proposal_.reset();
     return A_new;
   }
@@ -59,6 +65,7 @@ class FitConfirmation {
  private:
   RelocOptions options_;
   std::optional<RelocFit> proposal_;
+  int agreeing_ = 0;  ///< fits agreeing with the proposal, itself included
   FitOutcome last_outcome_ = FitOutcome::kTooLittle;
   int disagreements_ = 0;
 };

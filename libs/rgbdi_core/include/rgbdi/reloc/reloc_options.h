@@ -54,8 +54,9 @@ struct RelocOptions {
   /// [count] the result of a search started at loop keyframe k is taken at keyframe k + this
   /// (offline: a defined point, so threaded and sequential runs agree; live: when ready).
   int result_lag_keyframes = 3;
-  /// A fit is only used once a second, independent fit (a search started at least this much
-  /// path later) puts the part at the same place within these bounds.
+  /// A fit is only used once confirm_fits fits (the last started at least confirm_distance_m
+  /// of path after the first) put the part at the same place within these bounds.
+  int confirm_fits = 3;                       ///< [count] (2 = one confirmation)
   double confirm_distance_m = 0.75;           ///< [m]
   double confirm_max_disagreement_m = 0.10;   ///< [m]
   double confirm_max_disagreement_deg = 2.0;  ///< [deg]
