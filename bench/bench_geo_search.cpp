@@ -120,15 +120,17 @@ int main(int argc, char** argv) {
     } else if (k == "--seed" && i + 1 < argc) {
       seed = static_cast<unsigned>(std::stoul(argv[++i]));
     } else {
-      std::cerr << "usage: bench_geo_search [--areas 100,1000] [--attempts 5] [--seed 1] [--detail]\n";
+      std::cerr
+          << "usage: bench_geo_search [--areas 100,1000] [--attempts 5] [--seed 1] [--detail]\n";
       return 2;
     }
   }
   const reloc::RelocOptions options;  // the defaults of share/config.ini
-  std::cout << "| map area [m^2] | map plan [cells] | map samples | plan build [ms] | search "
-               "median [ms] | search worst [ms] | outcomes | worst fit error [cm, deg] | views with too "
-               "little structure (redrawn) |\n"
-               "|---|---|---|---|---|---|---|---|---|\n";
+  std::cout
+      << "| map area [m^2] | map plan [cells] | map samples | plan build [ms] | search "
+         "median [ms] | search worst [ms] | outcomes | worst fit error [cm, deg] | views with too "
+         "little structure (redrawn) |\n"
+         "|---|---|---|---|---|---|---|---|---|\n";
   for (double area : areas) {
     std::mt19937 rng(seed);
     const World world = makeWorld(area, rng);

@@ -195,8 +195,9 @@ int main(int argc, char** argv) {
   }
 
   std::cout << "| profile | second run | joined at [s] | by | online from [s] | joins | ATE map "
-               "frame [cm] | ATE online [cm] | worst join edge [cm] | geometric searches (fit / "
-               "ambiguous) | ms per search (mean / max) | wall [s] |\n"
+               "frame [cm] | ATE online [cm] | worst join edge [cm] | geometric searches (fits / "
+               "ambiguous / disagreeing fits / confirmed / joins refused) | ms per search (mean / "
+               "max) | wall [s] |\n"
                "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& profile : a.profiles) {
     const Session first = runSession(simOptions(profile, 0, 0.0, a.fps, a.seed), nullptr);
@@ -255,10 +256,14 @@ int main(int argc, char** argv) {
             break;
           }
       std::string geo = "-", geo_ms = "-";
-      if (const system::GeoRelocStage* g = s.sys->geoReloc()) {
+      if (const system::GeoRelocStage* g = lc ? s.sys->geoReloc() : nullptr) {
         const system::GeoRelocReport rep = g->report();
+        const loop::LoopStats& st = lc->stats();
         geo = std::to_string(rep.results) + " (" + std::to_string(rep.fits) + " / " +
-              std::to_string(rep.ambiguous) + ")";
+              std::to_string(rep.ambiguous) + " / " + std::to_string(rep.disagreements) + " / " +
+              std::to_string(rep.confirmed) + " / " +
+              std::to_string(st.geometric_refused_free_space + st.geometric_refused_no_neighbour) +
+              ")";
         std::ostringstream ms;
         ms << std::fixed << std::setprecision(0)
            << (rep.searched > 0 ? rep.ms_total / static_cast<double>(rep.searched) : 0.0) << " / "

@@ -95,41 +95,47 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
     taken_.push_back(fit);
     const auto confirmed = confirm_.add(fit, closer.pose(newest.id).translation(),
                                         [&closer](std::uint64_t id) { return closer.pose(id); });
-    std::lock_guard<std::mutex> lock(mutex_);
-    GeoRelocReport& r = report_;
-    ++r.results;
-    switch (fit.outcome) {
-      case reloc::FitOutcome::kTooLittle:
-        ++r.too_little;
-        break;
-      case reloc::FitOutcome::kNoPlace:
-        ++r.no_place;
-        break;
-      case reloc::FitOutcome::kAmbiguous:
-        ++r.ambiguous;
-        break;
-      case reloc::FitOutcome::kNoHeight:
-        ++r.no_height;
-        break;
-      case reloc::FitOutcome::kUnrefined:
-        ++r.unrefined;
-        break;
-      case reloc::FitOutcome::kFit:
-        ++r.fits;
-        break;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      GeoRelocReport& r = report_;
+      ++r.results;
+      switch (fit.outcome) {
+        case reloc::FitOutcome::kTooLittle:
+          ++r.too_little;
+          break;
+        case reloc::FitOutcome::kNoPlace:
+          ++r.no_place;
+          break;
+        case reloc::FitOutcome::kAmbiguous:
+          ++r.ambiguous;
+          break;
+        case reloc::FitOutcome::kNoHeight:
+          ++r.no_height;
+          break;
+        case reloc::FitOutcome::kUnrefined:
+          ++r.unrefined;
+          break;
+        case reloc::FitOutcome::kFit:
+          ++r.fits;
+          break;
+      }
+      r.disagreements = static_cast<std::uint64_t>(confirm_.disagreements());
+      r.last_outcome = reloc::toString(fit.outcome);
+      r.last_places = fit.places;
+      r.last_candidates = fit.candidates;
+      r.max_places = std::max(r.max_places, fit.places);
+      if (confirmed) ++r.confirmed;
     }
-    r.disagreements = static_cast<std::uint64_t>(confirm_.disagreements());
-    r.last_outcome = reloc::toString(fit.outcome);
-    r.last_places = fit.places;
-    r.last_candidates = fit.candidates;
-    r.max_places = std::max(r.max_places, fit.places);
     if (!confirmed) continue;
-    ++r.confirmed;
+    // Outside the lock: the solve takes a while, and report() must stay quick.
     const loop::LoopUpdate u =
         closer.joinByAlignment(fit.segment, *confirmed, options_.join_keyframes,
                                options_.join_max_distance_m, newest.t - closer.timeShift());
     if (u.solved) {
-      ++r.joined;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++report_.joined;
+      }
       solved = true;
       pending_.clear();  // the part is placed: later attempts are moot
     }
