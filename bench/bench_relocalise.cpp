@@ -2,10 +2,10 @@
 // profile a first run maps the profile's path (variant 0, default duration: at least one lap);
 // its map stays in memory (the same MapData rgbdi-slam saves and --load-map reads). Second runs
 // start in that map on other paths of the same world (variant 1: another start, driven the
-// other way round; variant 2: another start, same direction); a run with other textures (other
-// seed: the same geometry, so geometric relocalisation may place it, correctly) and a run in
-// another world (other furniture: [sim] world_seed, and other textures) that must never
-// relocalise. Printed per second run, as a markdown table:
+// other way round; variant 2: another start, same direction); two runs in other worlds that must
+// never relocalise: another seed's variant 0 (other textures; shorter than a lap, its room is
+// sized to the part of the path it covers and its furniture stands only along that part) and
+// other furniture ([sim] world_seed, and other textures) along the map's path. Printed per second run, as a markdown table:
 //   - "joined at": the keyframe that completed the join (a recognised view, or the keyframe at
 //     which a confirmed geometric fit was taken), s after the start; "by": views or geometry;
 //   - "online from": when the online pose (what a robot has) was first in the map's frame;
@@ -221,7 +221,9 @@ int main(int argc, char** argv) {
     for (int v : a.variants)
       seconds_runs.push_back(
           {"variant " + std::to_string(v), simOptions(profile, v, a.duration, a.fps, a.seed)});
-    seconds_runs.push_back({"other textures (seed " + std::to_string(a.other_seed) + ")",
+    // Variant 0 shorter than a lap is a world of its own: the room is sized to the part of the
+    // path it covers, furniture only along that part (profiles.h).
+    seconds_runs.push_back({"seed " + std::to_string(a.other_seed) + ", variant 0 (own room)",
                             simOptions(profile, 0, a.duration, a.fps, a.other_seed)});
     if (a.other_world_seed != 0) {
       // Other furniture (and textures): the geometry differs too.
