@@ -5,7 +5,8 @@
 // other way round; variant 2: another start, same direction); two runs in other worlds that must
 // never relocalise: another seed's variant 0 (other textures; shorter than a lap, its room is
 // sized to the part of the path it covers and its furniture stands only along that part) and
-// other furniture ([sim] world_seed, and other textures) along the map's path. Printed per second run, as a markdown table:
+// other furniture ([sim] world_seed, and other textures) along the map's path. Printed per second
+// run, as a markdown table:
 //   - "joined at": the keyframe that completed the join (a recognised view, or the keyframe at
 //     which a confirmed geometric fit was taken), s after the start; "by": views or geometry;
 //   - "online from": when the online pose (what a robot has) was first in the map's frame;

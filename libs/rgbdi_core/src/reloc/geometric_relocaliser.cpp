@@ -141,8 +141,14 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   // Ambiguity: other places within the margin of the best place that passed the check.
   const PlanHypothesis& best = r.places.front();
   int near_best = 0;
+  const double anchor_yaw = std::atan2(job.T_anchor.linear()(1, 0), job.T_anchor.linear()(0, 0));
   for (const PlanHypothesis& h : r.places)
-    if (h.score >= (1.0 - options_.search.hypothesis_margin) * best.score) ++near_best;
+    if (h.score >= (1.0 - options_.search.hypothesis_margin) * best.score) {
+      ++near_best;
+      const double yaw = std::remainder(anchor_yaw + h.alignment.yaw, 2.0 * M_PI);
+      f.place_poses.emplace_back(h.alignment.t.x(), h.alignment.t.y(), yaw);
+      f.place_scores.push_back(h.score);
+    }
   f.places = near_best;
   if (near_best > 1 || r.truncated) return finish(FitOutcome::kAmbiguous);
   f.overlap = best.overlap;

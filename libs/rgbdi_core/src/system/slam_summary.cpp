@@ -176,6 +176,15 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
                           {"candidates", f.candidates},
                           {"places", f.places},
                           {"ms", f.ms}};
+      if (!f.place_poses.empty()) {
+        nlohmann::json places = nlohmann::json::array();
+        for (std::size_t i = 0; i < f.place_poses.size(); ++i)
+          places.push_back({{"x", f.place_poses[i].x()},
+                            {"y", f.place_poses[i].y()},
+                            {"yaw", f.place_poses[i].z()},
+                            {"score", f.place_scores[i]}});
+        e["places_in_map"] = places;
+      }
       if (f.outcome == reloc::FitOutcome::kFit || f.outcome == reloc::FitOutcome::kUnrefined) {
         e["overlap"] = f.overlap;
         e["conflict_fraction"] = f.conflict_fraction;

@@ -48,6 +48,10 @@ struct RelocFit {
   int local_obstacles = 0;  ///< [count] occupied cells of the submap's plan
   int candidates = 0;       ///< [count] distinct places near the best score
   int places = 0;           ///< [count] of those, agreeing with the map's free space
+  /// Where each of those places puts the anchor in the map: x, y [m] and yaw [rad] (plan
+  /// resolution, before the refinement), best first; and their scores.
+  std::vector<Eigen::Vector3d> place_poses;
+  std::vector<int> place_scores;
   /// The part's frame -> the map's frame (yaw about z and a translation); set for kFit.
   Eigen::Isometry3d T_map_part = Eigen::Isometry3d::Identity();
   double overlap = 0.0;                       ///< [fraction] of the winner
