@@ -2,9 +2,13 @@
 // profile a first run maps the profile's path (variant 0, default duration: at least one lap);
 // its map stays in memory (the same MapData rgbdi-slam saves and --load-map reads). Second runs
 // start in that map on other paths of the same world (variant 1: another start, driven the
-// other way round; variant 2: another start, same direction) and one run in another world (other
-// seed: other textures) must never relocalise. Printed per second run, as a markdown table:
-//   - "view at": when the recognised view was seen (the joining keyframe), s after the start;
+// other way round; variant 2: another start, same direction); two runs in other worlds that must
+// never relocalise: another seed's variant 0 (other textures; shorter than a lap, its room is
+// sized to the part of the path it covers and its furniture stands only along that part) and
+// other furniture ([sim] world_seed, and other textures) along the map's path. Printed per second
+// run, as a markdown table:
+//   - "joined at": the keyframe that completed the join (a recognised view, or the keyframe at
+//     which a confirmed geometric fit was taken), s after the start; "by": views or geometry;
 //   - "online from": when the online pose (what a robot has) was first in the map's frame;
 //   - ATE in the map's frame: the run's trajectory.tum poses mapped through the FIRST run's
 //     alignment to ground truth only (no alignment of their own), and of its online poses;
@@ -13,7 +17,8 @@
 //   - wall time of the second run (threaded, offline mode, as fast as it goes).
 //
 //   bench_relocalise [--profiles a,b,...] [--fps N] [--duration S] [--variants 1,2]
-//                    [--seed N] [--other-seed N] [--detail]
+//                    [--seed N] [--other-seed N] [--other-world-seed N (0: no such row)]
+//                    [--detail]
 // --detail also lists, per second run, every loop edge to the map (position and yaw error against
 // ground truth) and the map-frame position error of the final and online poses once a second.
 // --duration is the second runs' length (default 10 s); the first run uses the profile's own.
@@ -45,6 +50,8 @@ struct Args {
   std::vector<int> variants = {1, 2};
   double fps = 15.0, duration = 10.0;
   std::uint64_t seed = 1, other_seed = 7;
+  /// [sim] world_seed of the other-furniture world (0: no such row).
+  std::uint64_t other_world_seed = 7;
   bool detail = false;
 };
 
@@ -176,18 +183,23 @@ int main(int argc, char** argv) {
       a.seed = std::stoull(argv[++i]);
     } else if (k == "--other-seed" && has) {
       a.other_seed = std::stoull(argv[++i]);
+    } else if (k == "--other-world-seed" && has) {
+      a.other_world_seed = std::stoull(argv[++i]);
     } else if (k == "--detail") {
       a.detail = true;
     } else {
       std::cerr << "usage: bench_relocalise [--profiles a,b,...] [--fps N] [--duration S] "
-                   "[--variants 1,2] [--seed N] [--other-seed N] [--detail]\n";
+                   "[--variants 1,2] [--seed N] [--other-seed N] [--other-world-seed N] "
+                   "[--detail]\n";
       return 2;
     }
   }
 
-  std::cout << "| profile | second run | view at [s] | online from [s] | joins | ATE map frame "
-               "[cm] | ATE online [cm] | worst join edge [cm] | wall [s] |\n"
-               "|---|---|---|---|---|---|---|---|---|\n";
+  std::cout << "| profile | second run | joined at [s] | by | online from [s] | joins | ATE map "
+               "frame [cm] | ATE online [cm] | worst join edge [cm] | geometric searches (fits / "
+               "ambiguous / disagreeing fits / confirmed / joins refused) | ms per search (mean / "
+               "max) | wall [s] |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& profile : a.profiles) {
     const Session first = runSession(simOptions(profile, 0, 0.0, a.fps, a.seed), nullptr);
     eval::EvalOptions eo;
@@ -197,8 +209,8 @@ int main(int argc, char** argv) {
     const Eigen::Isometry3d T_gt_map = ev.alignment.rigid();
     const auto map = std::make_shared<const map::MapData>(first.sys->mapToSave());
     std::cout << "| " << profile << " | first run (map): " << seconds(first.seq->duration())
-              << " s, " << map->places.size() << " place keyframes | | | | " << cm(ev.ate.rmse)
-              << " | | | " << seconds(first.wall_s) << " |\n";
+              << " s, " << map->places.size() << " place keyframes | | | | | " << cm(ev.ate.rmse)
+              << " | | | | | " << seconds(first.wall_s) << " |\n";
     std::unordered_map<std::uint64_t, double> map_t;  // map keyframe id -> first-run stamp
     for (const loop::LoopKeyframe& k : map->places) map_t[k.id] = k.t;
 
@@ -210,8 +222,17 @@ int main(int argc, char** argv) {
     for (int v : a.variants)
       seconds_runs.push_back(
           {"variant " + std::to_string(v), simOptions(profile, v, a.duration, a.fps, a.seed)});
-    seconds_runs.push_back({"other world (seed " + std::to_string(a.other_seed) + ")",
+    // Variant 0 shorter than a lap is a world of its own: the room is sized to the part of the
+    // path it covers, furniture only along that part (profiles.h).
+    seconds_runs.push_back({"seed " + std::to_string(a.other_seed) + ", variant 0 (own room)",
                             simOptions(profile, 0, a.duration, a.fps, a.other_seed)});
+    if (a.other_world_seed != 0) {
+      // Other furniture (and textures): the geometry differs too.
+      Second w{"other furniture (world_seed " + std::to_string(a.other_world_seed) + ")",
+               simOptions(profile, 0, a.duration, a.fps, a.other_seed)};
+      w.so.scene.world_seed = a.other_world_seed;
+      seconds_runs.push_back(w);
+    }
     for (const Second& r : seconds_runs) {
       const Session s = runSession(r.so, map);
       const double t0 = s.seq->frameStamp(0);
@@ -230,13 +251,36 @@ int main(int argc, char** argv) {
           worst_edge = std::max(worst_edge, e);
         }
       if (a.detail) printDetail(*s.seq, first, *s.sys, map_t, T_gt_map);
+      std::string by = "-";
+      if (lc)
+        for (const loop::JoinRecord& j : lc->joins())
+          if (j.to_segment == 0) {
+            by = j.geometric ? "geometry" : "views";
+            break;
+          }
+      std::string geo = "-", geo_ms = "-";
+      if (const system::GeoRelocStage* g = lc ? s.sys->geoReloc() : nullptr) {
+        const system::GeoRelocReport rep = g->report();
+        const loop::LoopStats& st = lc->stats();
+        geo = std::to_string(rep.results) + " (" + std::to_string(rep.fits) + " / " +
+              std::to_string(rep.ambiguous) + " / " + std::to_string(rep.disagreements) + " / " +
+              std::to_string(rep.confirmed) + " / " +
+              std::to_string(st.geometric_refused_free_space + st.geometric_refused_no_neighbour) +
+              ")";
+        std::ostringstream ms;
+        ms << std::fixed << std::setprecision(0)
+           << (rep.searched > 0 ? rep.ms_total / static_cast<double>(rep.searched) : 0.0) << " / "
+           << rep.ms_max;
+        geo_ms = ms.str();
+      }
       std::cout << "| " << profile << " | " << r.label << " | "
-                << seconds(t_view < 0 ? -1.0 : t_view - t0) << " | "
+                << seconds(t_view < 0 ? -1.0 : t_view - t0) << " | " << by << " | "
                 << seconds(t_online < 0 ? -1.0 : t_online - t0) << " | "
                 << (lc ? lc->joins().size() : 0) << " | "
                 << cm(ateThrough(gt, s.sys->finalTrajectory(), T_gt_map)) << " | "
                 << cm(ateThrough(gt, s.sys->onlineTrajectory(), T_gt_map)) << " | "
-                << cm(worst_edge) << " | " << seconds(s.wall_s) << " |" << std::endl;
+                << cm(worst_edge) << " | " << geo << " | " << geo_ms << " | " << seconds(s.wall_s)
+                << " |" << std::endl;
     }
   }
   return 0;

@@ -268,13 +268,6 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
 
 FreeSpaceTally LoopCloser::joinFreeSpace(const LoopKeyframe& kf, const Eigen::Isometry3d& A,
                                          int target_component) const {
-  std::vector<int> target_segments;
-  for (const SegmentState& s : graph_.segments())
-    if (s.component == target_component) target_segments.push_back(s.segment);
-  const auto in_target = [&](const LoopKeyframe& k) {
-    return std::find(target_segments.begin(), target_segments.end(), k.segment) !=
-           target_segments.end();
-  };
   // The part's latest keyframes, kf first (it is not stored yet), at the poses A gives them.
   std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>> part{{&kf, A * kf.T_world_body}};
   for (auto it = keyframes_.rbegin();
@@ -282,6 +275,19 @@ FreeSpaceTally LoopCloser::joinFreeSpace(const LoopKeyframe& kf, const Eigen::Is
        part.size() < static_cast<std::size_t>(options_.relocalize_check_keyframes);
        ++it)
     if (it->segment == kf.segment) part.emplace_back(&*it, A * graph_.pose(it->id));
+  return neighbourhoodFreeSpace(part, target_component);
+}
+
+FreeSpaceTally LoopCloser::neighbourhoodFreeSpace(
+    const std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>>& part,
+    int target_component) const {
+  std::vector<int> target_segments;
+  for (const SegmentState& s : graph_.segments())
+    if (s.component == target_component) target_segments.push_back(s.segment);
+  const auto in_target = [&](const LoopKeyframe& k) {
+    return std::find(target_segments.begin(), target_segments.end(), k.segment) !=
+           target_segments.end();
+  };
   const double r2 = options_.relocalize_check_radius_m * options_.relocalize_check_radius_m;
   FreeSpaceTally tally;
   for (const LoopKeyframe& t : keyframes_) {
@@ -292,6 +298,85 @@ FreeSpaceTally LoopCloser::joinFreeSpace(const LoopKeyframe& kf, const Eigen::Is
         tally += verifier_.compareFreeSpace(*p, T_p, t, T_t);
   }
   return tally;
+}
+
+LoopUpdate LoopCloser::joinByAlignment(int segment, const Eigen::Isometry3d& T_origin_part,
+                                       int max_keyframes, double max_distance_m, double t_query) {
+  LoopUpdate update;
+  if (connectedToOrigin(segment)) return update;
+  // The part's latest keyframes, newest first, where the alignment puts them.
+  std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>> part;
+  for (auto it = keyframes_.rbegin();
+       it != keyframes_.rend() && part.size() < static_cast<std::size_t>(max_keyframes); ++it)
+    if (it->segment == segment) part.emplace_back(&*it, T_origin_part * graph_.pose(it->id));
+  // Each to the nearest keyframe of the origin's part.
+  std::vector<std::pair<const LoopKeyframe*, std::uint64_t>> edges;  // (part keyframe, map id)
+  for (const auto& [p, T_p] : part) {
+    double best = max_distance_m * max_distance_m;
+    const LoopKeyframe* nearest = nullptr;
+    for (const LoopKeyframe& t : keyframes_) {
+      if (t.segment == segment || !connectedToOrigin(t.segment)) continue;
+      const double d2 = (graph_.pose(t.id).translation() - T_p.translation()).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        nearest = &t;
+      }
+    }
+    if (nearest) edges.emplace_back(p, nearest->id);
+  }
+  if (edges.empty()) {
+    ++stats_.geometric_refused_no_neighbour;
+    return update;
+  }
+  JoinRecord j;
+  j.geometric = true;
+  if (options_.relocalize_check_keyframes > 0) {
+    std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>> checked(
+        part.begin(),
+        part.begin() +
+            static_cast<long>(std::min<std::size_t>(
+                part.size(), static_cast<std::size_t>(options_.relocalize_check_keyframes))));
+    const FreeSpaceTally tally = neighbourhoodFreeSpace(checked, 0);
+    j.check_compared = tally.compared;
+    j.check_conflicts = tally.conflicts;
+    if (tally.compared >= options_.verify.freespace_min_samples &&
+        tally.conflicts > options_.relocalize_check_max_conflict_fraction * tally.compared) {
+      ++stats_.geometric_refused_free_space;
+      return update;
+    }
+  }
+  j.segment = segment;
+  j.to_segment = 0;
+  j.t_query = t_query;
+  j.query_id = part.front().first->id;
+  for (const auto& [p, map_id] : edges) {
+    LoopRecord r;
+    r.constraint.from_id = map_id;
+    r.constraint.to_id = p->id;
+    r.constraint.T_from_to = graph_.pose(map_id).inverse() * T_origin_part * graph_.pose(p->id);
+    r.edge_id =
+        graph_.addLoopEdge(r.constraint.from_id, r.constraint.to_id, r.constraint.T_from_to);
+    r.t_query = p->t - t_shift_;  // the part keyframe's own stamp (run clock)
+    r.geometric = true;
+    loops_.push_back(r);
+    ++update.accepted;
+    ++stats_.accepted;
+    ++j.loop_edges;
+  }
+  // Visual matches pending for this part are superseded by the join.
+  const auto n_before = pending_joins_.size();
+  pending_joins_.erase(
+      std::remove_if(pending_joins_.begin(), pending_joins_.end(),
+                     [&](const PendingJoin& q) { return q.query_segment == segment; }),
+      pending_joins_.end());
+  stats_.join_matches_dropped += n_before - pending_joins_.size();
+  joins_.push_back(j);
+  ++stats_.joins;
+  ++stats_.joins_geometric;
+  correcting_ = true;
+  solve(update);
+  recognizer_.updatePoses(correctedPoses());
+  return update;
 }
 
 LoopUpdate LoopCloser::finish() {

@@ -104,6 +104,8 @@ void ProgressReporter::update(bool force) {
          << p.loops_accepted << " loops";
   }
   if (p.map_state != MapState::kNoMap) line << ", map: " << toString(p.map_state);
+  if (p.map_state == MapState::kNotLocalised && !p.geo_outcome.empty())
+    line << " (geometry: " << p.geo_outcome << ", " << p.geo_places << " places)";
   if (log_lines) {
     os_ << line.str() << "\n" << std::flush;  // a line of its own: nothing to end later
     return;

@@ -136,13 +136,72 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
                        {"keyframe", jr.query_id},
                        {"loop_edges", jr.loop_edges},
                        {"free_space_compared", jr.check_compared},
-                       {"free_space_conflicts", jr.check_conflicts}});
+                       {"free_space_conflicts", jr.check_conflicts},
+                       {"by", jr.geometric ? "geometry" : "views"}});
   j["joins"] = joins;
   if (lc)
     j["join_matches"] = {{"too_few_inliers", lc->stats().join_matches_weak},
                          {"ambiguous_decisions", lc->stats().joins_ambiguous},
                          {"refused_by_free_space", lc->stats().joins_refused_free_space},
                          {"unconfirmed", lc->stats().join_matches_dropped}};
+  if (const GeoRelocStage* g = sys.geoReloc()) {
+    const GeoRelocReport r = g->report();
+    j["geometric"] = {
+        {"attempts", r.attempts},
+        {"results", r.results},
+        {"too_little_structure", r.too_little},
+        {"no_place", r.no_place},
+        {"ambiguous", r.ambiguous},
+        {"no_height", r.no_height},
+        {"not_confirmed_by_icp", r.unrefined},
+        {"fits", r.fits},
+        {"disagreements", r.disagreements},
+        {"confirmed", r.confirmed},
+        {"joined", r.joined},
+        {"refused_by_free_space", lc ? lc->stats().geometric_refused_free_space : 0},
+        {"refused_no_map_keyframe_near", lc ? lc->stats().geometric_refused_no_neighbour : 0},
+        {"last_outcome", r.last_outcome},
+        {"last_places", r.last_places},
+        {"max_places", r.max_places},
+        {"ms_per_attempt_mean",
+         r.searched > 0 ? r.ms_total / static_cast<double>(r.searched) : 0.0},
+        {"ms_per_attempt_max", r.ms_max},
+        {"map_plan_build_ms", r.map_build_ms}};
+    // Every search whose result was taken: when, what it found, where it put the part.
+    nlohmann::json list = nlohmann::json::array();
+    for (const reloc::RelocFit& f : g->taken()) {
+      nlohmann::json e = {{"time_s", have_t ? f.t_query - run.stream_t0 : f.t_query},
+                          {"outcome", reloc::toString(f.outcome)},
+                          {"local_obstacle_cells", f.local_obstacles},
+                          {"candidates", f.candidates},
+                          {"places", f.places},
+                          {"ms", f.ms}};
+      if (!f.place_poses.empty()) {
+        nlohmann::json places = nlohmann::json::array();
+        for (std::size_t i = 0; i < f.place_poses.size(); ++i)
+          places.push_back({{"x", f.place_poses[i].x()},
+                            {"y", f.place_poses[i].y()},
+                            {"yaw", f.place_poses[i].z()},
+                            {"score", f.place_scores[i]}});
+        e["places_in_map"] = places;
+      }
+      if (f.outcome == reloc::FitOutcome::kFit || f.outcome == reloc::FitOutcome::kUnrefined) {
+        e["overlap"] = f.overlap;
+        e["conflict_fraction"] = f.conflict_fraction;
+        e["refine_pairs"] = f.refine_pairs;
+        e["refine_rms_m"] = f.refine_rms_m;
+        e["refine_horizontal_constraint"] = f.refine_horizontal_constraint;
+      }
+      if (f.outcome == reloc::FitOutcome::kFit) {
+        const Eigen::Isometry3d P = f.T_map_part * f.T_anchor;  // the anchor in the map
+        e["T_map_body_xyz_yaw"] = {P.translation().x(), P.translation().y(), P.translation().z(),
+                                   std::atan2(P.linear()(1, 0), P.linear()(0, 0))};
+        e["stamp"] = f.t_query;
+      }
+      list.push_back(e);
+    }
+    j["geometric"]["searches"] = list;
+  }
   j["first_keyframe_id"] = sys.firstKeyframeId();
   j["saved_to"] = run.map_saved_to.empty() ? nlohmann::json() : nlohmann::json(run.map_saved_to);
   j["note"] = run.map_save_note.empty() ? nlohmann::json() : nlohmann::json(run.map_save_note);

@@ -39,6 +39,9 @@ SlamSystem::SlamSystem(const SystemConfig& cfg, const SlamSystemOptions& options
     frame_segment_ = segment_offset_;
     progress_map_state_.store(static_cast<int>(MapState::kNotLocalised));
     mapper_->restore(options.map->keyframes);
+    if (cfg.reloc.enable)
+      geo_reloc_ = std::make_unique<GeoRelocStage>(cfg.reloc, options.map, cfg.extrinsic.T_body_cam,
+                                                   options.threaded, options.live);
   }
   vio_.setFrameCallback(
       [this](const estimator::FrameEstimate& est, const RgbdFrame& f) { onFrame(est, f); });
@@ -108,6 +111,7 @@ void SlamSystem::endOfStream() {
   spare_images_ = {};  // no image comes any more: their buffers are not kept for the end's work
   vio_.endOfStream();  // flushes the window: its keyframes go to loop closing
   loop_stage_->finish();
+  if (geo_reloc_) geo_reloc_->finish();
   if (closer_) closer_->finish();  // solves for loops accepted since the last solve
   computeFinalKeyframePoses();
   // The map follows the final poses (keyframes outside the graph included).
@@ -301,6 +305,7 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
     closer_->mutableStats().features_ms_total +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     solved = closer_->process(std::move(lk)).solved;
+    if (geo_reloc_ && geo_reloc_->afterKeyframe(*closer_, loop_camera_)) solved = true;
     T_world_body = closer_->pose(p.id);
     const loop::LoopStats& ls = closer_->stats();
     progress_loops_.store(ls.accepted + ls.external - ls.rolled_back);
@@ -362,6 +367,13 @@ SlamProgress SlamSystem::progress() const {
   s.loops_accepted = progress_loops_.load();
   s.status = static_cast<estimator::EstimatorStatus>(progress_status_.load());
   s.map_state = mapState();
+  if (geo_reloc_) {
+    const GeoRelocReport r = geo_reloc_->report();
+    if (r.results > 0) {
+      s.geo_outcome = r.last_outcome;
+      s.geo_places = r.last_places;
+    }
+  }
   return s;
 }
 

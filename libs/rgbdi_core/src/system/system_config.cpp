@@ -19,6 +19,7 @@ SystemConfig SystemConfig::load(IniReader& ini) {
   c.output = output::OutputOptions::load(ini);
   c.mapping = mapping::MappingOptions::load(ini);
   c.loop = loop::LoopOptions::load(ini);
+  c.reloc = reloc::RelocOptions::load(ini);
   c.pipeline = PipelineOptions::load(ini);
   // Sections read by other tools.
   ini.acceptSection("sim");

@@ -37,6 +37,7 @@ struct LoopRecord {
   /// between segments and external ones, which always correct)
   double disagreement_sigmas = 0.0;
   bool shows_drift = true;  ///< beyond the correction gate (or between segments, or external)
+  bool geometric = false;   ///< an edge of a geometric join (joinByAlignment), not a verified view
 };
 
 /// One relocalisation: a part joined to another by verified loops.
@@ -50,6 +51,7 @@ struct JoinRecord {
   /// samples compared and conflicting (0 / 0 when the check is off or nothing was in view).
   int check_compared = 0;
   int check_conflicts = 0;
+  bool geometric = false;  ///< made by joinByAlignment (geometric relocalisation)
 };
 
 struct LoopStats {
@@ -72,6 +74,11 @@ struct LoopStats {
   std::uint64_t joins_ambiguous = 0;
   /// Joins refused by the neighbourhood free-space check (their matches were dropped).
   std::uint64_t joins_refused_free_space = 0;
+  std::uint64_t joins_geometric = 0;  ///< joins made by joinByAlignment (in joins)
+  /// joinByAlignment calls refused: by the neighbourhood free-space check, or no map keyframe
+  /// near the part's keyframes.
+  std::uint64_t geometric_refused_free_space = 0;
+  std::uint64_t geometric_refused_no_neighbour = 0;
   double features_ms_total = 0.0;     ///< ORB extraction (done by the caller, added by it)
   double recognition_ms_total = 0.0;  ///< index query + insertion
   double verification_ms_total = 0.0;
@@ -122,6 +129,16 @@ class LoopCloser {
   /// that is not finite and rigid).
   int addExternalLoop(std::uint64_t from_id, std::uint64_t to_id,
                       const Eigen::Isometry3d& T_from_to);
+
+  /// Joins the part of `segment` (not yet related to the origin) to the origin (segment 0: the
+  /// loaded map) by an alignment found elsewhere (geometric relocalisation): T_origin_part maps
+  /// the part's current frame (its keyframes' poses now) into the origin's. Loop edges go from
+  /// the map keyframe nearest to where the alignment puts each of the part's latest
+  /// `max_keyframes` keyframes (within max_distance_m) to that keyframe; the neighbourhood
+  /// free-space check of joins (relocalize_check_*) must pass; then the graph is solved at once.
+  /// `t_query`: [s] run clock, for the JoinRecord. Returns the update (solved when joined).
+  LoopUpdate joinByAlignment(int segment, const Eigen::Isometry3d& T_origin_part, int max_keyframes,
+                             double max_distance_m, double t_query);
 
   /// Correction of `segment` (T_corrected * T_odom^-1); identity for a segment not seen yet.
   Eigen::Isometry3d drift(int segment) const;
@@ -186,6 +203,10 @@ class LoopCloser {
   /// them (LoopOptions::relocalize_check_*).
   FreeSpaceTally joinFreeSpace(const LoopKeyframe& kf, const Eigen::Isometry3d& A,
                                int target_component) const;
+  /// The same for part keyframes already placed where the join puts them.
+  FreeSpaceTally neighbourhoodFreeSpace(
+      const std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>>& part,
+      int target_component) const;
 };
 
 }  // namespace rgbdi::loop

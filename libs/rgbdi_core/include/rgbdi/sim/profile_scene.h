@@ -33,9 +33,16 @@ struct ProfileSceneOptions {
   double furniture_lateral_max_m = 0.7;
   /// (0, 1] scales every texture's deviation from its mean colour (low = faint texture).
   double texture_contrast = 1.0;
+  /// Two identical rooms (wheeled_circle only): a wall through the room's centre and the
+  /// path's start splits it in two, with a door where the circle crosses it; the furniture of
+  /// the first half lap is repeated turned by 180 deg about the centre with the same textures,
+  /// so each half is the other's twin (geometric relocalisation must see two places, not
+  /// guess one). Room walls and the partition's two faces keep their own textures.
+  bool twin_rooms = false;
 
   /// Reads [sim] aliased_walls, world_seed, room_margin_m, furniture_density,
-  /// furniture_lateral_max_m, texture_contrast (ConfigError naming the key when out of range).
+  /// furniture_lateral_max_m, texture_contrast, twin_rooms (ConfigError naming the key when out of
+  /// range).
   static ProfileSceneOptions load(IniReader& ini);
   /// Throws std::invalid_argument when a value is out of the ranges load() accepts.
   void validate() const;
@@ -43,7 +50,8 @@ struct ProfileSceneOptions {
 
 /// Builds (and build()s) the scene of a profile. With the default options the geometry is the
 /// same for every seed (the seed drives the textures only); world_seed and the other options
-/// change the furniture and the room.
+/// change the furniture and the room. Throws std::invalid_argument for twin_rooms with a profile
+/// other than wheeled_circle.
 Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
                         const ProfileSceneOptions& options = {});
 

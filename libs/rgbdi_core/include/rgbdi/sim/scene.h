@@ -83,6 +83,12 @@ class Scene {
                                        const Eigen::Vector3d& max_corner,
                                        const RoomStyles& styles = {}, double wall_thickness = 0.2);
 
+  /// Adds a copy of every primitive from index `first` on, turned by 180 deg about the vertical
+  /// through centre_xy, with the same materials: seen from the turned viewpoint the copy looks
+  /// exactly like the original (twin rooms). Boxes and cylinders only: throws
+  /// std::invalid_argument for a prism.
+  void addHalfTurnCopies(std::uint32_t first, const Eigen::Vector2d& centre_xy);
+
   /// Builds the BVH and the textures of all materials. Must be called after the last add* and
   /// before raycast(); adding afterwards requires another build().
   void build();

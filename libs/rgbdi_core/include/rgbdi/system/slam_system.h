@@ -28,6 +28,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "rgbdi/common/measurement_sink.h"
@@ -38,6 +39,7 @@
 #include "rgbdi/loop/loop_features.h"
 #include "rgbdi/map/map_data.h"
 #include "rgbdi/mapping/mapper.h"
+#include "rgbdi/system/geo_reloc_stage.h"
 #include "rgbdi/system/keyframe_packet.h"
 #include "rgbdi/system/system_config.h"
 #include "rgbdi/system/vio_system.h"
@@ -86,6 +88,10 @@ struct SlamProgress {
   std::size_t loops_accepted = 0;
   estimator::EstimatorStatus status = estimator::EstimatorStatus::kInitializing;
   MapState map_state = MapState::kNoMap;
+  /// Geometric relocalisation while not localised: the latest search's outcome ("ambiguous",
+  /// "fit", ...; empty: none yet or no such search) and how many distinct places it saw.
+  std::string geo_outcome;
+  int geo_places = 0;
 };
 
 class SlamSystem : public MeasurementSink {
@@ -135,6 +141,9 @@ class SlamSystem : public MeasurementSink {
   /// robot running this had its pose in the map (the match above plus the time to find and
   /// confirm it); < 0 when none.
   double firstOnlinePoseInMapTime() const;
+  /// Geometric relocalisation's account (nullptr without a map or with [relocalise] geometric
+  /// off); report() is safe from any thread.
+  const GeoRelocStage* geoReloc() const { return geo_reloc_.get(); }
   /// Frame segment -> joined to the origin (the loaded map, or the run's first segment).
   bool segmentInOrigin(int segment) const;
   /// The map this run leaves (after endOfStream): the loaded map (if any) plus the run's
@@ -239,6 +248,8 @@ class SlamSystem : public MeasurementSink {
   std::uint64_t id_offset_ = 0;  ///< keyframe id = id_offset_ + slot
   int segment_offset_ = 0;       ///< frame/keyframe segment = estimator segment + this
 
+  /// With a map: geometric relocalisation (its worker thread is fed by the loop stage).
+  std::unique_ptr<GeoRelocStage> geo_reloc_;
   // Declared last: destroyed (threads joined) before the state above.
   std::unique_ptr<StageWorker<MapPacket>> map_stage_;
   std::unique_ptr<StageWorker<KeyframePacket>> loop_stage_;

@@ -11,6 +11,7 @@
 #include "rgbdi/loop/loop_options.h"
 #include "rgbdi/mapping/mapping_options.h"
 #include "rgbdi/output/output_options.h"
+#include "rgbdi/reloc/reloc_options.h"
 #include "rgbdi/system/pipeline_options.h"
 
 namespace rgbdi::system {
@@ -26,6 +27,7 @@ struct SystemConfig {
   output::OutputOptions output;
   mapping::MappingOptions mapping;
   loop::LoopOptions loop;
+  reloc::RelocOptions reloc;  ///< [relocalise]
   PipelineOptions pipeline;
 
   /// Loads and validates `path` (empty = built-in defaults). Throws ConfigError naming file,

@@ -1,7 +1,11 @@
 #include "rgbdi/sim/profile_scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/motion/counter_gaussian.h"
@@ -72,7 +76,15 @@ class Furnisher {
     }
     for (const Item& it : items_)
       if ((it.center - c).norm() < it.radius + r + 0.15) return false;
+    // Twin rooms: the whole footprint on the first room's side of the partition.
+    if (keep_side_ && keep_side_normal_.dot(c - keep_side_point_) < r + 0.15) return false;
     return true;
+  }
+  /// Only footprints entirely on the side of the line through `point` that `normal` points to.
+  void keepSide(const Eigen::Vector2d& point, const Eigen::Vector2d& normal) {
+    keep_side_ = true;
+    keep_side_point_ = point;
+    keep_side_normal_ = normal;
   }
 
   /// Tries to put one object beside path point i on the given side (+1 left, -1 right);
@@ -151,7 +163,32 @@ class Furnisher {
   double lateral_max_m_;
   Scene& scene_;
   std::vector<Item> items_;
+  bool keep_side_ = false;
+  Eigen::Vector2d keep_side_point_ = Eigen::Vector2d::Zero(),
+                  keep_side_normal_ = Eigen::Vector2d::Zero();
 };
+
+/// The partition of twin rooms: a floor-to-ceiling wall through `centre` along `dir` across the
+/// room, with a door of `door_m` centred at distance `door_at_m` on either side of the centre.
+void addPartition(Scene& scene, const ProfileLayout& l, const Eigen::Vector2d& centre,
+                  const Eigen::Vector2d& dir, double door_at_m, double door_m) {
+  // Distance from the centre to the room's wall along +dir (the room is centred on it).
+  double reach = 1e9;
+  for (int k = 0; k < 2; ++k)
+    if (std::abs(dir[k]) > 1e-9)
+      reach = std::min(reach, (dir[k] > 0 ? l.room_max[k] - centre[k] : centre[k] - l.room_min[k]) /
+                                  std::abs(dir[k]));
+  const double yaw = std::atan2(dir.y(), dir.x());
+  const double thickness = 0.1, floor = l.room_min.z(), height = l.room_max.z() - l.room_min.z();
+  const double a = door_at_m - 0.5 * door_m, b = door_at_m + 0.5 * door_m;
+  // Along dir: [-reach, -b], [-a, a], [b, reach].
+  const std::array<std::pair<double, double>, 3> spans{{{-reach, -b}, {-a, a}, {b, reach}}};
+  for (const auto& [s0, s1] : spans) {
+    if (s1 <= s0) continue;
+    const Eigen::Vector2d c = centre + 0.5 * (s0 + s1) * dir;
+    scene.addStep(c, {s1 - s0, thickness}, yaw, floor, height, TextureStyle::Posters);
+  }
+}
 
 }  // namespace
 
@@ -179,7 +216,23 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
   // Furniture every ~0.8 m of path on both sides (a few draws each; rejected where it would
   // block the corridor, a ramp or another object). One lap suffices: later laps retrace the
   // same ground.
+  const bool twin = options.twin_rooms;
+  if (twin && profile.kind != ProfileKind::WheeledCircle)
+    throw std::invalid_argument(
+        "[sim] twin_rooms needs the wheeled_circle profile (its path is "
+        "symmetric about the room's centre), not " +
+        toString(profile.kind));
+  const Eigen::Vector2d centre = 0.5 * (l.room_min + l.room_max).head<2>();
+  Eigen::Vector2d split_dir = Eigen::Vector2d::UnitX();
+  if (twin) {
+    split_dir = (l.path_xy.front() - centre).normalized();
+    const double r = (l.path_xy.front() - centre).norm();
+    addPartition(scene, l, centre, split_dir, r, 2.0 * l.path_clearance_m + 0.4);
+  }
+  const std::uint32_t first_furniture = static_cast<std::uint32_t>(scene.primitiveCount());
   Furnisher furnisher(l, options.furniture_lateral_max_m, scene);
+  // Twin rooms: furniture on one side of the partition only (the other side gets its copy).
+  if (twin) furnisher.keepSide(centre, Eigen::Vector2d(-split_dir.y(), split_dir.x()));
   const std::uint64_t layout_seed = layoutSeed(options.world_seed);
   LayoutRandom rnd(layout_seed, static_cast<std::uint64_t>(profile.kind) + 1);
   const CounterRng slot_rng(layout_seed, kSlotStream);
@@ -199,6 +252,7 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
       for (int attempt = 0; attempt < 3; ++attempt)
         if (furnisher.tryPlace(i, side, handheld, rnd)) break;
     }
+  if (twin) scene.addHalfTurnCopies(first_furniture, centre);
   scene.build();
   return scene;
 }

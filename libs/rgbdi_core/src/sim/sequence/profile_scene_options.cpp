@@ -24,6 +24,7 @@ ProfileSceneOptions ProfileSceneOptions::load(IniReader& ini) {
   o.furniture_lateral_max_m = ini.getDouble(s, "furniture_lateral_max_m", o.furniture_lateral_max_m,
                                             kMinFurnitureLateralM, kMaxFurnitureLateralM);
   o.texture_contrast = ini.getDouble(s, "texture_contrast", o.texture_contrast, 0.0, 1.0);
+  o.twin_rooms = ini.getBool(s, "twin_rooms", o.twin_rooms);
   if (!(o.texture_contrast > 0.0))
     ini.fail(s, "texture_contrast", "must be greater than 0 (at most 1)");
   return o;

@@ -231,6 +231,8 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
   iniLine(os, "start_time_s", iniNumber(o.start_time_s), "[s]");
   iniLine(os, "aliased_walls", o.scene.aliased_walls ? "true" : "false",
           "[bool] the +x wall repeats the -x wall (perceptual aliasing)");
+  if (o.scene.twin_rooms)  // written only when set: other sequences' files stay as they were
+    iniLine(os, "twin_rooms", "true", "[bool] two identical rooms (wheeled_circle)");
   iniLine(os, "blackout_start_s", iniNumber(o.blackout_start_s), "[s] since the start");
   iniLine(os, "blackout_duration_s", iniNumber(o.blackout_duration_s),
           "[s] frames impaired as blackout_kind says (0 = none)");

@@ -75,6 +75,32 @@ std::uint32_t Scene::addPrism(const Eigen::Isometry3d& T_world_prism,
   return addRef(Kind::Prism, prisms_.size() - 1);
 }
 
+void Scene::addHalfTurnCopies(std::uint32_t first, const Eigen::Vector2d& centre_xy) {
+  Eigen::Isometry3d H = Eigen::Isometry3d::Identity();
+  H.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  H.translation() = Eigen::Vector3d(2.0 * centre_xy.x(), 2.0 * centre_xy.y(), 0.0);
+  const std::size_t n = refs_.size();
+  for (std::size_t i = first; i < n; ++i) {
+    const Ref r = refs_[i];
+    if (r.kind == Kind::Box) {
+      const Box b = boxes_[r.index];
+      std::array<MaterialId, Box::kFaces> m{};
+      for (int f = 0; f < Box::kFaces; ++f) m[static_cast<std::size_t>(f)] = b.material(f);
+      addBox(H * b.T_world_box(), b.halfExtents(), m);
+    } else if (r.kind == Kind::Cylinder) {
+      const Cylinder c = cylinders_[r.index];
+      std::array<MaterialId, Cylinder::kFaces> m{};
+      for (int f = 0; f < Cylinder::kFaces; ++f) m[static_cast<std::size_t>(f)] = c.material(f);
+      cylinders_.emplace_back(Eigen::Vector2d(2.0 * centre_xy - c.centerXY()), c.radius(), c.zMin(),
+                              c.zMax(), m);
+      addRef(Kind::Cylinder, cylinders_.size() - 1);
+    } else {
+      throw std::invalid_argument("Scene::addHalfTurnCopies: primitive " + std::to_string(i) +
+                                  " is a prism (only boxes and cylinders are copied)");
+    }
+  }
+}
+
 namespace {
 
 // Frame whose x axis runs horizontally from `from` to `to`, z up, origin at `from` on base_z.

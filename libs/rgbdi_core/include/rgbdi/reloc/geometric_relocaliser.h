@@ -1,0 +1,98 @@
+// Geometric relocalisation in a saved map: the part's latest depth (a local submap in its
+// odometry frame, gravity aligned) is searched for globally in the map's plan (ScanSearch over
+// x, y, yaw), the height offset follows from the floor both saw, and the fit is refined by
+// 4-DOF ICP on the 3-D samples. One fit is one attempt; FitConfirmation decides when fits are
+// trusted. Immutable after construction: fit() may run on its own thread.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "rgbdi/reloc/plan_grid.h"
+#include "rgbdi/reloc/point_index.h"
+#include "rgbdi/reloc/reloc_options.h"
+#include "rgbdi/reloc/scan_search.h"
+
+namespace rgbdi::reloc {
+
+/// One attempt: the part's latest depth samples (its current frame) and where it is.
+struct RelocJob {
+  std::uint64_t number = 0;                                    ///< 1, 2, ... in submission order
+  int segment = 0;                                             ///< odometry segment of the part
+  std::uint64_t anchor_id = 0;                                 ///< newest keyframe of the submap
+  Eigen::Isometry3d T_anchor = Eigen::Isometry3d::Identity();  ///< its pose (part frame)
+  double travelled_m = 0.0;          ///< [m] odometry path length at the anchor
+  double t_query = 0.0;              ///< [s] stamp of the anchor (run clock)
+  std::vector<DepthSample> samples;  ///< part frame
+};
+
+enum class FitOutcome {
+  kTooLittle,  ///< the submap has too few obstacle cells to search
+  kNoPlace,    ///< no alignment reaches the overlap, or all conflict with the map's free space
+  kAmbiguous,  ///< more than one distinct place fits equally well
+  kNoHeight,   ///< the place fits, but the height offset could not be found
+  kUnrefined,  ///< the ICP refinement found too few pairs or ended too far from the map
+  kFit,        ///< one place
+};
+const char* toString(FitOutcome o);
+
+struct RelocFit {
+  std::uint64_t job = 0;
+  int segment = 0;
+  std::uint64_t anchor_id = 0;
+  Eigen::Isometry3d T_anchor = Eigen::Isometry3d::Identity();
+  double travelled_m = 0.0;
+  double t_query = 0.0;
+  FitOutcome outcome = FitOutcome::kTooLittle;
+  int local_obstacles = 0;  ///< [count] occupied cells of the submap's plan
+  int candidates = 0;       ///< [count] distinct places near the best score
+  int places = 0;           ///< [count] of those, agreeing with the map's free space
+  /// Where each of those places puts the anchor in the map: x, y [m] and yaw [rad] (plan
+  /// resolution, before the refinement), best first; and their scores.
+  std::vector<Eigen::Vector3d> place_poses;
+  std::vector<int> place_scores;
+  /// The part's frame -> the map's frame (yaw about z and a translation); set for kFit.
+  Eigen::Isometry3d T_map_part = Eigen::Isometry3d::Identity();
+  double overlap = 0.0;                       ///< [fraction] of the winner
+  double conflict_fraction = 0.0;             ///< [fraction] of the winner
+  int refine_pairs = 0;                       ///< [count] ICP correspondences at the end
+  double refine_rms_m = 0.0;                  ///< [m] their RMS distance
+  double refine_horizontal_constraint = 0.0;  ///< see GeometricRelocaliser::Refinement
+  double ms = 0.0;                            ///< [ms] wall time of the attempt
+};
+
+class GeometricRelocaliser {
+ public:
+  /// The map's depth samples (map frame).
+  GeometricRelocaliser(const std::vector<DepthSample>& map_samples, const RelocOptions& options);
+  RelocFit fit(const RelocJob& job) const;
+  const ScanSearch& search() const { return search_; }
+  const PointIndex& mapPoints() const { return points_; }
+
+  /// Result of refine().
+  struct Refinement {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    int pairs = 0;       ///< [count] correspondences of the last step
+    double rms_m = 0.0;  ///< [m] their RMS point-to-plane distance
+    /// [fraction] how well the pairs pin the horizontal position: the smaller eigenvalue of
+    /// sum n_xy n_xy^T / its trace over the pairs' map normals (0: free to slide along a wall,
+    /// 0.5: walls facing two perpendicular directions equally).
+    double horizontal_constraint = 0.0;
+  };
+  /// 4-DOF point-to-plane ICP of `local` onto `map` from T (yaw about z, translation):
+  /// nearest neighbours within max_distance_m, at most `iterations` Gauss-Newton steps.
+  static Refinement refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
+                           const Eigen::Isometry3d& T, double max_distance_m, int iterations);
+  /// Median of map floor height - local floor height over cells both saw as floor, with the
+  /// local plan placed by `a`; false with fewer than min_cells such cells.
+  static bool floorOffset(const PlanGrid& map, const PlanGrid& local, const PlanAlignment& a,
+                          int min_cells, double* dz);
+
+ private:
+  RelocOptions options_;
+  ScanSearch search_;
+  PointIndex points_;
+};
+
+}  // namespace rgbdi::reloc

@@ -1,0 +1,38 @@
+// Depth samples thinned to one point per voxel (the mean of the samples in it) with a hash of
+// cells for nearest-neighbour queries within a radius: the 3-D side of geometric
+// relocalisation (ICP refinement of a plan fit).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace rgbdi::reloc {
+
+class PointIndex {
+ public:
+  PointIndex() = default;
+  /// `voxel_m`: thinning; `cell_m`: the hash cell (queries look in the 27 cells around a point,
+  /// so a query radius up to cell_m is exact).
+  PointIndex(const std::vector<Eigen::Vector3d>& points, double voxel_m, double cell_m);
+  const std::vector<Eigen::Vector3d>& points() const { return points_; }
+  /// Unit surface normal of each point from its neighbours within cell_m (principal axis of
+  /// least spread); zero where fewer than 5 neighbours or no clear surface.
+  const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
+  /// Index of the nearest thinned point within max_distance_m (<= cell_m) of p; -1 when none.
+  long nearest(const Eigen::Vector3d& p, double max_distance_m) const;
+  /// The points thinned to one mean per voxel (deterministic order: first seen first).
+  static std::vector<Eigen::Vector3d> thin(const std::vector<Eigen::Vector3d>& points,
+                                           double voxel_m);
+
+ private:
+  static std::int64_t key(const Eigen::Vector3i& c);
+  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const;
+  double cell_m_ = 0.1;
+  std::vector<Eigen::Vector3d> points_, normals_;
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells_;
+};
+
+}  // namespace rgbdi::reloc

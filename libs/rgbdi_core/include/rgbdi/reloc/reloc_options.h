@@ -1,0 +1,85 @@
+// Options of geometric relocalisation in a saved map: the [relocalise] section (doc/maps.md
+// "Geometric relocalisation" lists every key with its unit).
+#pragma once
+
+#include "rgbdi/common/ini_reader.h"
+
+namespace rgbdi::reloc {
+
+/// How depth becomes a 2-D gravity-aligned plan of the world (PlanGrid).
+struct PlanGridOptions {
+  double resolution_m = 0.05;  ///< [m] cell side
+  /// Height band, relative to the observing camera's height, whose surfaces are obstacles of
+  /// the plan (walls, furniture); below it is floor, above it ceiling. Relative to the camera
+  /// because a robot's camera stays at one height above its floor (ramps included).
+  double band_min_m = -0.2;  ///< [m]
+  double band_max_m = 0.5;   ///< [m]
+  double max_range_m = 4.0;  ///< [m] depth samples farther along the ray are not used
+  /// [count] a cell is occupied when at least this many surface samples fell in it and they
+  /// outnumber the rays that passed through it.
+  int min_hits = 1;
+};
+
+/// The correlative search of a local plan in the map's plan (ScanSearch).
+struct ScanSearchOptions {
+  double yaw_step_deg = 1.0;  ///< [deg] rotations tried: 360 / step
+  /// [count] levels of the branch-and-bound pyramid above the full resolution (a top-level
+  /// node covers 2^levels cells per side).
+  int pyramid_levels = 6;
+  /// Hypotheses whose score is within this fraction of the best one are kept: more than one
+  /// distinct place among them is an ambiguity.
+  double hypothesis_margin = 0.1;  ///< [fraction]
+  /// Two hypotheses are distinct places when their alignments put the local plan's centre this
+  /// far apart, or turn it by this much.
+  double place_separation_m = 0.5;     ///< [m]
+  double place_separation_deg = 20.0;  ///< [deg]
+  /// [fraction] of the local occupied cells that must land on the map's occupied cells (or next
+  /// to them: half credit) for a hypothesis to count.
+  double min_overlap_fraction = 0.3;
+  /// [fraction] of the compared cells whose free space conflicts (local obstacles in the map's
+  /// free space, local free space on the map's obstacles) above which a hypothesis is refused.
+  double max_conflict_fraction = 0.05;
+  int max_hypotheses = 16;  ///< [count] distinct places kept (reported) at most
+};
+
+struct RelocOptions {
+  bool enable = true;  ///< runs with --load-map search the map geometrically too
+  PlanGridOptions grid;
+  ScanSearchOptions search;
+  /// [m] path length of the part's latest keyframes that make the local plan.
+  double submap_path_m = 3.0;
+  /// [count] occupied cells the local plan needs before it is searched.
+  int submap_min_occupied_cells = 100;
+  double attempt_interval_m = 0.25;  ///< [m] path between two searches of one part
+  /// [count] the result of a search started at loop keyframe k is taken at keyframe k + this
+  /// (offline: a defined point, so threaded and sequential runs agree; live: when ready).
+  int result_lag_keyframes = 3;
+  /// A fit is only used once confirm_fits fits (the last started at least confirm_distance_m
+  /// of path after the first) put the part at the same place within these bounds.
+  int confirm_fits = 3;                       ///< [count] (2 = one confirmation)
+  double confirm_distance_m = 0.75;           ///< [m]
+  double confirm_max_disagreement_m = 0.10;   ///< [m]
+  double confirm_max_disagreement_deg = 2.0;  ///< [deg]
+  /// ICP refinement of a hypothesis on the 3-D depth samples (nearest neighbours within this
+  /// distance, these many iterations).
+  double refine_max_distance_m = 0.15;  ///< [m]
+  int refine_iterations = 15;           ///< [count] 0 = off
+  /// After the refinement at least this fraction of the local samples (thinned) must have a map
+  /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
+  double refine_min_pair_fraction = 0.5;  ///< [fraction]
+  double refine_max_rms_m = 0.06;         ///< [m]
+  /// ... and the pairs' normals must pin both horizontal directions: the smaller eigenvalue of
+  /// sum n_xy n_xy^T / trace at least this (0 .. 0.5; a lone wall lets the fit slide along it).
+  double refine_min_horizontal_constraint = 0.05;  ///< [fraction]
+  /// [count] cells of floor seen in both plans needed to find the height offset.
+  int min_floor_cells = 20;
+  /// The join: loop edges from the part's latest keyframes (at most this many) to the map
+  /// keyframe nearest each (within join_max_distance_m of where the fit puts it).
+  int join_keyframes = 6;            ///< [count]
+  double join_max_distance_m = 1.5;  ///< [m]
+
+  /// Reads and validates every [relocalise] key (ConfigError names file, key and range).
+  static RelocOptions load(IniReader& ini);
+};
+
+}  // namespace rgbdi::reloc

@@ -1,0 +1,96 @@
+#include "rgbdi/reloc/point_index.h"
+
+#include <cmath>
+
+namespace rgbdi::reloc {
+
+std::int64_t PointIndex::key(const Eigen::Vector3i& c) {
+  // 21 bits per axis: +-1 million cells.
+  const auto u = [](int v) { return static_cast<std::int64_t>(v + (1 << 20)) & ((1 << 21) - 1); };
+  return (u(c.x()) << 42) | (u(c.y()) << 21) | u(c.z());
+}
+
+Eigen::Vector3i PointIndex::cellOf(const Eigen::Vector3d& p) const {
+  return {static_cast<int>(std::floor(p.x() / cell_m_)),
+          static_cast<int>(std::floor(p.y() / cell_m_)),
+          static_cast<int>(std::floor(p.z() / cell_m_))};
+}
+
+std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>& points,
+                                              double voxel_m) {
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> n;
+  for (const Eigen::Vector3d& p : points) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3i c(static_cast<int>(std::floor(p.x() / voxel_m)),
+                            static_cast<int>(std::floor(p.y() / voxel_m)),
+                            static_cast<int>(std::floor(p.z() / voxel_m)));
+    const auto [it, added] = slot.emplace(key(c), sum.size());
+    if (added) {
+      sum.push_back(p);
+      n.push_back(1);
+    } else {
+      sum[it->second] += p;
+      ++n[it->second];
+    }
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i) sum[i] /= n[i];
+  return sum;
+}
+
+PointIndex::PointIndex(const std::vector<Eigen::Vector3d>& points, double voxel_m, double cell_m)
+    : cell_m_(cell_m), points_(thin(points, voxel_m)) {
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    cells_[key(cellOf(points_[i]))].push_back(static_cast<std::uint32_t>(i));
+  normals_.assign(points_.size(), Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Vector3d& p = points_[i];
+    const Eigen::Vector3i c = cellOf(p);
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    int n = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == cells_.end()) continue;
+          for (std::uint32_t j : it->second) {
+            const Eigen::Vector3d q = points_[j] - p;
+            if (q.squaredNorm() > cell_m_ * cell_m_) continue;
+            mean += q;
+            second += q * q.transpose();
+            ++n;
+          }
+        }
+    if (n < 5) continue;
+    mean /= n;
+    const Eigen::Matrix3d cov = second / n - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+    // A surface: the least spread well below the middle one (not a line, not a blob).
+    if (es.eigenvalues()(0) > 0.3 * es.eigenvalues()(1)) continue;
+    normals_[i] = es.eigenvectors().col(0).normalized();
+  }
+}
+
+long PointIndex::nearest(const Eigen::Vector3d& p, double max_distance_m) const {
+  const Eigen::Vector3i c = cellOf(p);
+  double best = max_distance_m * max_distance_m;
+  long found = -1;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+        if (it == cells_.end()) continue;
+        for (std::uint32_t i : it->second) {
+          const double d2 = (points_[i] - p).squaredNorm();
+          if (d2 < best || (d2 == best && found < 0)) {
+            best = d2;
+            found = static_cast<long>(i);
+          }
+        }
+      }
+  return found;
+}
+
+}  // namespace rgbdi::reloc

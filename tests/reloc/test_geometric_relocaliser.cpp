@@ -1,0 +1,131 @@
+// GeometricRelocaliser: the height offset from the floor, the ICP refinement (analytic known
+// answers) and whole fits of a moved room (x, y, z, yaw recovered; twin rooms ambiguous).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "reloc_test_worlds.h"
+#include "rgbdi/reloc/geometric_relocaliser.h"
+
+using namespace rgbdi::reloc;
+using namespace rgbdi::reloc::test;
+
+namespace {
+RelocOptions options() {
+  RelocOptions o;
+  o.grid.max_range_m = 10.0;
+  o.search.yaw_step_deg = 5.0;
+  o.search.pyramid_levels = 5;
+  o.submap_min_occupied_cells = 50;
+  o.min_floor_cells = 10;
+  return o;
+}
+Eigen::Isometry3d yawPose(double yaw, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+RelocJob jobOf(const std::vector<DepthSample>& samples) {
+  RelocJob j;
+  j.number = 1;
+  j.segment = 1;
+  j.anchor_id = 7;
+  j.T_anchor.translation() = samples.front().origin;
+  j.samples = samples;
+  return j;
+}
+}  // namespace
+
+TEST(GeometricRelocaliser, FloorOffsetIsTheMedianHeightDifference) {
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  std::vector<DepthSample> map_s, local_s;
+  addFloor(0, 0, 20, 20, 0.0, cam, &map_s);
+  addFloor(0, 0, 20, 20, -0.4, cam + Eigen::Vector3d(0, 0, -0.4), &local_s);
+  PlanGridOptions g;
+  g.max_range_m = 10.0;
+  const PlanGrid map = PlanGrid::build(map_s, g), local = PlanGrid::build(local_s, g);
+  PlanAlignment a;  // identity: pivot = t
+  double dz = 0.0;
+  ASSERT_TRUE(GeometricRelocaliser::floorOffset(map, local, a, 10, &dz));
+  EXPECT_NEAR(dz, 0.4, 1e-12);
+  EXPECT_FALSE(GeometricRelocaliser::floorOffset(map, local, a, 1000, &dz));  // too few cells
+}
+
+TEST(GeometricRelocaliser, RefineRecoversASmallYawAndShift) {
+  // Points on three walls and a floor patch (structure in x, y and z); the local copy is moved
+  // by 2 deg and (4, -3, 2) cm, point-to-plane ICP from identity must undo it.
+  std::vector<Eigen::Vector3d> map_points;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 10; ++k) {
+      map_points.emplace_back(0.013 * i, 0.0, 0.05 * k);
+      map_points.emplace_back(0.0, 0.017 * i, 0.05 * k);
+      map_points.emplace_back(0.8, 0.011 * i, 0.05 * k);
+    }
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) map_points.emplace_back(0.025 * i, 0.021 * j, 0.0);
+  const Eigen::Isometry3d motion = yawPose(2.0 * M_PI / 180.0, Eigen::Vector3d(0.04, -0.03, 0.02));
+  std::vector<Eigen::Vector3d> local;
+  for (const Eigen::Vector3d& p : map_points) local.push_back(motion.inverse() * p);
+  const PointIndex index(map_points, 1e-4, 0.15);  // no thinning: exact correspondences exist
+  const GeometricRelocaliser::Refinement r =
+      GeometricRelocaliser::refine(local, index, Eigen::Isometry3d::Identity(), 0.15, 50);
+  EXPECT_NEAR((r.T.translation() - motion.translation()).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(Eigen::AngleAxisd(r.T.linear().transpose() * motion.linear()).angle(), 0.0, 1e-6);
+  EXPECT_GT(r.pairs, static_cast<int>(0.8 * local.size()));  // points with a surface normal
+  EXPECT_LT(r.rms_m, 1e-6);
+  EXPECT_GT(r.horizontal_constraint, 0.1);  // walls facing x and y
+}
+
+TEST(GeometricRelocaliser, ALoneWallDoesNotPinTheHorizontalPosition) {
+  // One wall (normal along y) and a floor: nothing holds the fit along x.
+  std::vector<Eigen::Vector3d> map_points;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 10; ++k) map_points.emplace_back(0.013 * i, 0.0, 0.05 * k);
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 10; ++j) map_points.emplace_back(0.025 * i, 0.021 * j + 0.05, 0.0);
+  const PointIndex index(map_points, 1e-4, 0.15);
+  const GeometricRelocaliser::Refinement r =
+      GeometricRelocaliser::refine(map_points, index, Eigen::Isometry3d::Identity(), 0.15, 5);
+  EXPECT_LT(r.rms_m, 1e-9);
+  EXPECT_LT(r.horizontal_constraint, 1e-3);  // every normal is along y or z
+  RelocOptions o;
+  EXPECT_LT(r.horizontal_constraint, o.refine_min_horizontal_constraint);
+}
+
+TEST(GeometricRelocaliser, FitsAMovedRoomInXYZAndYaw) {
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  const std::vector<DepthSample> world = asymmetricRoom(cam);
+  const GeometricRelocaliser reloc(world, options());
+  // The part's frame: the room turned by 90 deg, moved by whole cells and 0.25 m down.
+  const Eigen::Isometry3d T_part_map =
+      yawPose(M_PI / 2, Eigen::Vector3d(-7 * kCell, 12 * kCell, -0.25));
+  const RelocFit f = reloc.fit(jobOf(moved(world, M_PI / 2, T_part_map.translation())));
+  ASSERT_EQ(f.outcome, FitOutcome::kFit) << toString(f.outcome);
+  const Eigen::Isometry3d expected = T_part_map.inverse();
+  EXPECT_NEAR((f.T_map_part.translation() - expected.translation()).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(Eigen::AngleAxisd(f.T_map_part.linear().transpose() * expected.linear()).angle(), 0.0,
+              1e-6);
+  EXPECT_EQ(f.places, 1);
+  EXPECT_DOUBLE_EQ(f.overlap, 1.0);
+  EXPECT_GT(f.refine_pairs, 100);
+}
+
+TEST(GeometricRelocaliser, TwinRoomsAreAmbiguous) {
+  const Eigen::Vector3d cam_a(at(30), at(20), kCamZ), cam_b(at(110), at(20), kCamZ);
+  std::vector<DepthSample> world = asymmetricRoom(cam_a);
+  const std::vector<DepthSample> twin = asymmetricRoom(cam_b, 80, 0);
+  world.insert(world.end(), twin.begin(), twin.end());
+  const GeometricRelocaliser reloc(world, options());
+  const RelocFit f = reloc.fit(jobOf(moved(asymmetricRoom(cam_a), 1.0, Eigen::Vector3d(1, 2, 0))));
+  EXPECT_EQ(f.outcome, FitOutcome::kAmbiguous);
+  EXPECT_EQ(f.places, 2);
+}
+
+TEST(GeometricRelocaliser, TooLittleStructureIsNotSearched) {
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  const GeometricRelocaliser reloc(asymmetricRoom(cam), options());
+  const RelocFit f = reloc.fit(jobOf(scan({cells(0, 0, 3, 3)}, Eigen::Vector3d(0.1, 0.1, kCamZ))));
+  EXPECT_EQ(f.outcome, FitOutcome::kTooLittle);
+  EXPECT_EQ(f.local_obstacles, 12);
+}
