@@ -36,10 +36,12 @@ class GyroOrientation {
 
 }  // namespace
 
-std::optional<DeadReckoning> wheelInertialDeadReckoning(
-    const WindowWheels& wheels, const WheelOptions& opt, const std::vector<ImuSample>& imu,
-    const Eigen::Vector3d& bg, double t0, const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0,
-    double t) {
+std::optional<DeadReckoning> wheelInertialDeadReckoning(const WindowWheels& wheels,
+                                                        const WheelOptions& opt,
+                                                        const std::vector<ImuSample>& imu,
+                                                        const Eigen::Vector3d& bg, double t0,
+                                                        const Eigen::Vector3d& p0,
+                                                        const Eigen::Quaterniond& q0, double t) {
   const auto& r = wheels.readings;
   const auto stamp = [&](std::size_t i) { return r[i].t + opt.time_offset_s; };
   if (r.empty() || !(t >= t0) || stamp(0) > t0 || stamp(r.size() - 1) < t - opt.reading_lag_s)

@@ -23,9 +23,11 @@ struct DeadReckoning {
 /// The body position and velocity at IMU-clock time t from the state (p0, q0) at t0; `imu`:
 /// the samples between t0 and t; bg: gyroscope bias [rad/s]. nullopt when the readings do not
 /// cover [t0, t - reading_lag_s] (the newest increment's velocity carries the rest).
-std::optional<DeadReckoning> wheelInertialDeadReckoning(
-    const WindowWheels& wheels, const WheelOptions& opt, const std::vector<ImuSample>& imu,
-    const Eigen::Vector3d& bg, double t0, const Eigen::Vector3d& p0, const Eigen::Quaterniond& q0,
-    double t);
+std::optional<DeadReckoning> wheelInertialDeadReckoning(const WindowWheels& wheels,
+                                                        const WheelOptions& opt,
+                                                        const std::vector<ImuSample>& imu,
+                                                        const Eigen::Vector3d& bg, double t0,
+                                                        const Eigen::Vector3d& p0,
+                                                        const Eigen::Quaterniond& q0, double t);
 
 }  // namespace rgbdi::estimator
