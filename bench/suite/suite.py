@@ -29,7 +29,9 @@ import suite_run  # noqa: E402
 import suite_stats  # noqa: E402
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-BYTES_PER_FRAME = 1.5e6  # raw colour + 16-bit depth inside a rawlog, 640 x 480
+# cache bytes per 640 x 480 frame: raw colour + 16-bit depth inside a rawlog (bag and rawlog
+# layouts), PNG + compressed range files beside it (files layout)
+BYTES_PER_FRAME = {"bag": 1.5e6, "rawlog": 1.5e6, "files": 0.5e6}
 COMPARE_METRICS = ["ate_odometry", "ate_online", "ate_final", "cpu_s"]
 ACCURACY_METRICS = ["ate_odometry", "ate_online", "ate_final"]
 TITLES = {"ate_odometry": "ATE odometry", "ate_online": "ATE online", "ate_final": "ATE final",
@@ -62,18 +64,20 @@ def load_rows(args):
     return d, rows
 
 
-def frames_of(row):
-    return None if row["duration_s"] is None else int(row["duration_s"] * row["fps"])
+def frames_of(definition, row):
+    d = suite_rows.planned_duration_s(definition, row)
+    return None if d is None else int(d * row["fps"])
 
 
 def cmd_plan(args):
-    _, rows = load_rows(args)
-    frames = sum(frames_of(r) or 0 for r in rows)
+    d, rows = load_rows(args)
+    frames = sum(frames_of(d, r) or 0 for r in rows)
+    cache_bytes = sum((frames_of(d, r) or 0) * BYTES_PER_FRAME[r["layout"]] for r in rows)
     by_cond = {}
     for r in rows:
         by_cond.setdefault(r["condition"], []).append(r)
     print(f"tier {args.tier}: {len(rows)} rows, {frames} frames of simulated profiles "
-          f"(~{frames * BYTES_PER_FRAME / 1e9:.1f} GB in the cache; hybrid rows: the "
+          f"(~{cache_bytes / 1e9:.1f} GB in the cache; hybrid rows: the "
           "recording's length)")
     for c, rs in by_cond.items():
         print(f"  {c}: {len(rs)} rows, seeds {', '.join(str(r['seed']) for r in rs)}")

@@ -147,6 +147,23 @@ def tier_duration(t, rate):
     return d.get(rate) if isinstance(d, dict) else d
 
 
+def planned_duration_s(definition, row):
+    """[s] of data a row will have: its duration_s, or for None the profile's own length from
+    suite.json (a hybrid row's recording length is unknown here: None)."""
+    if row["duration_s"] is not None:
+        return row["duration_s"]
+    prof = definition["profiles"].get(row["profile"], {})
+    own = prof.get("own_duration_s")
+    if isinstance(own, dict):
+        return own.get(row["speed_preset"] or "normal")
+    if own is not None:
+        return own
+    speed = row["sim_keys"].get("speed_m_s", prof.get("speed_m_s"))
+    if prof.get("own_length_m") and speed:
+        return prof.get("own_overhead_s", 0.0) + prof["own_length_m"] / speed
+    return None
+
+
 def tier_rows(definition, tier, repo_root):
     """Every row of the tier, in a fixed order."""
     if tier not in definition["tiers"]:

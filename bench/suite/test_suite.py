@@ -189,6 +189,22 @@ class ParameterDraw(unittest.TestCase):
         self.assertEqual(rec["recording"], "/shared/data/euroc_v102")
         self.assertIsNone(rec["duration_s"])
 
+    def test_planned_duration_is_the_profiles_own_length(self):
+        # the plan's frame count: rows of the profile's own length (duration_s None) count their
+        # default duration (doc/simulator.md's table), not 0
+        full = {r["id"]: r for r in suite_rows.tier_rows(DEFINITION, "full", "/repo")}
+        plan = suite_rows.planned_duration_s
+        self.assertEqual(plan(DEFINITION, full["handheld_s1_15hz_bag"]), 40)
+        self.assertEqual(plan(DEFINITION, full["handheld_fast_s1_15hz_bag"]), 40)
+        self.assertEqual(plan(DEFINITION, full["tracked_slopes_s2_30hz_files"]), 65)
+        slopes = full["wheeled_slopes_s1_15hz_bag"]
+        self.assertEqual(plan(DEFINITION, slopes),
+                         {"slow": 148, "normal": 74, "fast": 99}[slopes["speed_preset"]])
+        circle = dict(full["wheeled_circle_s1_15hz_bag"], sim_keys={"speed_m_s": 0.4})
+        self.assertAlmostEqual(plan(DEFINITION, circle), 99.75, places=2)  # 3 laps at 0.4 m/s
+        self.assertEqual(plan(DEFINITION, full["hard_black_handheld_s1_15hz_bag"]), 24)
+        self.assertIsNone(plan(DEFINITION, [r for r in full.values() if r["recording"]][0]))
+
 
 class SuiteFile(unittest.TestCase):
     def check_refused(self, edit, message):
