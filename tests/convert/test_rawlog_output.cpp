@@ -7,8 +7,10 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 
+#include "rgbdi/common/atomic_file.h"
 #include "rgbdi/convert/progress_meter.h"
 #include "rgbdi/convert/rawlog_output.h"
 #include "rgbdi/io/rawlog_source.h"
@@ -113,6 +115,40 @@ TEST(RawlogOutput, ReordersWithinTheWindowAndDropsBeyond) {
       << frame_and_clock;
   EXPECT_EQ(header, "# timestamp tx ty tz qx qy qz qw");
   EXPECT_EQ(line.rfind("10.100000000 10.1 0 0 0 0 0 1", 0), 0u) << line;
+}
+
+TEST(RawlogOutput, CreatesTheOutputDirectory) {
+  // 'rawlog-convert BAG -o /tmp/ds/ds.rawlog' on a machine where /tmp/ds does not exist yet.
+  const std::string dir = test::makeTempDir("rawlog_output_dir") + "/new/sub";
+  bag::ConversionReport report;
+  RawlogOutputOptions o;
+  o.path = dir + "/out.rawlog";
+  RawlogOutput out(o, report);
+  out.imu(imuAt(10.0));
+  out.frame(frameAt(10.001));
+  StampedPose p;
+  p.t = 10.0;
+  out.groundTruth(p);
+  out.finish();
+  EXPECT_EQ(report.frames_written, 1u);
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/out.rawlog"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/out_groundtruth.tum"));
+}
+
+TEST(RawlogOutput, UncreatableDirectoryIsAnErrorNamingIt) {
+  const std::string file = test::makeTempDir("rawlog_output_file") + "/plain_file";
+  std::ofstream(file) << "x";
+  bag::ConversionReport report;
+  RawlogOutputOptions o;
+  o.path = file + "/out.rawlog";
+  try {
+    RawlogOutput out(o, report);
+    FAIL() << "expected an IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(file + ": cannot create the rawlog's directory"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ProgressMeter, LineShowsFractionMegabytesRateAndEta) {

@@ -32,6 +32,14 @@ RawlogWriter::RawlogWriter(const std::string& path, const RawlogWriterOptions& o
   // MRPT's convention, which RawlogSource (rawlogImagesDirectory) follows: "<dir>/<name>_Images".
   const fs::path p(path);
   images_dir_ = (p.parent_path() / (rawlogBaseName(p) + "_Images")).string();
+  // As rgbdi-slam --out and rgbdi-sim --out: 'rawlog-convert BAG -o /new/dir/x.rawlog' works.
+  if (!p.parent_path().empty()) {
+    std::error_code ec;
+    fs::create_directories(p.parent_path(), ec);
+    if (ec)
+      throw IoError(p.parent_path().string() +
+                    ": cannot create the rawlog's directory: " + ec.message());
+  }
   if (options_.external_images) {
     std::error_code ec;
     fs::create_directories(images_dir_, ec);

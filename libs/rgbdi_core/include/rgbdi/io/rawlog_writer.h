@@ -38,7 +38,8 @@ struct RawlogWriterOptions {
 
 class RawlogWriter {
  public:
-  /// Creates the output (and the image directory if needed); throws IoError on failure.
+  /// Creates the output, its directory and the image directory if needed; throws IoError on
+  /// failure.
   RawlogWriter(const std::string& path, const RawlogWriterOptions& options);
   /// Without close() (e.g. during stack unwinding) the temporary file is removed.
   ~RawlogWriter();
