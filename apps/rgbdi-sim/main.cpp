@@ -46,7 +46,8 @@ const char* const kUsage =
     "  --recording-format its format: euroc (default; imu0.csv + groundtruth.csv or the ASL\n"
     "                     mav0/ layout)\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
-    "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag])\n"
+    "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag,\n"
+    "                     vins_config.yaml])\n"
     "  --duration         total duration [s] (default: the profile's; recorded: the recording\n"
     "                     from its first ground-truth sample inside the IMU's span)\n"
     "  --speed            speed preset (wheeled_slopes: the paper's slow/normal/fast runs)\n"
@@ -313,6 +314,7 @@ int main(int argc, char** argv) {
               << s.groundtruth_cam_path << "\n  " << s.config_path << "\n  " << s.simulation_path
               << "\n";
     if (!s.bag_path.empty()) std::cout << "  " << s.bag_path << "\n";
+    if (!s.vins_config_path.empty()) std::cout << "  " << s.vins_config_path << "\n";
   } catch (const std::exception& e) {
     std::cerr << "rgbdi-sim: error: " << e.what() << "\n";
     return kExitError;

@@ -31,9 +31,12 @@ TEST(RgbdiSim, WritesASequenceThatMrptToolsRead) {
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("rgbdi-sim: frame 31/31 (100.0 %)"), std::string::npos) << out;
   EXPECT_NE(out.find("profile tracked_slopes: 10.0 s"), std::string::npos) << out;
+  // Every file written is there and listed in the report.
   for (const char* f : {"sequence.rawlog", "groundtruth.tum", "groundtruth_cam.tum", "config.ini",
-                        "simulation.ini", "sequence.bag"})
+                        "simulation.ini", "sequence.bag", "vins_config.yaml"}) {
     EXPECT_TRUE(fs::exists(dir + "/" + f)) << f;
+    EXPECT_NE(out.find("  " + dir + "/" + f + "\n"), std::string::npos) << f << "\n" << out;
+  }
   EXPECT_TRUE(fs::exists(dir + "/sequence_Images/RGBD_30_color.png"));
   EXPECT_TRUE(fs::exists(dir + "/sequence_Images/RGBD_30_depth.bin"));
 
