@@ -82,7 +82,7 @@ const char* const kUsage =
     "  --version          print the version\n"
     "  -h, --help         this help\n"
     "Options take their value as '--opt VALUE' or '--opt=VALUE'. Status 3 is not used by this "
-    "tool.\n";
+    "tool.\nInterrupted (130), it writes no rawlog and no bag: a sequence is complete or absent.\n";
 
 using rgbdi::UsageError;
 

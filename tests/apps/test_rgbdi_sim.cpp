@@ -163,8 +163,24 @@ TEST(RgbdiSim, UsageAndConfigurationErrors) {
   EXPECT_NE(out.find("usage: rgbdi-sim"), std::string::npos);
   EXPECT_NE(out.find("world_seed"), std::string::npos) << out;
   EXPECT_NE(out.find("Exit status: 0 success"), std::string::npos);
+  EXPECT_NE(out.find("Interrupted (130), it writes no rawlog and no bag"), std::string::npos);
   EXPECT_EQ(runCommand(sim() + " --version", &out), 0);
   EXPECT_EQ(out.rfind("rgbdi-sim (rgbdi) ", 0), 0u) << out;
+}
+
+TEST(RgbdiSim, InterruptedLeavesNoRawlogAndNoBag) {
+  // As --help and doc/tools.md say: exit 130, a sequence is complete or absent. A 60 s sequence
+  // cannot finish within the 2 s before SIGINT.
+  const std::string dir = rgbdi::test::makeTempDir("rgbdi_sim_int") + "/out";
+  std::string out;
+  EXPECT_EQ(runCommand("timeout --preserve-status -s INT 2 " + sim() +
+                           " --profile handheld --duration 60 --bag --out " + dir,
+                       &out),
+            130)
+      << out;
+  EXPECT_NE(out.find("no rawlog or bag was written"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/sequence.rawlog"));
+  EXPECT_FALSE(fs::exists(dir + "/sequence.bag"));
 }
 
 }  // namespace
