@@ -48,9 +48,17 @@ TEST(NoPoseReason, NamesTheFirstMissingIngredient) {
             "no colour+depth frame could be read: 300 observations were unusable (listed above; "
             "summary.json: stream_diagnostics)");
 
+  // A stream refused or damaged before its first frame: the error, not "no frame in the input".
+  run.stream_diagnostics = diagnostics(0, 0);
+  run.read_error = "seq.rawlog records 0-114: ... looks like g units ...; the stream is refused";
+  EXPECT_EQ(noPoseReason(run, nlohmann::json::object()),
+            "the input stopped before its first colour+depth frame: seq.rawlog records 0-114: ... "
+            "looks like g units ...; the stream is refused");
+
   run.interrupted = true;
   EXPECT_EQ(noPoseReason(run, nlohmann::json::object()),
             "stopped (Ctrl-C) before the first colour+depth frame");
+  run.read_error.clear();
 
   run.interrupted = false;
   run.frames = 300;

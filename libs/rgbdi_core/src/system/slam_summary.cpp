@@ -365,6 +365,10 @@ std::string noPoseReason(const RunInfo& run, const nlohmann::json& waits) {
       }
       return why + " (listed above; summary.json: stream_diagnostics)";
     }
+    // A stream refused (accelerometer in g) or damaged before its first frame: the input may
+    // well hold frames, so say what stopped it.
+    if (!run.read_error.empty())
+      return "the input stopped before its first colour+depth frame: " + run.read_error;
     return "the input has no colour+depth frame (CObservation3DRangeScan)";
   }
   if (imuSamples() == 0)
