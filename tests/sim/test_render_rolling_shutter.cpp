@@ -109,8 +109,8 @@ TEST_F(RollingShutterRender, KnownYawRateShiftsEachRowByItsRotation) {
     const Eigen::Vector3d ray = cam_.backProject({cam_.cx, v}, 1.0);
     const double angle = yaw_rate * rs.rowTime(v);
     Eigen::Vector2d uv;
-    ASSERT_TRUE(cam_.project(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).inverse() * ray,
-                             uv));
+    ASSERT_TRUE(
+        cam_.project(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).inverse() * ray, uv));
     const double expected = uv.x() - cam_.cx;
     const double measured = rowShift(a, b, v, 240, 400, 20);
     // 0.25 px: the parabola through the SSD of integer shifts locks a little to whole pixels.

@@ -21,7 +21,9 @@ VioSystem::VioSystem(const SystemConfig& cfg, bool use_depth)
     : cfg_(cfg),
       use_depth_(use_depth),
       estimator_(std::make_unique<estimator::SlidingWindowEstimator>(cfg.estimator, cfg.imu,
-                                                                     cfg.extrinsic)) {}
+                                                                     cfg.extrinsic)) {
+  estimator_->setRollingShutter(cfg.camera.rollingShutter());
+}
 
 VioSystem::~VioSystem() = default;
 

@@ -14,9 +14,9 @@
 namespace rgbdi {
 
 struct RollingShutter {
-  double readout_s = 0.0;      ///< [s] 0 = global shutter
-  int rows = 0;                ///< [px] image height
-  bool bottom_to_top = false;  ///< read direction (false: top row first)
+  double readout_s = 0.0;        ///< [s] 0 = global shutter
+  int rows = 0;                  ///< [px] image height
+  bool bottom_to_top = false;    ///< read direction (false: top row first)
   bool reference_middle = true;  ///< stamp at the middle row (true) or the first row read
 
   bool global() const { return readout_s == 0.0; }
