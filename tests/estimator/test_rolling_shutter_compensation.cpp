@@ -99,8 +99,8 @@ TEST(RollingShutterCompensation, RecoversThePositionAtTheStampUnderAYaw) {
   std::vector<frontend::FeatureObservation> f(1);
   f[0].uv = Eigen::Vector2d(320.0, row);
   f[0].xn = projectYawing(t_row, yaw_rate, p_w);
-  f[0].velocity_xn = (projectYawing(t_row + h, yaw_rate, p_w) -
-                      projectYawing(t_row - h, yaw_rate, p_w)) / (2 * h);
+  f[0].velocity_xn =
+      (projectYawing(t_row + h, yaw_rate, p_w) - projectYawing(t_row - h, yaw_rate, p_w)) / (2 * h);
   const Eigen::Vector2d at_stamp = projectYawing(0.0, yaw_rate, p_w);
   const double fx = 612.0;
   EXPECT_GT(fx * (f[0].xn - at_stamp).norm(), 8.0);  // the skew to compensate [px]

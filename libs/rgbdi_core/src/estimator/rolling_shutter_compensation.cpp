@@ -5,8 +5,7 @@ namespace rgbdi::estimator {
 void moveToReferenceTime(std::vector<frontend::FeatureObservation>& features,
                          const RollingShutter& rs) {
   if (rs.global()) return;
-  for (frontend::FeatureObservation& f : features)
-    f.xn -= rs.rowTime(f.uv.y()) * f.velocity_xn;
+  for (frontend::FeatureObservation& f : features) f.xn -= rs.rowTime(f.uv.y()) * f.velocity_xn;
 }
 
 }  // namespace rgbdi::estimator

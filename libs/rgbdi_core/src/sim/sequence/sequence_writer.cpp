@@ -190,8 +190,12 @@ std::string vinsConfigText(const SimulatedSequence& seq) {
   imu.gyr_noise_density = k * o.imu.gyr_noise_density;
   imu.acc_random_walk = k * o.imu.acc_random_walk;
   imu.gyr_random_walk = k * o.imu.gyr_random_walk;
-  // td 0, as in config.ini: a user does not know the offset.
-  return convert::vinsYamlText(o.camera.camera, o.extrinsic.T_body_cam, imu, 0.0);
+  // td 0, as in config.ini: a user does not know the offset. The rolling shutter as in config.ini:
+  // VINS-Mono's model is rgbdi's (top to bottom, stamped at the middle row).
+  const RollingShutter rs = seq.rollingShutter();
+  const bool known_model = !rs.bottom_to_top && rs.reference_middle;
+  return convert::vinsYamlText(o.camera.camera, o.extrinsic.T_body_cam, imu, 0.0,
+                               known_model ? rs.readout_s : 0.0);
 }
 
 std::string simulationSettingsText(const SimulatedSequence& seq) {
