@@ -56,8 +56,10 @@ void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepar
     ++frames_dropped_;
     return;
   }
-  if (!tracker_)
+  if (!tracker_) {
     tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, cameraFor(in));
+    tracker_->setRollingShutter(cfg_.camera.rollingShutter());
+  }
   Pending p;
   p.frame = in;
   if (!use_depth_) p.frame.depth.release();
