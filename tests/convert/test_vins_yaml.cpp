@@ -222,6 +222,58 @@ TEST(VinsYaml, ErrorsNameFileAndKey) {
   EXPECT_THROW(rgbdiConfigFromVins(v, 200.0, "test"), ConfigError);
 }
 
+// Issue 37: VINS-RGBD's D435i colour configuration has rolling_shutter: 1 and
+// rolling_shutter_tr: 0.033; rawlog-convert --camera-yaml makes it [camera]
+// rolling_shutter_readout_s, and vinsYamlText writes it back.
+TEST(VinsYaml, RollingShutterReadoutIsReadAndWritten) {
+  const std::string dir = test::makeTempDir("vins_yaml_rs");
+  // The dataset's yaml without the keys: a global shutter, and the INI says so.
+  const VinsCalibration global = readVinsYaml(write(dir, "g.yaml", kDatasetYaml));
+  EXPECT_EQ(global.rolling_shutter_readout_s, 0.0);
+  IniReader gini = IniReader::fromText(rgbdiConfigFromVins(global, 200.0, "test"), "g");
+  EXPECT_EQ(CameraOptions::load(gini).rolling_shutter_readout_s, 0.0);
+
+  const std::string rolling =
+      std::string(kDatasetYaml) + "rolling_shutter: 1\nrolling_shutter_tr: 0.033\n";
+  const VinsCalibration v = readVinsYaml(write(dir, "rs.yaml", rolling));
+  EXPECT_EQ(v.rolling_shutter_readout_s, 0.033);
+  const std::string text = rgbdiConfigFromVins(v, 200.0, "test");
+  IniReader ini = IniReader::fromText(text, "generated");
+  EXPECT_EQ(CameraOptions::load(ini).rolling_shutter_readout_s, 0.033) << text;
+
+  // rolling_shutter 0: VINS ignores the readout time, so does rgbdi.
+  const std::string off =
+      std::string(kDatasetYaml) + "rolling_shutter: 0\nrolling_shutter_tr: 0.033\n";
+  EXPECT_EQ(readVinsYaml(write(dir, "off.yaml", off)).rolling_shutter_readout_s, 0.0);
+
+  // Round trip through vinsYamlText; readout 0 writes neither key (the text as before).
+  ImuOptions imu;
+  const Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const std::string written = vinsYamlText(global.camera, T, imu, 0.0, 0.0275);
+  EXPECT_NE(written.find("rolling_shutter: 1\nrolling_shutter_tr: 0.0275\n"), std::string::npos)
+      << written;
+  EXPECT_EQ(readVinsYaml(write(dir, "w.yaml", written)).rolling_shutter_readout_s, 0.0275);
+  const std::string written0 = vinsYamlText(global.camera, T, imu, 0.0);
+  EXPECT_EQ(written0.find("rolling_shutter"), std::string::npos) << written0;
+  EXPECT_EQ(vinsYamlText(global.camera, T, imu, 0.0, 0.0), written0);
+
+  // Errors name the file and the key.
+  const auto expectError = [&](const std::string& tail, const std::string& fragment) {
+    const std::string path = write(dir, "bad.yaml", std::string(kDatasetYaml) + tail);
+    try {
+      readVinsYaml(path);
+      ADD_FAILURE() << "expected ConfigError containing " << fragment;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + " " + fragment), std::string::npos) << e.what();
+    }
+  };
+  expectError("rolling_shutter: 1\n", "rolling_shutter_tr: missing (rolling_shutter is 1)");
+  expectError("rolling_shutter: 2\nrolling_shutter_tr: 0.03\n", "rolling_shutter: must be 0 or 1");
+  expectError("rolling_shutter: 1\nrolling_shutter_tr: -0.03\n",
+              "rolling_shutter_tr: must be a readout time from 0 to 1 s, got -0.03");
+  expectError("rolling_shutter: 1\nrolling_shutter_tr: fast\n", "rolling_shutter_tr: not a number");
+}
+
 // Fuzzing finding 7 (2026-12-03): an image side beyond INT_MAX was converted from double to int
 // (undefined behaviour, UBSan; INT_MIN in practice, accepted without an error). Sides must be
 // whole pixel counts in the range rgbdi's [camera] section accepts.

@@ -50,7 +50,16 @@ CameraOptions CameraOptions::load(IniReader& ini) {
   }
   o.intrinsics_source =
       ini.getEnum(s, "intrinsics_source", o.intrinsics_source, {"stream", "config"});
+  o.rolling_shutter_readout_s =
+      ini.getDouble(s, "rolling_shutter_readout_s", o.rolling_shutter_readout_s, 0.0, 1.0);
   return o;
+}
+
+RollingShutter CameraOptions::rollingShutter() const {
+  RollingShutter rs;
+  rs.readout_s = rolling_shutter_readout_s;
+  rs.rows = camera.height;
+  return rs;
 }
 
 ImuOptions ImuOptions::load(IniReader& ini) {

@@ -156,6 +156,9 @@ class YamlReader {
   cv::FileStorage fs_;
 };
 
+/// [s] the largest rolling-shutter readout [camera] rolling_shutter_readout_s accepts.
+constexpr double kMaxReadoutS = 1.0;
+
 }  // namespace
 
 VinsCalibration readVinsYaml(const std::string& path) {
@@ -212,6 +215,20 @@ VinsCalibration readVinsYaml(const std::string& path) {
   v.noise.gyr_w = y.positive("gyr_w");
   v.g_norm = y.positive("g_norm");
   if (!y.node("td").empty()) v.td = y.number("td");
+  // VINS-Mono reads rolling_shutter_tr only when rolling_shutter is 1 (it is absent or ignored
+  // for a global shutter); the readout must be one rgbdi's [camera] accepts.
+  if (!y.node("rolling_shutter").empty()) {
+    const double on = y.number("rolling_shutter");
+    if (on != 0.0 && on != 1.0) y.fail("rolling_shutter", "must be 0 or 1");
+    if (on == 1.0) {
+      if (y.node("rolling_shutter_tr").empty())
+        y.fail("rolling_shutter_tr", "missing (rolling_shutter is 1)");
+      const double tr = y.number("rolling_shutter_tr");
+      if (!(tr >= 0.0 && tr <= kMaxReadoutS))
+        y.fail("rolling_shutter_tr", "must be a readout time from 0 to 1 s, got " + iniNumber(tr));
+      v.rolling_shutter_readout_s = tr;
+    }
+  }
   return v;
 }
 
@@ -238,7 +255,7 @@ VinsImuNoise vinsNoiseFromImuOptions(const ImuOptions& imu) {
 }
 
 std::string vinsYamlText(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_cam,
-                         const ImuOptions& imu, double td) {
+                         const ImuOptions& imu, double td, double rolling_shutter_readout_s) {
   if (camera.dist[4] != 0.0)
     throw ConfigError("VINS calibration: the radial-tangential model has no k3 (k3 = " +
                       iniNumber(camera.dist[4]) + " cannot be written)");
@@ -281,6 +298,9 @@ std::string vinsYamlText(const PinholeCamera& camera, const Eigen::Isometry3d& T
      << "g_norm: " << num(imu.gravity_m_s2) << "\n"
      << "estimate_td: 1\n"
      << "td: " << num(td) << "\n";
+  if (rolling_shutter_readout_s != 0.0)
+    os << "rolling_shutter: 1\n"
+       << "rolling_shutter_tr: " << num(rolling_shutter_readout_s) << "\n";
   return os.str();
 }
 
@@ -304,6 +324,10 @@ std::string rgbdiConfigFromVins(const VinsCalibration& v, double imu_rate_hz,
           "k1 k2 p1 p2 k3 [unitless] distortion_parameters (VINS has no k3)");
   iniLine(os, "intrinsics_source", "config",
           "stream|config: use this calibration, not the one stored in the rawlog");
+  iniLine(os, "rolling_shutter_readout_s", iniNumber(v.rolling_shutter_readout_s),
+          v.rolling_shutter_readout_s != 0.0
+              ? "[s] rolling_shutter_tr (rolling_shutter: 1)"
+              : "[s] 0 = global shutter (rolling_shutter 0 or absent)");
   os << "\n[imu]\n";
   os << "; Densities from the VINS per-sample values at " << iniNumber(imu_rate_hz) << " Hz ("
      << rate_note << "): nd = n * sqrt(dt / 2), rw = w * sqrt(dt) (doc/imu.md).\n";

@@ -15,7 +15,8 @@ FrameWindow::FrameWindow(const EstimatorOptions& opt, const ImuOptions& imu)
 }
 
 std::vector<std::pair<std::uint64_t, TrackObservation>> FrameWindow::toObservations(
-    const std::vector<frontend::FeatureObservation>& features, double td) {
+    const std::vector<frontend::FeatureObservation>& features, double td,
+    bool at_reference_time) const {
   std::vector<std::pair<std::uint64_t, TrackObservation>> out;
   out.reserve(features.size());
   for (const auto& f : features) {
@@ -25,6 +26,12 @@ std::vector<std::pair<std::uint64_t, TrackObservation>> FrameWindow::toObservati
     o.meas.td_at_stamp = td;
     o.uv = f.uv;
     o.depth_m = f.depth_m;
+    o.xn_row = f.xn;
+    o.row_time_s = rolling_shutter_.rowTime(f.uv.y());
+    if (at_reference_time)
+      o.xn_row += o.row_time_s * f.velocity_xn;
+    else
+      o.compensateRollingShutter();
     out.emplace_back(f.id, o);
   }
   return out;
@@ -40,6 +47,7 @@ double FrameWindow::add(const frontend::FeatureFrame& frame, double t, double td
   s.t_image = frame.t;
   s.frame_index = frame.frame_index;
   s.raw_features = frame.features;
+  moveToReferenceTime(s.raw_features, rolling_shutter_);
   if (!slots_.empty()) {
     const WindowSlot& prev = slots_.back();
     s.preint = std::make_unique<imu::Preintegration>(prev.ba(), prev.bg(),
@@ -67,9 +75,9 @@ double FrameWindow::add(const frontend::FeatureFrame& frame, double t, double td
     const Eigen::Quaterniond q2 = slots_[slots_.size() - 3].q(), q1 = slots_[slots_.size() - 2].q();
     R_c2_c1 = R_bc.transpose() * (q2.conjugate() * q1).toRotationMatrix() * R_bc;
   }
-  const FeatureManager::FrameLinks links =
-      features_.addFrame(static_cast<int>(slots_.size()) - 1, toObservations(frame.features, td),
-                         without_rotation ? &R_c2_c1 : nullptr);
+  const FeatureManager::FrameLinks links = features_.addFrame(
+      static_cast<int>(slots_.size()) - 1, toObservations(frame.features, td, false),
+      without_rotation ? &R_c2_c1 : nullptr);
   const double min_parallax = opt_.keyframe_parallax_px / EstimatorOptions::kVirtualFocalPx;
   // A second-newest frame that shares no feature with the frame before it shows a new view (the
   // first frame after blind ones): a keyframe, or the window would never take the new features
@@ -107,7 +115,7 @@ void FrameWindow::restartFromNewest(double td) {
   keep.preint.reset();
   keep.T_c0_c = Eigen::Isometry3d::Identity();
   slots_.push_back(std::move(keep));
-  features_.addFrame(0, toObservations(slots_.front().raw_features, td));
+  features_.addFrame(0, toObservations(slots_.front().raw_features, td, true));
 }
 
 void FrameWindow::clear() {

@@ -16,6 +16,7 @@
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/estimator/feature_manager.h"
+#include "rgbdi/estimator/rolling_shutter_compensation.h"
 #include "rgbdi/estimator/sliding_window_estimator.h"
 #include "rgbdi/frontend/feature_frame.h"
 
@@ -45,6 +46,8 @@ class FrameWindow {
   /// Keeps only the newest slot, as the first of a new chain (a moving start whose PnP failed).
   void restartFromNewest(double td);
   void clear();
+  /// The row timing of the images to come (rolling shutter; default global).
+  void setRollingShutter(const RollingShutter& rs) { rolling_shutter_ = rs; }
 
   /// Marks and removes the usable tracks whose mean reprojection error over their observations
   /// exceeds `threshold_norm` (normalised-plane units).
@@ -70,13 +73,17 @@ class FrameWindow {
   const FeatureManager& features() const { return features_; }
 
  private:
-  /// The frame's features as track observations (stamped with time offset `td`).
-  static std::vector<std::pair<std::uint64_t, TrackObservation>> toObservations(
-      const std::vector<frontend::FeatureObservation>& features, double td);
+  /// The frame's features as track observations (stamped with time offset `td`), moved to the
+  /// frame's reference time along their tracked velocity. `at_reference_time`: the features'
+  /// xn were already moved (a slot's raw_features).
+  std::vector<std::pair<std::uint64_t, TrackObservation>> toObservations(
+      const std::vector<frontend::FeatureObservation>& features, double td,
+      bool at_reference_time) const;
 
   EstimatorOptions opt_;
   ImuOptions imu_opt_;
-  std::vector<WindowSlot> slots_;  ///< capacity window_size + 2, never reallocated
+  RollingShutter rolling_shutter_;  ///< of the colour images; global by default
+  std::vector<WindowSlot> slots_;   ///< capacity window_size + 2, never reallocated
   FeatureManager features_;
   bool newest_but_one_keyframe_ = true;
 };

@@ -94,6 +94,10 @@ double SlidingWindowEstimator::latestImuTime() const {
 
 double SlidingWindowEstimator::timeOffset() const { return parts_->window.time_offset[0]; }
 
+void SlidingWindowEstimator::setRollingShutter(const RollingShutter& rs) {
+  parts_->window.frames.setRollingShutter(rs);
+}
+
 Eigen::Vector3d SlidingWindowEstimator::gyroBias() const {
   const FrameWindow& window = parts_->window.frames;
   return window.empty() ? Eigen::Vector3d::Zero() : window.back().bg();

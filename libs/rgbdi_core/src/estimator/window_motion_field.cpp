@@ -43,8 +43,11 @@ void assignMotionFieldVelocities(FrameWindow& window, std::size_t slot, const im
     std::nth_element(known.begin(), known.begin() + known.size() / 2, known.end());
     typical = known[known.size() / 2];
   }
-  for (auto& [o, z] : todo)
+  for (auto& [o, z] : todo) {
     o->meas.velocity = motionFieldVelocity(o->meas.xn.head<2>(), z > 0.0 ? z : typical, w_c, v_c);
+    // The rolling-shutter shift along the better (IMU) velocity.
+    o->compensateRollingShutter();
+  }
 }
 
 }  // namespace rgbdi::estimator

@@ -202,12 +202,30 @@ int FeatureTracker::depthWindowRadius() const {
   return std::max(options_.depth_neighbourhood_px + 1, options_.occlusion_window_px);
 }
 
+Eigen::Vector2d FeatureTracker::depthPixel(
+    const Track& t, double dt, const std::optional<Eigen::Matrix3d>& R_previous_current) const {
+  const Eigen::Vector2d uv(t.uv.x, t.uv.y);
+  if (rolling_shutter_.global() || !(dt > 0.0)) return uv;
+  Eigen::Vector2d v;  // [1/s] normalised-plane velocity
+  if (t.length > 1) {
+    v = (t.xn - t.xn_velocity_from) / dt;  // as the observation's velocity
+  } else if (R_previous_current) {
+    // Where the rotation alone had the bearing in the previous image.
+    const Eigen::Vector3d b = *R_previous_current * t.xn.homogeneous();
+    if (!(b.z() > 0.0)) return uv;
+    v = (t.xn - b.head<2>() / b.z()) / dt;
+  } else {
+    return uv;
+  }
+  return uv - rolling_shutter_.rowTime(uv.y()) * Eigen::Vector2d(cam_.fx * v.x(), cam_.fy * v.y());
+}
+
 void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
-                                  int& dropped) const {
+                                  int& dropped, double dt) const {
   std::vector<Track> kept;
   kept.reserve(tracks.size());
   for (const Track& t : tracks) {
-    if (straddlesOcclusion(depth_m_, Eigen::Vector2d(t.uv.x, t.uv.y), options_)) {
+    if (straddlesOcclusion(depth_m_, depthPixel(t, dt, std::nullopt), options_)) {
       occupied.push_back(t.uv);
       ++dropped;
     } else {
@@ -327,9 +345,9 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   if (with_depth) {
     std::vector<Eigen::Vector2d> centres;
     centres.reserve(tracks.size());
-    for (const Track& t : tracks) centres.emplace_back(t.uv.x, t.uv.y);
+    for (const Track& t : tracks) centres.push_back(depthPixel(t, dt, std::nullopt));
     registrar_.registerDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
-    dropOccluded(tracks, occupied, out.n_occluded);
+    dropOccluded(tracks, occupied, out.n_occluded, dt);
   }
   out.n_tracked = static_cast<int>(tracks.size());
   out.timings.depth_ms = step.lapMs();
@@ -339,15 +357,23 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   out.timings.detect_ms += step.lapMs();
   // tracks: the tracked ones in id order, then the new ones with larger ids.
 
+  // Where the depth of each feature is read (rolling shutter: at the stamp's position); the new
+  // features' windows were registered around where they were seen.
+  std::vector<Eigen::Vector2d> depth_at;
+  depth_at.reserve(tracks.size());
+  for (const Track& t : tracks) depth_at.push_back(depthPixel(t, dt, R_previous_current));
+  if (with_depth && !rolling_shutter_.global())
+    registrar_.registerMoreDepthAround(frame, cam_, depth_at, depthWindowRadius(), depth_m_);
   out.features.reserve(tracks.size());
-  for (const Track& t : tracks) {
+  for (std::size_t k = 0; k < tracks.size(); ++k) {
+    const Track& t = tracks[k];
     FeatureObservation obs;
     obs.id = t.id;
     obs.uv = Eigen::Vector2d(t.uv.x, t.uv.y);
     obs.xn = t.xn;
     obs.track_length = t.length;
     if (t.length > 1) obs.velocity_xn = (t.xn - t.xn_velocity_from) / dt;
-    if (with_depth) obs.depth_m = sampleDepth(depth_m_, obs.uv, options_);
+    if (with_depth) obs.depth_m = sampleDepth(depth_m_, depth_at[k], options_);
     if (obs.depth_m > 0.0) ++out.n_with_depth;
     out.features.push_back(obs);
   }

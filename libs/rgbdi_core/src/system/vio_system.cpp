@@ -21,7 +21,9 @@ VioSystem::VioSystem(const SystemConfig& cfg, bool use_depth)
     : cfg_(cfg),
       use_depth_(use_depth),
       estimator_(std::make_unique<estimator::SlidingWindowEstimator>(cfg.estimator, cfg.imu,
-                                                                     cfg.extrinsic)) {}
+                                                                     cfg.extrinsic)) {
+  estimator_->setRollingShutter(cfg.camera.rollingShutter());
+}
 
 VioSystem::~VioSystem() = default;
 
@@ -54,8 +56,10 @@ void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepar
     ++frames_dropped_;
     return;
   }
-  if (!tracker_)
+  if (!tracker_) {
     tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, cameraFor(in));
+    tracker_->setRollingShutter(cfg_.camera.rollingShutter());
+  }
   Pending p;
   p.frame = in;
   if (!use_depth_) p.frame.depth.release();

@@ -6,6 +6,7 @@
 
 #include "rgbdi/common/camera.h"
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/common/rolling_shutter.h"
 
 namespace rgbdi {
 
@@ -15,8 +16,14 @@ struct CameraOptions {
   /// "stream": use the intrinsics carried by each observation when present (MRPT rawlogs carry
   /// them), falling back to the config; "config": always use the config values.
   std::string intrinsics_source = "stream";
+  /// [s] rolling-shutter readout time of the colour camera: the rows are read top to bottom in
+  /// this time and the image is stamped at its middle row (common/rolling_shutter.h); the
+  /// estimator predicts each observation at its row's time. 0 = global shutter.
+  double rolling_shutter_readout_s = 0.0;
 
   CameraOptions();
+  /// The row timing of the colour images (top to bottom, stamped at the middle row).
+  RollingShutter rollingShutter() const;
   static CameraOptions load(IniReader& ini);
 };
 

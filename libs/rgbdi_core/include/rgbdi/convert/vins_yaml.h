@@ -27,6 +27,10 @@ struct VinsCalibration {
   VinsImuNoise noise;
   double g_norm = 9.81;  ///< [m/s^2]
   double td = 0.0;       ///< [s] t_imu = t_cam + td
+  /// [s] rolling-shutter readout: rolling_shutter_tr when rolling_shutter is 1; 0 (global
+  /// shutter) when rolling_shutter is 0 or absent, as VINS-Mono reads them. VINS-Mono's model
+  /// is rgbdi's (rows read top to bottom, stamped at the middle row).
+  double rolling_shutter_readout_s = 0.0;
 };
 
 /// Reads a VINS yaml. Throws ConfigError naming the file and the key that is missing or invalid
@@ -45,10 +49,12 @@ VinsImuNoise vinsNoiseFromImuOptions(const ImuOptions& imu);
 /// What a VINS-RGBD user has for a sensor: the calibration file (OpenCV "%YAML:1.0") of the
 /// published dataset's layout, with the topics of that layout (SPEC section 6), the camera,
 /// the extrinsic (camera in the IMU frame), the IMU noise of `imu` as VINS per-sample values
-/// and `td` [s] (t_imu = t_cam + td). readVinsYaml reads it back to the same values (the
-/// numbers are written in round-trip precision).
+/// and `td` [s] (t_imu = t_cam + td); a `rolling_shutter_readout_s` [s] other than 0 is written
+/// as rolling_shutter: 1 and rolling_shutter_tr (0: neither key, which VINS reads as a global
+/// shutter). readVinsYaml reads it back to the same values (the numbers are written in
+/// round-trip precision).
 std::string vinsYamlText(const PinholeCamera& camera, const Eigen::Isometry3d& T_body_cam,
-                         const ImuOptions& imu, double td);
+                         const ImuOptions& imu, double td, double rolling_shutter_readout_s = 0.0);
 
 /// The rgbdi configuration text ([camera] [imu] [extrinsic]) for `v` with the IMU sampled at
 /// `imu_rate_hz`; `rate_note` says where that rate comes from. The text is loaded back through

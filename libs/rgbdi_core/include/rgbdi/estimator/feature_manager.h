@@ -16,9 +16,18 @@
 namespace rgbdi::estimator {
 
 struct TrackObservation {
-  FeatureMeasurement meas;  ///< normalised point, velocity, td at stamping
+  /// Normalised point, velocity, td at stamping. With a rolling shutter meas.xn is the point
+  /// moved to the frame's reference time: xn_row - row_time_s * meas.velocity.
+  FeatureMeasurement meas;
   Eigen::Vector2d uv;       ///< distorted pixel (for diagnostics)
   double depth_m = 0.0;     ///< sensor depth at this observation; 0 = none
+  double row_time_s = 0.0;  ///< [s] exposure of its image row minus the frame's stamp
+  Eigen::Vector2d xn_row = Eigen::Vector2d::Zero();  ///< normalised point as observed
+
+  /// Moves meas.xn to the frame's reference time along meas.velocity (first-order motion).
+  void compensateRollingShutter() {
+    if (row_time_s != 0.0) meas.xn.head<2>() = xn_row - row_time_s * meas.velocity;
+  }
 };
 
 enum class DepthSource { kNone, kVerified, kTriangulated };

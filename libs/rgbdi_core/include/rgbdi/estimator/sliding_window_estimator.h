@@ -114,6 +114,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   double latestImuTime() const;
   /// Current time offset estimate: t_imu = t_image + timeOffset().
   double timeOffset() const;
+  /// The colour images' row timing (CameraOptions::rollingShutter()); default global shutter:
+  /// every observation is moved to its image's reference time along its image velocity.
+  void setRollingShutter(const RollingShutter& rs);
   /// Gyroscope bias of the newest window slot [rad/s] (zero before the first slot).
   Eigen::Vector3d gyroBias() const;
   /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rgbdi/common/camera.h"
+#include "rgbdi/common/rolling_shutter.h"
 #include "rgbdi/common/types.h"
 #include "rgbdi/frontend/depth_registration.h"
 #include "rgbdi/frontend/feature_frame.h"
@@ -62,6 +63,11 @@ class FeatureTracker {
 
   const FrontendOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return cam_; }
+  /// The colour images' row timing (default global shutter). With a rolling shutter the depth of
+  /// a tracked feature is sampled where the feature is at the image's stamp (the depth image is a
+  /// global-shutter image at the stamp): its pixel moved back by its row's time along its image
+  /// velocity. The feature's uv and xn stay as observed (the estimator compensates those).
+  void setRollingShutter(const RollingShutter& rs) { rolling_shutter_ = rs; }
 
  private:
   /// State of one feature between images.
@@ -83,8 +89,15 @@ class FeatureTracker {
   FeatureSpacing distribute(const cv::Size& image, std::vector<Track>& tracks, FeatureFrame& out);
   /// Drops the tracks whose window straddles an occlusion boundary in depth_m_ (their places stay
   /// taken in `spacing` and in `occupied`, so no corner on the same edge replaces them at once).
-  void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
-                    int& dropped) const;
+  void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, int& dropped,
+                    double dt) const;
+  /// [px] where `t` is at the image's stamp, for the depth image: its pixel, moved back along its
+  /// image velocity by its row's time under a rolling shutter (pixel velocity from fx, fy:
+  /// distortion neglected over the few pixels of the shift). The velocity of a tracked feature
+  /// is its tracked one (over `dt` [s]); a new feature's is the rotation's part of the motion
+  /// field, from `R_previous_current` (the gyro), and none without it.
+  Eigen::Vector2d depthPixel(const Track& t, double dt,
+                             const std::optional<Eigen::Matrix3d>& R_previous_current) const;
   /// Tops `tracks` up to max_features with new corners away from `occupied` once at least
   /// detect_min_missing are missing (corner response from `derivatives`, the base image's CV_16SC2
   /// Scharr derivatives); with depth, corners on occlusion boundaries are refused and the next
@@ -96,6 +109,7 @@ class FeatureTracker {
 
   FrontendOptions options_;
   PinholeCamera cam_;
+  RollingShutter rolling_shutter_;  ///< of the colour images; global by default
   DepthRegistrar registrar_;
   std::unique_ptr<CornerDetector> detector_;  ///< keeps its work buffers between images
   ImagePreparer preparer_;  ///< grey images of frames that come without a prepared one

@@ -45,11 +45,24 @@ class Renderer {
   /// Outputs are (re)allocated only when their size or type differs. Throws
   /// std::invalid_argument for a non-finite pose or a rotation that is not orthonormal.
   void render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Mat& depth) const;
+  /// Rolling shutter: colour row v seen from T_world_cam_rows[v] (one pose per row, exact per
+  /// row), depth a global-shutter image from T_world_cam_depth. With every pose equal the output
+  /// is render()'s. Throws std::invalid_argument for a pose count other than the image height or
+  /// an invalid pose.
+  void renderRollingShutter(const std::vector<Eigen::Isometry3d>& T_world_cam_rows,
+                            const Eigen::Isometry3d& T_world_cam_depth, cv::Mat& rgb,
+                            cv::Mat& depth) const;
 
   const PinholeCamera& camera() const { return cam_; }
   const RenderOptions& options() const { return opt_; }
 
  private:
+  /// Rows [v_begin, v_end) seen from one pose, into rgb and / or depth (null: not rendered);
+  /// both already allocated. No blur.
+  void renderRows(const Eigen::Isometry3d& T_world_cam, int v_begin, int v_end, cv::Mat* rgb,
+                  cv::Mat* depth) const;
+  void blur(cv::Mat& rgb) const;  ///< the optics blur of RenderOptions
+
   const Scene& scene_;
   PinholeCamera cam_;
   RenderOptions opt_;

@@ -20,6 +20,7 @@
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/common/measurement_sink.h"
+#include "rgbdi/common/rolling_shutter.h"
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/common/types.h"
 #include "rgbdi/sim/depth_artefacts.h"
@@ -83,10 +84,17 @@ struct SimOptions {
   RecordedWorldOptions recorded_world;  ///< [sim] recorded_*
   /// Wheel encoders and odometry ([sim] wheel_*; skid steering on the tracked profile).
   WheelEncoderOptions wheel;
+  /// Rolling shutter of the colour camera (common/rolling_shutter.h): [s] time to read all rows
+  /// (0 = global shutter), read direction and the row the frame is stamped at (its exposure
+  /// time, and the ground truth's). Depth stays a global-shutter image at the reference time.
+  double rolling_shutter_readout_s = 0.0;
+  std::string rolling_shutter_direction = "top_to_bottom";  ///< or "bottom_to_top"
+  std::string rolling_shutter_reference_row = "middle";     ///< or "first" (the first row read)
 
   /// [sim] (fps, seed, time_offset_s, frame_stamp_jitter_s, start_time_s, config_noise_inflation,
   /// blackout_start_s, blackout_duration_s, blackout_kind, blackout_blur_px, spin_start_s,
-  /// spin_duration_s, spin_turns and the keys of ProfileOptions, ProfileSceneOptions,
+  /// spin_duration_s, spin_turns, rolling_shutter_readout_s, rolling_shutter_direction,
+  /// rolling_shutter_reference_row and the keys of ProfileOptions, ProfileSceneOptions,
   /// RecordedWorldOptions, WheelEncoderOptions, ImuSynthOptions, DepthNoiseOptions,
   /// DepthArtefactOptions, ColorNoiseOptions, ExposureOptions), [camera] and [extrinsic]. The
   /// profile kind is not read (command line).
@@ -97,6 +105,9 @@ struct SimOptions {
 const std::vector<std::string>& blackoutKinds();
 /// Whether `kind` is one of blackoutKinds().
 bool isBlackoutKind(const std::string& kind);
+/// The values of SimOptions::rolling_shutter_direction / rolling_shutter_reference_row.
+const std::vector<std::string>& rollingShutterDirections();
+const std::vector<std::string>& rollingShutterReferenceRows();
 
 /// Ground truth of the body (IMU) frame at one IMU-clock stamp.
 struct GroundTruthState {
@@ -154,6 +165,9 @@ class SimulatedSequence {
   double frameTrueStamp(std::size_t i) const {
     return frameExposureTime(i) - options_.time_offset_s;
   }
+  /// The colour camera's row timing (SimOptions::rolling_shutter_*): row y of frame i is exposed
+  /// at frameExposureTime(i) + rollingShutter().rowTime(y).
+  RollingShutter rollingShutter() const;
   /// Whether frame i is exposed during the blackout.
   bool inBlackout(std::size_t i) const;
   /// Renders frame i: colour with the exposure gain and photometric noise, depth with D435-like
@@ -162,7 +176,10 @@ class SimulatedSequence {
   /// the blackout is impaired as SimOptions::blackout_kind says.
   RgbdFrame renderFrame(std::size_t i) const;
   /// Same rendering without any noise: rgb CV_8UC3, depth CV_32FC1 in metres (0 = no hit). No
-  /// blackout either.
+  /// blackout either. With a rolling shutter each colour row is rendered from the camera pose at
+  /// its own time; depth is global shutter from the pose at the reference time, pixel-aligned
+  /// to the colour camera's intrinsics (as the D435i's aligned depth: the alignment is by the
+  /// calibrated geometry only and ignores the time between a colour row and the depth exposure).
   void renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const;
 
   /// Ground truth at an IMU-clock stamp (clamped to the sequence).

@@ -120,18 +120,56 @@ Renderer::Renderer(const Scene& scene, const PinholeCamera& cam, const RenderOpt
     }
 }
 
-void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Mat& depth) const {
-  // Rays are rotated, not re-normalised: a rotation that is not orthonormal would silently give
-  // wrong depths.
+namespace {
+
+// Rays are rotated, not re-normalised: a rotation that is not orthonormal would silently give
+// wrong depths.
+void checkPose(const Eigen::Isometry3d& T_world_cam, const char* who) {
   constexpr double kRotationTolerance = 1e-6;
   if (!T_world_cam.matrix().allFinite() ||
       !((T_world_cam.linear().transpose() * T_world_cam.linear() - Eigen::Matrix3d::Identity())
             .cwiseAbs()
             .maxCoeff() < kRotationTolerance))
-    throw std::invalid_argument(
-        "Renderer::render: camera pose must be finite with an orthonormal rotation");
+    throw std::invalid_argument(std::string(who) +
+                                ": camera pose must be finite with an orthonormal rotation");
+}
+
+}  // namespace
+
+void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Mat& depth) const {
+  checkPose(T_world_cam, "Renderer::render");
   rgb.create(cam_.height, cam_.width, CV_8UC3);
   depth.create(cam_.height, cam_.width, CV_32FC1);
+  renderRows(T_world_cam, 0, cam_.height, &rgb, &depth);
+  blur(rgb);
+}
+
+void Renderer::renderRollingShutter(const std::vector<Eigen::Isometry3d>& T_world_cam_rows,
+                                    const Eigen::Isometry3d& T_world_cam_depth, cv::Mat& rgb,
+                                    cv::Mat& depth) const {
+  if (T_world_cam_rows.size() != static_cast<std::size_t>(cam_.height))
+    throw std::invalid_argument(
+        "Renderer::renderRollingShutter: " + std::to_string(T_world_cam_rows.size()) +
+        " row poses for " + std::to_string(cam_.height) + " rows");
+  for (const Eigen::Isometry3d& T : T_world_cam_rows)
+    checkPose(T, "Renderer::renderRollingShutter");
+  checkPose(T_world_cam_depth, "Renderer::renderRollingShutter");
+  rgb.create(cam_.height, cam_.width, CV_8UC3);
+  depth.create(cam_.height, cam_.width, CV_32FC1);
+  renderRows(T_world_cam_depth, 0, cam_.height, nullptr, &depth);
+  for (int v = 0; v < cam_.height; ++v)
+    renderRows(T_world_cam_rows[static_cast<std::size_t>(v)], v, v + 1, &rgb, nullptr);
+  blur(rgb);
+}
+
+void Renderer::blur(cv::Mat& rgb) const {
+  if (opt_.optics_blur_sigma_px > 0.0)
+    cv::GaussianBlur(rgb, rgb, cv::Size(0, 0), opt_.optics_blur_sigma_px, 0.0,
+                     cv::BORDER_REPLICATE);
+}
+
+void Renderer::renderRows(const Eigen::Isometry3d& T_world_cam, int v_begin, int v_end,
+                          cv::Mat* rgb, cv::Mat* depth) const {
   const Eigen::Matrix3d R = T_world_cam.linear();
   const Eigen::Vector3d origin = T_world_cam.translation();
   const Eigen::Vector3d light = opt_.light_dir_world.normalized();
@@ -160,6 +198,7 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
   Hit hit;
   std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
   for (const Tile& tile : tiles_) {
+    if (tile.v1 <= v_begin || tile.v0 >= v_end) continue;
     // The tile's frustum: x_min z <= x <= x_max z and y_min z <= y <= y_max z in the camera
     // frame; its four side planes in the world frame all pass through the camera centre.
     const Eigen::Vector3d planes[4] = {
@@ -174,9 +213,9 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
       cand.push_back(c);
     }
 
-    for (int v = tile.v0; v < tile.v1; ++v) {
-      std::uint8_t* out = rgb.ptr<std::uint8_t>(v);
-      float* dout = depth.ptr<float>(v);
+    for (int v = std::max(tile.v0, v_begin); v < std::min(tile.v1, v_end); ++v) {
+      std::uint8_t* out = rgb ? rgb->ptr<std::uint8_t>(v) : nullptr;
+      float* dout = depth ? depth->ptr<float>(v) : nullptr;
       for (int u = tile.u0; u < tile.u1; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * cam_.width + u;
         const Eigen::Vector3d dir = R * rays_cam_[i];
@@ -202,15 +241,18 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
           }
         }
         if (best.face < 0) {
-          out[3 * u] = opt_.background[0];
-          out[3 * u + 1] = opt_.background[1];
-          out[3 * u + 2] = opt_.background[2];
-          dout[u] = 0.0f;
+          if (out) {
+            out[3 * u] = opt_.background[0];
+            out[3 * u + 1] = opt_.background[1];
+            out[3 * u + 2] = opt_.background[2];
+          }
+          if (dout) dout[u] = 0.0f;
           continue;
         }
-        scene_.completeHit(best_prim, best, origin, dir, hit);
         hint = best_prim;
-        dout[u] = static_cast<float>(hit.t * rays_cam_[i].z());
+        if (dout) dout[u] = static_cast<float>(best.t * rays_cam_[i].z());
+        if (!out) continue;
+        scene_.completeHit(best_prim, best, origin, dir, hit);
         const double cos_inc = std::max(std::abs(hit.normal.dot(dir)), kMinFootprintCos);
         const double footprint = hit.t * spread_[i] / cos_inc * lod_scale;
         const Eigen::Vector3f albedo = scene_.surfaceColor(hit.material, hit.uv, footprint);
@@ -222,9 +264,6 @@ void Renderer::render(const Eigen::Isometry3d& T_world_cam, cv::Mat& rgb, cv::Ma
       }
     }
   }
-  if (opt_.optics_blur_sigma_px > 0.0)
-    cv::GaussianBlur(rgb, rgb, cv::Size(0, 0), opt_.optics_blur_sigma_px, 0.0,
-                     cv::BORDER_REPLICATE);
 }
 
 }  // namespace rgbdi::sim

@@ -64,6 +64,14 @@ void writeOptionalSimSettings(std::ostream& os, const SimOptions& o) {
              "[probability]");
   numberLine(os, "depth_grazing_angle_deg", a.grazing_angle_deg, da.grazing_angle_deg, "[deg]");
   numberLine(os, "frame_stamp_jitter_s", o.frame_stamp_jitter_s, d.frame_stamp_jitter_s, "[s]");
+  numberLine(os, "rolling_shutter_readout_s", o.rolling_shutter_readout_s,
+             d.rolling_shutter_readout_s, "[s] colour rows read in this time (0 = global)");
+  if (o.rolling_shutter_direction != d.rolling_shutter_direction)
+    iniLine(os, "rolling_shutter_direction", o.rolling_shutter_direction,
+            "top_to_bottom|bottom_to_top");
+  if (o.rolling_shutter_reference_row != d.rolling_shutter_reference_row)
+    iniLine(os, "rolling_shutter_reference_row", o.rolling_shutter_reference_row,
+            "middle|first: the row the stamp and the ground truth refer to");
 }
 
 }  // namespace rgbdi::sim

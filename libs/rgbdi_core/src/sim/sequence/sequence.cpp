@@ -36,6 +36,16 @@ bool isBlackoutKind(const std::string& kind) {
   return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
 }
 
+const std::vector<std::string>& rollingShutterDirections() {
+  static const std::vector<std::string> v{"top_to_bottom", "bottom_to_top"};
+  return v;
+}
+
+const std::vector<std::string>& rollingShutterReferenceRows() {
+  static const std::vector<std::string> v{"middle", "first"};
+  return v;
+}
+
 SimOptions SimOptions::load(IniReader& ini) {
   SimOptions o;
   const std::string s = "sim";
@@ -66,6 +76,13 @@ SimOptions SimOptions::load(IniReader& ini) {
   o.spin_turns = ini.getDouble(s, "spin_turns", o.spin_turns, -100.0, 100.0);
   o.recorded_world = RecordedWorldOptions::load(ini);
   o.wheel = WheelEncoderOptions::load(ini);
+  o.rolling_shutter_readout_s =
+      ini.getDouble(s, "rolling_shutter_readout_s", o.rolling_shutter_readout_s, 0.0, 1.0);
+  o.rolling_shutter_direction = ini.getEnum(
+      s, "rolling_shutter_direction", o.rolling_shutter_direction, rollingShutterDirections());
+  o.rolling_shutter_reference_row =
+      ini.getEnum(s, "rolling_shutter_reference_row", o.rolling_shutter_reference_row,
+                  rollingShutterReferenceRows());
   return o;
 }
 
@@ -86,6 +103,14 @@ SimulatedSequence::SimulatedSequence(const SimOptions& options) : options_(optio
       !std::isfinite(options.spin_start_s + options.spin_duration_s + options.spin_turns))
     throw std::invalid_argument(
         "SimulatedSequence: spin start and duration must be >= 0, turns finite");
+  const std::vector<std::string>&dirs = rollingShutterDirections(),
+        &refs = rollingShutterReferenceRows();
+  if (!(options.rolling_shutter_readout_s >= 0.0 && options.rolling_shutter_readout_s <= 1.0) ||
+      std::find(dirs.begin(), dirs.end(), options.rolling_shutter_direction) == dirs.end() ||
+      std::find(refs.begin(), refs.end(), options.rolling_shutter_reference_row) == refs.end())
+    throw std::invalid_argument(
+        "SimulatedSequence: rolling_shutter_readout_s must be in [0, 1] s, the direction "
+        "top_to_bottom or bottom_to_top, the reference row middle or first");
   if (options.blackout_blur_px < 1)
     throw std::invalid_argument("SimulatedSequence: blackout_blur_px must be >= 1");
   if (!(options.frame_stamp_jitter_s >= 0.0 && options.frame_stamp_jitter_s < 0.25 / options.fps))
@@ -213,9 +238,27 @@ void SimulatedSequence::checkFrameIndex(std::size_t i) const {
                             std::to_string(frame_count_));
 }
 
+RollingShutter SimulatedSequence::rollingShutter() const {
+  RollingShutter rs;
+  rs.readout_s = options_.rolling_shutter_readout_s;
+  rs.rows = options_.camera.camera.height;
+  rs.bottom_to_top = options_.rolling_shutter_direction == "bottom_to_top";
+  rs.reference_middle = options_.rolling_shutter_reference_row == "middle";
+  return rs;
+}
+
 void SimulatedSequence::renderIdeal(std::size_t i, cv::Mat& rgb, cv::Mat& depth_m) const {
   checkFrameIndex(i);
-  renderer_->render(cameraPose(frameExposureTime(i)), rgb, depth_m);
+  const double t_ref = frameExposureTime(i);
+  const RollingShutter rs = rollingShutter();
+  if (rs.global()) {
+    renderer_->render(cameraPose(t_ref), rgb, depth_m);
+    return;
+  }
+  std::vector<Eigen::Isometry3d> rows(static_cast<std::size_t>(rs.rows));
+  for (int v = 0; v < rs.rows; ++v)
+    rows[static_cast<std::size_t>(v)] = cameraPose(t_ref + rs.rowTime(v));
+  renderer_->renderRollingShutter(rows, cameraPose(t_ref), rgb, depth_m);
 }
 
 void SimulatedSequence::impairColour(cv::Mat& rgb) const {

@@ -32,6 +32,9 @@ void cameraSection(std::ostream& os, const CameraOptions& c) {
   iniLine(os, "cy", iniNumber(k.cy), "[px]");
   iniLine(os, "distortion", iniDistortion(k), "k1 k2 p1 p2 k3 [unitless]");
   iniLine(os, "intrinsics_source", c.intrinsics_source, "stream|config");
+  if (c.rolling_shutter_readout_s != 0.0)  // written only when set: global-shutter files as before
+    iniLine(os, "rolling_shutter_readout_s", iniNumber(c.rolling_shutter_readout_s),
+            "[s] colour rows read top to bottom in this time, stamped at the middle row");
 }
 
 void extrinsicSection(std::ostream& os, const ExtrinsicOptions& e, double time_offset,
@@ -150,7 +153,16 @@ std::string slamConfigText(const SimulatedSequence& seq) {
        << "; ones inflated by config_noise_inflation = " << iniNumber(k)
        << ", as a user would set them (a real user never knows the truth; see simulation.ini).\n\n";
   }
-  cameraSection(os, o.camera);
+  // The rolling shutter rendered is the calibration a user would have: rgbdi-slam compensates it
+  // when it is the model it knows (top to bottom, stamped at the middle row).
+  CameraOptions camera = o.camera;
+  const RollingShutter rs = seq.rollingShutter();
+  const bool known_model = !rs.bottom_to_top && rs.reference_middle;
+  camera.rolling_shutter_readout_s = known_model ? rs.readout_s : 0.0;
+  cameraSection(os, camera);
+  if (!rs.global() && !known_model)
+    os << "; The colour images have a rolling shutter (simulation.ini) that rgbdi-slam's model\n"
+       << "; (top to bottom, stamped at the middle row) does not describe: not compensated.\n";
   os << "\n[imu]\n";
   iniLine(os, "rate_hz", iniNumber(o.imu.rate_hz), "[Hz]");
   iniLine(os, "acc_noise_density", iniNumber(k * o.imu.acc_noise_density), "[m/s^2/sqrt(Hz)]");
@@ -178,8 +190,12 @@ std::string vinsConfigText(const SimulatedSequence& seq) {
   imu.gyr_noise_density = k * o.imu.gyr_noise_density;
   imu.acc_random_walk = k * o.imu.acc_random_walk;
   imu.gyr_random_walk = k * o.imu.gyr_random_walk;
-  // td 0, as in config.ini: a user does not know the offset.
-  return convert::vinsYamlText(o.camera.camera, o.extrinsic.T_body_cam, imu, 0.0);
+  // td 0, as in config.ini: a user does not know the offset. The rolling shutter as in config.ini:
+  // VINS-Mono's model is rgbdi's (top to bottom, stamped at the middle row).
+  const RollingShutter rs = seq.rollingShutter();
+  const bool known_model = !rs.bottom_to_top && rs.reference_middle;
+  return convert::vinsYamlText(o.camera.camera, o.extrinsic.T_body_cam, imu, 0.0,
+                               known_model ? rs.readout_s : 0.0);
 }
 
 std::string simulationSettingsText(const SimulatedSequence& seq) {
