@@ -99,8 +99,8 @@ TEST(NavMap, BoxSidesAreObstaclesAndItsTopIsARaisedPlateau) {
   // Remove the floor under the box (not seen).
   pts.erase(std::remove_if(pts.begin(), pts.end(),
                            [](const Eigen::Vector3f& p) {
-                             return p.z() == 0.0f && p.x() > 1.05 && p.x() < 1.35 &&
-                                    p.y() > 0.55 && p.y() < 0.85;
+                             return p.z() == 0.0f && p.x() > 1.05 && p.x() < 1.35 && p.y() > 0.55 &&
+                                    p.y() < 0.85;
                            }),
             pts.end());
   const NavMap m = buildNavMap(pts, straightPath(0.0, 2.0, 0.0, 0.3), NavMapOptions{});
@@ -133,7 +133,8 @@ TEST(NavMap, RampOfKnownSlopeIsTraversableOrTooSteep) {
   const double slope = 10.0 * M_PI / 180.0, top = std::tan(slope);
   std::vector<Eigen::Vector3f> pts;
   addFlat(pts, -1.0, 1.0, -1.0, 1.0, 0.0);
-  addSurface(pts, 1.0, 2.0, -1.0, 1.0, [slope](double x, double) { return std::tan(slope) * (x - 1.0); });
+  addSurface(pts, 1.0, 2.0, -1.0, 1.0,
+             [slope](double x, double) { return std::tan(slope) * (x - 1.0); });
   addFlat(pts, 2.0, 3.0, -1.0, 1.0, top);
   std::vector<Eigen::Vector3d> path;
   for (double x = 0.0; x <= 2.6; x += 0.1)
@@ -190,7 +191,7 @@ TEST(NavMap, HoleIsNotTraversableAndItsRimIsAnEdge) {
             pts.end());
   addFlat(pts, 1.0, 1.3, 0.3, 0.6, -0.3);
   const NavMap m = buildNavMap(pts, straightPath(0.0, 2.0, 0.0, 0.3), NavMapOptions{});
-  EXPECT_EQ(m.count(CellState::kLowered), 36u);  // 6 x 6 cells of the hole's bottom
+  EXPECT_EQ(m.count(CellState::kLowered), 36u);             // 6 x 6 cells of the hole's bottom
   EXPECT_EQ(m.count(CellState::kStepEdge), 8u * 8u - 36u);  // the ring of floor around it
   EXPECT_EQ(stateAt(m, 1.15, 0.45), CellState::kLowered);
   EXPECT_EQ(stateAt(m, 0.975, 0.45), CellState::kStepEdge);

@@ -22,7 +22,8 @@ double median(std::vector<double> v) {
   const std::size_t mid = v.size() / 2;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
   double m = v[mid];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  if (v.size() % 2 == 0)
+    m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
   return m;
 }
 
@@ -131,13 +132,20 @@ float cellScore(const NavMap& m, std::size_t i, int ix, int iy, const NavMapOpti
 
 const char* toString(CellState s) {
   switch (s) {
-    case CellState::kUnknown: return "unknown";
-    case CellState::kFree: return "free";
-    case CellState::kObstacle: return "obstacle";
-    case CellState::kTooSteep: return "too steep";
-    case CellState::kStepEdge: return "step edge";
-    case CellState::kRaised: return "raised";
-    case CellState::kLowered: return "lowered";
+    case CellState::kUnknown:
+      return "unknown";
+    case CellState::kFree:
+      return "free";
+    case CellState::kObstacle:
+      return "obstacle";
+    case CellState::kTooSteep:
+      return "too steep";
+    case CellState::kStepEdge:
+      return "step edge";
+    case CellState::kRaised:
+      return "raised";
+    case CellState::kLowered:
+      return "lowered";
   }
   return "?";
 }
@@ -216,8 +224,8 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   if (std::isfinite(m.path_height_m))
     for (std::size_t i = 0; i < n; ++i)
       if (near.pose[i] >= 0)
-        reference[i] = static_cast<float>(path[static_cast<std::size_t>(near.pose[i])].z() -
-                                          m.path_height_m);
+        reference[i] =
+            static_cast<float>(path[static_cast<std::size_t>(near.pose[i])].z() - m.path_height_m);
   // A lowest surface above the robot's clearance is an overhang with the ground under it unseen.
   for (std::size_t i = 0; i < n; ++i)
     if (std::isfinite(m.ground_z_m[i]) && std::isfinite(reference[i]) &&
@@ -231,8 +239,8 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   for (std::size_t i = 0; i < n; ++i) {
     const float h = m.ground_z_m[i];
     if (!std::isfinite(h)) continue;
-    const std::size_t obstacle_points = cells.countIn(
-        i, static_cast<float>(h + o.max_step_m), static_cast<float>(h + o.clearance_height_m));
+    const std::size_t obstacle_points = cells.countIn(i, static_cast<float>(h + o.max_step_m),
+                                                      static_cast<float>(h + o.clearance_height_m));
     if (obstacle_points >= static_cast<std::size_t>(o.min_obstacle_points))
       m.state[i] = CellState::kObstacle;
   }

@@ -38,12 +38,12 @@ const std::vector<DoubleKey>& doubleKeys() {
       {"cell_size_m", [](NavMapOptions& o) -> double& { return o.cell_size_m; }, 0.005, 5.0},
       {"range_m", [](NavMapOptions& o) -> double& { return o.range_m; }, 0.1, 100.0},
       {"ground_band_m", [](NavMapOptions& o) -> double& { return o.ground_band_m; }, 0.001, 1.0},
-      {"footprint_radius_m", [](NavMapOptions& o) -> double& { return o.footprint_radius_m; },
-       0.0, 10.0},
+      {"footprint_radius_m", [](NavMapOptions& o) -> double& { return o.footprint_radius_m; }, 0.0,
+       10.0},
       {"max_slope_deg", [](NavMapOptions& o) -> double& { return o.max_slope_deg; }, 0.1, 89.0},
       {"max_step_m", [](NavMapOptions& o) -> double& { return o.max_step_m; }, 0.001, 5.0},
-      {"clearance_height_m", [](NavMapOptions& o) -> double& { return o.clearance_height_m; },
-       0.01, 20.0},
+      {"clearance_height_m", [](NavMapOptions& o) -> double& { return o.clearance_height_m; }, 0.01,
+       20.0},
       {"max_roughness_m", [](NavMapOptions& o) -> double& { return o.max_roughness_m; }, 0.001,
        5.0},
       {"refresh_interval_s", [](NavMapOptions& o) -> double& { return o.refresh_interval_s; }, 0.0,
@@ -68,7 +68,8 @@ template <typename Fail>
 void checkConsistency(const NavMapOptions& o, Fail&& fail) {
   // The obstacle band (max_step_m, clearance_height_m] must not be empty.
   if (o.clearance_height_m <= o.max_step_m)
-    fail("clearance_height_m", "must be larger than max_step_m (the band between is the obstacle band)");
+    fail("clearance_height_m",
+         "must be larger than max_step_m (the band between is the obstacle band)");
   if (o.range_m < o.cell_size_m) fail("range_m", "must be at least cell_size_m");
 }
 

@@ -23,10 +23,16 @@ std::vector<std::uint8_t> footprintCells(const std::vector<Eigen::Vector3d>& pat
   std::vector<std::uint8_t> out(grid.cellCount(), 0);
   auto mark = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const double c = grid.cell_size_m;
-    const int x0 = std::max(0, static_cast<int>(std::floor((std::min(a.x(), b.x()) - radius - grid.origin_x_m) / c)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((std::min(a.y(), b.y()) - radius - grid.origin_y_m) / c)));
-    const int x1 = std::min(grid.width - 1, static_cast<int>(std::floor((std::max(a.x(), b.x()) + radius - grid.origin_x_m) / c)));
-    const int y1 = std::min(grid.height - 1, static_cast<int>(std::floor((std::max(a.y(), b.y()) + radius - grid.origin_y_m) / c)));
+    const int x0 = std::max(
+        0, static_cast<int>(std::floor((std::min(a.x(), b.x()) - radius - grid.origin_x_m) / c)));
+    const int y0 = std::max(
+        0, static_cast<int>(std::floor((std::min(a.y(), b.y()) - radius - grid.origin_y_m) / c)));
+    const int x1 = std::min(
+        grid.width - 1,
+        static_cast<int>(std::floor((std::max(a.x(), b.x()) + radius - grid.origin_x_m) / c)));
+    const int y1 = std::min(
+        grid.height - 1,
+        static_cast<int>(std::floor((std::max(a.y(), b.y()) + radius - grid.origin_y_m) / c)));
     for (int iy = y0; iy <= y1; ++iy)
       for (int ix = x0; ix <= x1; ++ix)
         if (distanceToSegment(grid.centre(ix, iy), a, b) <= radius) out[grid.index(ix, iy)] = 1;
@@ -47,7 +53,8 @@ NearestPose nearestPoses(const std::vector<Eigen::Vector3d>& path, const GridGeo
   np.pose.assign(n, -1);
   np.distance_m.assign(n, std::numeric_limits<float>::infinity());
   auto dist = [&](int ix, int iy, std::int32_t pose) {
-    return static_cast<float>((grid.centre(ix, iy) - path[static_cast<std::size_t>(pose)].head<2>()).norm());
+    return static_cast<float>(
+        (grid.centre(ix, iy) - path[static_cast<std::size_t>(pose)].head<2>()).norm());
   };
   for (std::size_t p = 0; p < path.size(); ++p) {
     int ix = 0, iy = 0;

@@ -32,13 +32,13 @@ namespace rgbdi::navmap {
 
 /// Why a cell is what it is (the occupancy follows: kUnknown unknown, kFree free, others occupied).
 enum class CellState : std::uint8_t {
-  kUnknown = 0,    ///< no ground seen (or beyond range_m, or only overhangs)
-  kFree = 1,       ///< traversable ground
-  kObstacle = 2,   ///< at least min_obstacle_points points in the obstacle band
-  kTooSteep = 3,   ///< ground slope above max_slope_deg
-  kStepEdge = 4,   ///< upper side of a step or drop higher than max_step_m
-  kRaised = 5,     ///< ground above the robot's by more than max_step_m, not connected to it
-  kLowered = 6,    ///< ground below the robot's by more than max_step_m (hole, pit), not connected
+  kUnknown = 0,   ///< no ground seen (or beyond range_m, or only overhangs)
+  kFree = 1,      ///< traversable ground
+  kObstacle = 2,  ///< at least min_obstacle_points points in the obstacle band
+  kTooSteep = 3,  ///< ground slope above max_slope_deg
+  kStepEdge = 4,  ///< upper side of a step or drop higher than max_step_m
+  kRaised = 5,    ///< ground above the robot's by more than max_step_m, not connected to it
+  kLowered = 6,   ///< ground below the robot's by more than max_step_m (hole, pit), not connected
 };
 const char* toString(CellState state);
 
@@ -64,8 +64,9 @@ struct NavMap {
   double path_height_m = 0.0;
 
   std::int8_t occupancy(std::size_t i) const {
-    return state[i] == CellState::kUnknown ? kOccUnknown
-                                           : (state[i] == CellState::kFree ? kOccFree : kOccOccupied);
+    return state[i] == CellState::kUnknown
+               ? kOccUnknown
+               : (state[i] == CellState::kFree ? kOccFree : kOccOccupied);
   }
   std::size_t count(CellState s) const;
 };

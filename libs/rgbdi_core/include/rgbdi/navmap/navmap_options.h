@@ -8,24 +8,30 @@
 namespace rgbdi::navmap {
 
 struct NavMapOptions {
-  bool enable = true;          ///< write the navigation maps (navmap.*) at the end of a run
-  double cell_size_m = 0.05;   ///< [m] side of a grid cell
-  double range_m = 5.0;        ///< [m] cells farther than this horizontally from the path are left unknown
-  int min_points_per_cell = 3;  ///< [count] points of the lowest surface a cell needs for a ground height
+  bool enable = true;         ///< write the navigation maps (navmap.*) at the end of a run
+  double cell_size_m = 0.05;  ///< [m] side of a grid cell
+  double range_m =
+      5.0;  ///< [m] cells farther than this horizontally from the path are left unknown
+  int min_points_per_cell =
+      3;  ///< [count] points of the lowest surface a cell needs for a ground height
   /// [m] points within this of the cell's lowest surface (its min_points_per_cell-th lowest
   /// point) are ground points: their mean is the ground height
   double ground_band_m = 0.04;
-  int min_obstacle_points = 2;  ///< [count] points in the obstacle band that make a cell an obstacle
-  double footprint_radius_m = 0.2;  ///< [m] radius of the robot's footprint (cells it drove over are free)
-  double max_slope_deg = 20.0;      ///< [deg] steepest ground the robot drives on
+  int min_obstacle_points =
+      2;  ///< [count] points in the obstacle band that make a cell an obstacle
+  double footprint_radius_m =
+      0.2;  ///< [m] radius of the robot's footprint (cells it drove over are free)
+  double max_slope_deg = 20.0;  ///< [deg] steepest ground the robot drives on
   /// [m] highest step the robot climbs or descends; also the bottom of the obstacle band (a
   /// point higher than this above the ground is an obstacle)
   double max_step_m = 0.1;
   /// [m] top of the obstacle band: points higher than this above the ground are overhangs the
   /// robot passes under (table tops, ceilings)
   double clearance_height_m = 0.5;
-  double max_roughness_m = 0.05;  ///< [m] RMS deviation of the ground from its local plane that makes traversability 0
-  double refresh_interval_s = 10.0;  ///< [s] live runs rewrite the maps at this wall-clock period (and after each loop correction); 0 = at the end only
+  double max_roughness_m =
+      0.05;  ///< [m] RMS deviation of the ground from its local plane that makes traversability 0
+  double refresh_interval_s = 10.0;  ///< [s] live runs rewrite the maps at this wall-clock period
+                                     ///< (and after each loop correction); 0 = at the end only
 
   /// Throws ConfigError naming the key when a value is outside its range or inconsistent.
   void validate() const;

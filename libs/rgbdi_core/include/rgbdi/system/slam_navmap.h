@@ -1,0 +1,19 @@
+// The navigation maps of a run (doc/navigation-maps.md): built from the same points as map.ply
+// (the keyframes' points at their loop-corrected poses) and the positions of the best-estimate
+// trajectory (where the robot drove), in the run's gravity-aligned world frame.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "rgbdi/navmap/nav_map.h"
+#include "rgbdi/system/slam_system.h"
+
+namespace rgbdi::system {
+
+/// Throws std::invalid_argument when the run has no pose.
+navmap::NavMap slamNavMap(const SlamSystem& system, const navmap::NavMapOptions& options);
+
+/// summary.json's "navmap": cells per state, their area, the path height, the build time.
+nlohmann::json navMapSummary(const navmap::NavMap& map, double build_ms);
+
+}  // namespace rgbdi::system

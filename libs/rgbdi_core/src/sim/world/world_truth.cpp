@@ -1,0 +1,84 @@
+#include "rgbdi/sim/world_truth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace rgbdi::sim {
+namespace {
+
+using Interval = std::pair<double, double>;  ///< [bottom, top] of a solid on a vertical line
+
+/// The solids a vertical line through (x, y) crosses, merged where they touch, bottom up.
+std::vector<Interval> solidsAlong(const Scene& scene, double x, double y, double z_lo,
+                                  double z_hi) {
+  std::vector<Interval> cuts;
+  const Eigen::Vector3d down(0, 0, -1), up(0, 0, 1);
+  const double length = z_hi - z_lo;
+  for (std::uint32_t p = 0; p < scene.primitiveCount(); ++p) {
+    const Eigen::AlignedBox3d& b = scene.primitiveBounds(p);
+    if (x < b.min().x() || x > b.max().x() || y < b.min().y() || y > b.max().y()) continue;
+    PrimitiveHit top, bottom;
+    // Every primitive is convex: the line enters it once from above and once from below.
+    if (!scene.intersectPrimitive(p, Eigen::Vector3d(x, y, z_hi), down, length, top)) continue;
+    if (!scene.intersectPrimitive(p, Eigen::Vector3d(x, y, z_lo), up, length, bottom)) continue;
+    cuts.emplace_back(z_lo + bottom.t, z_hi - top.t);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  std::vector<Interval> merged;
+  for (const Interval& c : cuts) {
+    if (!merged.empty() && c.first <= merged.back().second + 1e-6)
+      merged.back().second = std::max(merged.back().second, c.second);
+    else
+      merged.push_back(c);
+  }
+  return merged;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> worldSurfacePoints(const Scene& scene,
+                                                const navmap::GridGeometry& grid) {
+  const Eigen::AlignedBox3d world = scene.bounds();
+  const double z_lo = world.min().z() - 1.0, z_hi = world.max().z() + 1.0;
+  std::vector<Eigen::Vector3f> points;
+  const double q = 0.25 * grid.cell_size_m;
+  for (int iy = 0; iy < grid.height; ++iy)
+    for (int ix = 0; ix < grid.width; ++ix) {
+      const Eigen::Vector2d c = grid.centre(ix, iy);
+      double ground_lo = std::numeric_limits<double>::infinity(), ground_hi = -ground_lo;
+      for (int k = 0; k < 4; ++k) {
+        const double x = c.x() + ((k & 1) ? q : -q), y = c.y() + ((k & 2) ? q : -q);
+        const std::vector<Interval> solids = solidsAlong(scene, x, y, z_lo, z_hi);
+        for (const Interval& s : solids)
+          points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                              static_cast<float>(s.second));
+        if (!solids.empty()) {
+          ground_lo = std::min(ground_lo, solids.front().second);
+          ground_hi = std::max(ground_hi, solids.front().second);
+        }
+      }
+      if (ground_hi - ground_lo > kFaceMinM)
+        for (double z = ground_lo + kFaceStepM; z < ground_hi; z += kFaceStepM)
+          points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()),
+                              static_cast<float>(z));
+    }
+  return points;
+}
+
+std::vector<Eigen::Vector3d> truePath(const SimulatedSequence& sequence) {
+  std::vector<Eigen::Vector3d> path;
+  path.reserve(sequence.frameCount());
+  for (std::size_t i = 0; i < sequence.frameCount(); ++i)
+    path.push_back(sequence.groundTruth(sequence.frameExposureTime(i)).T_world_body.translation());
+  return path;
+}
+
+navmap::NavMap trueNavMap(const SimulatedSequence& sequence, const navmap::NavMapOptions& options) {
+  const std::vector<Eigen::Vector3d> path = truePath(sequence);
+  const navmap::GridGeometry grid = navmap::gridAroundPath(path, options);
+  return navmap::buildNavMap(worldSurfacePoints(sequence.scene(), grid), path, options, grid);
+}
+
+}  // namespace rgbdi::sim
