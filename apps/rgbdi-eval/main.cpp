@@ -1,5 +1,6 @@
 // rgbdi-eval GT.tum EST.tum [--align se3|sim3|posyaw|none] [--max-dt S] [--rpe-delta S] [--json]
-//            [--navmap EST_LAYERS --navmap-truth TRUE_LAYERS [--navmap-sloped-deg DEG]]
+//            [--navmap EST_LAYERS --navmap-truth TRUE_LAYERS [--navmap-sloped-deg DEG]
+//            [--navmap-diff PNG]]
 // Trajectory accuracy (ATE, RPE, coverage) of an estimate against ground truth; the method is in
 // doc/evaluation.md. With --navmap, also the navigation map against the simulator's true one in
 // the frame of the trajectory alignment (doc/navigation-maps.md). Exit codes: 0 ok, 1 bad data
@@ -35,6 +36,8 @@ const char* const kUsage =
     "                   with --navmap-truth (a simulator's truth_navmap_layers.yml) in the frame\n"
     "                   of the trajectory alignment (use --align posyaw)\n"
     "  --navmap-sloped-deg  true slope from which free ground counts as a ramp (default 2)\n"
+    "  --navmap-diff    PNG of the comparison: agreeing cells white (free) and black (occupied),\n"
+    "                   true free estimated occupied red, true occupied estimated free blue\n"
     "  --version        print the version\n"
     "  -h, --help       this help\n"
     "Options take their value as '--opt VALUE' or '--opt=VALUE'. Status 3 is not used by this "
@@ -45,7 +48,7 @@ struct Arguments {
   std::string est_path;
   rgbdi::eval::EvalOptions options;
   bool json = false;
-  std::string navmap, navmap_truth;
+  std::string navmap, navmap_truth, navmap_diff;
   double sloped_deg = 2.0;
 };
 
@@ -63,6 +66,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   cl.flag("--json", &a.json);
   cl.value("--navmap", &a.navmap);
   cl.value("--navmap-truth", &a.navmap_truth);
+  cl.value("--navmap-diff", &a.navmap_diff);
   cl.value("--navmap-sloped-deg", [&](const std::string& v) {
     a.sloped_deg = rgbdi::parseNumber("--navmap-sloped-deg", v, true);
   });
@@ -85,6 +89,8 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
     throw rgbdi::UsageError("expected 2 trajectory files (GT.tum EST.tum), got " +
                             std::to_string(positional.size()));
   }
+  if (!a.navmap_diff.empty() && a.navmap.empty())
+    throw rgbdi::UsageError("--navmap-diff needs --navmap and --navmap-truth");
   if (a.navmap.empty() != a.navmap_truth.empty())
     throw rgbdi::UsageError("--navmap and --navmap-truth go together");
   a.gt_path = positional[0];
@@ -129,6 +135,9 @@ int main(int argc, char** argv) {
       const rgbdi::navmap::NavMapComparison c = rgbdi::navmap::compareNavMaps(
           est_map, true_map, result.alignment.rigid().inverse(), args.sloped_deg);
       json["navmap"] = c.toJson();
+      if (!args.navmap_diff.empty())
+        rgbdi::navmap::writeComparisonPicture(est_map, true_map, result.alignment.rigid().inverse(),
+                                              args.navmap_diff);
       std::ostringstream os;
       os << std::fixed << std::setprecision(1) << "navmap: observed " << c.observed << " of "
          << c.true_known << " known true cells; free " << 100 * c.freeRecall() << " %, occupied "

@@ -258,7 +258,9 @@ TEST(NavMap, ResultDoesNotDependOnThePointOrder) {
   const NavMap b = buildNavMap(pts, path, NavMapOptions{});
   EXPECT_EQ(a.state, b.state);
   for (std::size_t i = 0; i < a.grid.cellCount(); ++i) {
-    if (std::isfinite(a.ground_z_m[i])) EXPECT_NEAR(a.ground_z_m[i], b.ground_z_m[i], 1e-6);
+    if (std::isfinite(a.ground_z_m[i])) {
+      EXPECT_NEAR(a.ground_z_m[i], b.ground_z_m[i], 1e-6);
+    }
   }
 }
 

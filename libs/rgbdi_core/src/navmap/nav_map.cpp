@@ -43,9 +43,9 @@ void fitLocalPlane(const GridGeometry& g, const std::vector<float>& ground, int 
       if (dx * dx + dy * dy > r2 || !g.contains(ix + dx, iy + dy)) continue;
       const float h = ground[g.index(ix + dx, iy + dy)];
       if (!std::isfinite(h) || std::abs(h - h0) > max_step) continue;
-      const Eigen::Vector3d r(dx * g.cell_size_m, dy * g.cell_size_m, 1.0);
-      A += r * r.transpose();
-      b += r * h;
+      const Eigen::Vector3d q(dx * g.cell_size_m, dy * g.cell_size_m, 1.0);
+      A += q * q.transpose();
+      b += q * h;
       ++n;
     }
   *slope_deg = kNaN;

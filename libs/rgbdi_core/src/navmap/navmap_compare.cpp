@@ -1,8 +1,29 @@
 #include "rgbdi/navmap/navmap_compare.h"
 
 #include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "rgbdi/common/atomic_file.h"
 
 namespace rgbdi::navmap {
+namespace {
+
+/// The estimate's state at a true cell's centre (unknown outside the estimate's grid).
+CellState estimatedState(const NavMap& est, const NavMap& truth, int ix, int iy,
+                         const Eigen::Isometry3d& T_est_truth, std::size_t* j) {
+  const std::size_t i = truth.grid.index(ix, iy);
+  const Eigen::Vector2d centre = truth.grid.centre(ix, iy);
+  const float ht = truth.ground_z_m[i];
+  const Eigen::Vector3d p_est =
+      T_est_truth * Eigen::Vector3d(centre.x(), centre.y(), std::isfinite(ht) ? ht : 0.0);
+  int ex = 0, ey = 0;
+  if (!est.grid.cellOf(p_est.x(), p_est.y(), &ex, &ey)) return CellState::kUnknown;
+  *j = est.grid.index(ex, ey);
+  return est.state[*j];
+}
+
+}  // namespace
 
 NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
                                 const Eigen::Isometry3d& T_est_truth, double sloped_min_deg) {
@@ -15,12 +36,8 @@ NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
       const CellState t = truth.state[i];
       const Eigen::Vector2d centre = g.centre(ix, iy);
       const float ht = truth.ground_z_m[i];
-      const Eigen::Vector3d p_truth(centre.x(), centre.y(), std::isfinite(ht) ? ht : 0.0);
-      const Eigen::Vector3d p_est = T_est_truth * p_truth;
-      int ex = 0, ey = 0;
-      const bool inside = est.grid.cellOf(p_est.x(), p_est.y(), &ex, &ey);
-      const std::size_t j = inside ? est.grid.index(ex, ey) : 0;
-      const CellState e = inside ? est.state[j] : CellState::kUnknown;
+      std::size_t j = 0;
+      const CellState e = estimatedState(est, truth, ix, iy, T_est_truth, &j);
       if (truth.driven[i]) {
         ++c.true_driven;
         if (e == CellState::kFree) ++c.driven_as_free;
@@ -29,6 +46,7 @@ NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
       ++c.true_known;
       if (e == CellState::kUnknown) continue;
       ++c.observed;
+      ++c.confusion[static_cast<std::size_t>(t)][static_cast<std::size_t>(e)];
       if (t == CellState::kFree) {
         ++c.true_free;
         if (e == CellState::kFree) ++c.free_as_free;
@@ -38,7 +56,8 @@ NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
         }
         const float he = est.ground_z_m[j];
         if (e == CellState::kFree && std::isfinite(ht) && std::isfinite(he)) {
-          // The estimate's ground point in the true frame.
+          // The estimate's ground point under the true cell's centre, in the true frame.
+          const Eigen::Vector3d p_est = T_est_truth * Eigen::Vector3d(centre.x(), centre.y(), ht);
           const Eigen::Vector3d q = T_est_truth.inverse() *
                                     Eigen::Vector3d(p_est.x(), p_est.y(), static_cast<double>(he));
           const double d = q.z() - ht;
@@ -79,7 +98,42 @@ nlohmann::json NavMapComparison::toJson() const {
   j["height_cells"] = height_cells;
   j["height_rmse_m"] = height_rmse_m;
   j["height_bias_m"] = height_bias_m;
+  // {"true state": {"estimated state": cells}} over the observed cells, non-zero entries only.
+  nlohmann::json confusion_json = nlohmann::json::object();
+  for (std::size_t t = 0; t < confusion.size(); ++t)
+    for (std::size_t e = 0; e < confusion[t].size(); ++e)
+      if (confusion[t][e] > 0)
+        confusion_json[toString(static_cast<CellState>(t))][toString(static_cast<CellState>(e))] =
+            confusion[t][e];
+  j["confusion"] = confusion_json;
   return j;
+}
+
+void writeComparisonPicture(const NavMap& est, const NavMap& truth,
+                            const Eigen::Isometry3d& T_est_truth, const std::string& path) {
+  const GridGeometry& g = truth.grid;
+  cv::Mat image(g.height, g.width, CV_8UC3, cv::Scalar(128, 128, 128));
+  for (int iy = 0; iy < g.height; ++iy)
+    for (int ix = 0; ix < g.width; ++ix) {
+      const std::size_t i = g.index(ix, iy);
+      std::size_t j = 0;
+      const CellState e = estimatedState(est, truth, ix, iy, T_est_truth, &j);
+      const CellState t = truth.state[i];
+      cv::Vec3b& px = image.at<cv::Vec3b>(g.height - 1 - iy, ix);  // BGR
+      if (truth.driven[i] && e != CellState::kFree)
+        px = cv::Vec3b(0, 170, 0);
+      else if (t == CellState::kUnknown || e == CellState::kUnknown)
+        continue;
+      else if (t == CellState::kFree)
+        px = e == CellState::kFree ? cv::Vec3b(255, 255, 255) : cv::Vec3b(0, 0, 230);
+      else
+        px = e == CellState::kFree ? cv::Vec3b(230, 0, 0) : cv::Vec3b(0, 0, 0);
+    }
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", image, png)) throw IoError(path + ": cannot encode the PNG");
+  writeFileAtomically(path, [&](std::ostream& os) {
+    os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  });
 }
 
 }  // namespace rgbdi::navmap

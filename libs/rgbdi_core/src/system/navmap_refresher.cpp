@@ -5,6 +5,7 @@
 
 #include "rgbdi/navmap/nav_map.h"
 #include "rgbdi/navmap/navmap_files.h"
+#include "rgbdi/system/slam_navmap.h"
 
 namespace rgbdi::system {
 
@@ -32,11 +33,9 @@ void NavMapRefresher::refresh(const mapping::Mapper& mapper) {
   for (const mapping::Keyframe& kf : mapper.store().keyframes())
     path.push_back(kf.T_world_cam.translation());
   if (path.empty()) return;
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(mapper.pointMap().pointCount());
-  for (const mapping::WorldPoint& p : mapper.pointMap().points()) points.push_back(p.p_world);
   try {
-    const navmap::NavMap map = navmap::buildNavMap(points, path, options_);
+    const navmap::NavMap map =
+        navmap::buildNavMap(navMapPoints(mapper.store(), options_), path, options_);
     navmap::writeNavMapFiles(map, dir_, &path);
     ++refreshes_;
   } catch (const std::exception& e) {

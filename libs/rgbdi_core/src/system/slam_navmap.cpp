@@ -4,16 +4,24 @@
 
 namespace rgbdi::system {
 
+std::vector<Eigen::Vector3f> navMapPoints(const mapping::KeyframeStore& store,
+                                          const navmap::NavMapOptions& options) {
+  std::vector<Eigen::Vector3f> points;
+  const float max_depth = static_cast<float>(options.max_depth_m);
+  for (const mapping::Keyframe& kf : store.keyframes()) {
+    const Eigen::Isometry3f T_world_cam = kf.T_world_cam.cast<float>();
+    for (const mapping::MapPoint& p : kf.points)
+      if (p.p_cam.z() <= max_depth) points.push_back(T_world_cam * p.p_cam);
+  }
+  return points;
+}
+
 navmap::NavMap slamNavMap(const SlamSystem& sys, const navmap::NavMapOptions& options) {
   const Trajectory path = sys.finalTrajectory();
   std::vector<Eigen::Vector3d> positions;
   positions.reserve(path.size());
   for (const StampedPose& p : path) positions.push_back(p.p);
-  const auto& world = sys.mapper().pointMap().points();
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(world.size());
-  for (const mapping::WorldPoint& p : world) points.push_back(p.p_world);
-  return navmap::buildNavMap(points, positions, options);
+  return navmap::buildNavMap(navMapPoints(sys.mapper().store(), options), positions, options);
 }
 
 nlohmann::json navMapSummary(const navmap::NavMap& m, double build_ms) {

@@ -5,8 +5,10 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "rgbdi/navmap/nav_map.h"
 
@@ -30,6 +32,8 @@ struct NavMapComparison {
   std::size_t height_cells = 0;       ///< observed cells free in both with a ground height in both
   double height_rmse_m = 0.0;         ///< [m] RMS of (estimated - true) ground height over them
   double height_bias_m = 0.0;         ///< [m] mean of that difference
+  /// Observed cells by true state (first index) and estimated state (CellState values).
+  std::array<std::array<std::size_t, 7>, 7> confusion{};
 
   double freeRecall() const { return true_free ? double(free_as_free) / true_free : 1.0; }
   double occupiedRecall() const {
@@ -46,5 +50,12 @@ struct NavMapComparison {
 /// true slope from which free ground counts as a ramp.
 NavMapComparison compareNavMaps(const NavMap& estimate, const NavMap& truth,
                                 const Eigen::Isometry3d& T_est_truth, double sloped_min_deg);
+
+/// A picture of the comparison on the true grid (+y up, one pixel per cell): unobserved grey,
+/// free in both white, occupied in both black, true free but estimated occupied red, true
+/// occupied but estimated free blue, the true path's footprint green where the estimate is not
+/// free. Written atomically; throws IoError naming the file.
+void writeComparisonPicture(const NavMap& estimate, const NavMap& truth,
+                            const Eigen::Isometry3d& T_est_truth, const std::string& path);
 
 }  // namespace rgbdi::navmap

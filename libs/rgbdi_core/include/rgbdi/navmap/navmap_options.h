@@ -28,10 +28,15 @@ struct NavMapOptions {
   /// [m] top of the obstacle band: points higher than this above the ground are overhangs the
   /// robot passes under (table tops, ceilings)
   double clearance_height_m = 0.5;
-  double max_roughness_m =
-      0.05;  ///< [m] RMS deviation of the ground from its local plane that makes traversability 0
-  double refresh_interval_s = 10.0;  ///< [s] live runs rewrite the maps at this wall-clock period
-                                     ///< (and after each loop correction); 0 = at the end only
+  /// [m] RMS deviation of the ground from its local plane that makes traversability 0
+  double max_roughness_m = 0.05;
+  /// [m] map points the camera saw farther than this are left out: depth noise grows with the
+  /// square of the distance, and the points of a wall seen from far spill into the floor cells
+  /// in front of it as obstacles
+  double max_depth_m = 4.0;
+  /// [s] live runs rewrite the maps at this wall-clock period (and after each loop correction);
+  /// 0 = at the end only
+  double refresh_interval_s = 10.0;
 
   /// Throws ConfigError naming the key when a value is outside its range or inconsistent.
   void validate() const;

@@ -6,6 +6,10 @@
 // standing on the lowest ground differs between a cell's lines by more than kFaceMinM (a
 // vertical face inside the cell: wall, box side, step, table leg, the rim of a hole), points
 // every kFaceStepM up that face.
+//
+// One rule differs from an estimate's: a complete view knows what is under a solid. A cell whose
+// lowest solid rises from the ground above the robot's clearance (inside a tall box, a wall, a
+// table leg) is an obstacle, where an estimate, which sees only its top, leaves it unknown.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,15 +28,27 @@ inline constexpr double kFaceMinM = 0.02;
 /// [m] spacing of the points up a face.
 inline constexpr double kFaceStepM = 0.01;
 
-/// The surface points (map frame) of a built scene on `grid`.
-std::vector<Eigen::Vector3f> worldSurfacePoints(const Scene& scene,
-                                                const navmap::GridGeometry& grid);
+struct WorldSurface {
+  std::vector<Eigen::Vector3f> points;  ///< surface points (map frame)
+  /// [m] per cell (GridGeometry order): the highest top, over the cell's lines, of the lowest
+  /// solid (NaN where a line meets no solid)
+  std::vector<float> column_top_m;
+};
+
+/// The surface of a built scene on `grid`.
+WorldSurface worldSurface(const Scene& scene, const navmap::GridGeometry& grid);
 
 /// Body positions of the true path, one per camera frame.
 std::vector<Eigen::Vector3d> truePath(const SimulatedSequence& sequence);
 
-/// The true navigation map of a sequence: its world's surface points on the grid around the
-/// true path (navmap::gridAroundPath), classified with `options` and the true path.
+/// The true map from a world's surface: navmap::buildNavMap of its points, then every unknown
+/// cell within range_m of the path whose column top is more than clearance_height_m above the
+/// robot's ground (that under the nearest path position) made an obstacle.
+navmap::NavMap trueNavMap(const WorldSurface& surface, const std::vector<Eigen::Vector3d>& path,
+                          const navmap::NavMapOptions& options, const navmap::GridGeometry& grid);
+
+/// The true navigation map of a sequence on the grid around its true path
+/// (navmap::gridAroundPath).
 navmap::NavMap trueNavMap(const SimulatedSequence& sequence, const navmap::NavMapOptions& options);
 
 }  // namespace rgbdi::sim

@@ -36,35 +36,52 @@ std::vector<Interval> solidsAlong(const Scene& scene, double x, double y, double
   return merged;
 }
 
+/// Path positions at least a cell apart (the nearest-position search below: within half a cell).
+std::vector<Eigen::Vector2d> thinnedPath(const std::vector<Eigen::Vector3d>& path, double min_gap,
+                                         std::vector<double>* z) {
+  std::vector<Eigen::Vector2d> xy;
+  for (const Eigen::Vector3d& p : path) {
+    if (!p.allFinite()) continue;
+    if (!xy.empty() && (xy.back() - p.head<2>()).norm() < min_gap) continue;
+    xy.push_back(p.head<2>());
+    z->push_back(p.z());
+  }
+  return xy;
+}
+
 }  // namespace
 
-std::vector<Eigen::Vector3f> worldSurfacePoints(const Scene& scene,
-                                                const navmap::GridGeometry& grid) {
+WorldSurface worldSurface(const Scene& scene, const navmap::GridGeometry& grid) {
   const Eigen::AlignedBox3d world = scene.bounds();
   const double z_lo = world.min().z() - 1.0, z_hi = world.max().z() + 1.0;
-  std::vector<Eigen::Vector3f> points;
+  WorldSurface out;
+  out.column_top_m.assign(grid.cellCount(), std::numeric_limits<float>::quiet_NaN());
   const double q = 0.25 * grid.cell_size_m;
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
       const Eigen::Vector2d c = grid.centre(ix, iy);
       double ground_lo = std::numeric_limits<double>::infinity(), ground_hi = -ground_lo;
+      int lines_with_solid = 0;
       for (int k = 0; k < 4; ++k) {
         const double x = c.x() + ((k & 1) ? q : -q), y = c.y() + ((k & 2) ? q : -q);
         const std::vector<Interval> solids = solidsAlong(scene, x, y, z_lo, z_hi);
         for (const Interval& s : solids)
-          points.emplace_back(static_cast<float>(x), static_cast<float>(y),
-                              static_cast<float>(s.second));
+          out.points.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                                  static_cast<float>(s.second));
         if (!solids.empty()) {
+          ++lines_with_solid;
           ground_lo = std::min(ground_lo, solids.front().second);
           ground_hi = std::max(ground_hi, solids.front().second);
         }
       }
+      if (lines_with_solid == 4)
+        out.column_top_m[grid.index(ix, iy)] = static_cast<float>(ground_hi);
       if (ground_hi - ground_lo > kFaceMinM)
         for (double z = ground_lo + kFaceStepM; z < ground_hi; z += kFaceStepM)
-          points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()),
-                              static_cast<float>(z));
+          out.points.emplace_back(static_cast<float>(c.x()), static_cast<float>(c.y()),
+                                  static_cast<float>(z));
     }
-  return points;
+  return out;
 }
 
 std::vector<Eigen::Vector3d> truePath(const SimulatedSequence& sequence) {
@@ -75,10 +92,41 @@ std::vector<Eigen::Vector3d> truePath(const SimulatedSequence& sequence) {
   return path;
 }
 
+navmap::NavMap trueNavMap(const WorldSurface& surface, const std::vector<Eigen::Vector3d>& path,
+                          const navmap::NavMapOptions& o, const navmap::GridGeometry& grid) {
+  navmap::NavMap m = navmap::buildNavMap(surface.points, path, o, grid);
+  if (!std::isfinite(m.path_height_m)) return m;
+  std::vector<double> path_z;
+  const std::vector<Eigen::Vector2d> xy = thinnedPath(path, grid.cell_size_m, &path_z);
+  for (int iy = 0; iy < grid.height; ++iy)
+    for (int ix = 0; ix < grid.width; ++ix) {
+      const std::size_t i = grid.index(ix, iy);
+      if (m.state[i] != navmap::CellState::kUnknown || !std::isfinite(surface.column_top_m[i]))
+        continue;
+      const Eigen::Vector2d c = grid.centre(ix, iy);
+      double best = std::numeric_limits<double>::infinity();
+      std::size_t nearest = 0;
+      for (std::size_t k = 0; k < xy.size(); ++k) {
+        const double d = (xy[k] - c).squaredNorm();
+        if (d < best) {
+          best = d;
+          nearest = k;
+        }
+      }
+      if (!(std::sqrt(best) <= o.range_m)) continue;
+      const double ground = path_z[nearest] - m.path_height_m;
+      if (surface.column_top_m[i] > ground + o.clearance_height_m) {
+        m.state[i] = navmap::CellState::kObstacle;
+        m.traversability[i] = 0.0f;
+      }
+    }
+  return m;
+}
+
 navmap::NavMap trueNavMap(const SimulatedSequence& sequence, const navmap::NavMapOptions& options) {
   const std::vector<Eigen::Vector3d> path = truePath(sequence);
   const navmap::GridGeometry grid = navmap::gridAroundPath(path, options);
-  return navmap::buildNavMap(worldSurfacePoints(sequence.scene(), grid), path, options, grid);
+  return trueNavMap(worldSurface(sequence.scene(), grid), path, options, grid);
 }
 
 }  // namespace rgbdi::sim
