@@ -231,6 +231,20 @@ TEST(NavMap, CeilingIsIgnoredAndAloneLeavesCellsUnknown) {
   EXPECT_EQ(stateAt(m, 1.0, 1.5), CellState::kUnknown);
 }
 
+TEST(NavMap, AHandHeldPathOverUnseenFloorTakesItsHeightFromTheFloorBelowIt) {
+  // Camera carried at 1.4 m; the floor is seen beside the path (within 1 m of it), never under it,
+  // the ceiling (2.5 m) everywhere: the ceiling above the path is no ground under it.
+  std::vector<Eigen::Vector3f> pts;
+  addFlat(pts, -1.0, 3.0, 0.5, 1.0, 0.0);
+  addFlat(pts, -1.0, 3.0, -0.5, 1.0, 2.5);
+  const NavMap m = buildNavMap(pts, straightPath(0.0, 2.0, 0.0, 1.4), NavMapOptions{});
+  EXPECT_NEAR(m.path_height_m, 1.4, 1e-6);
+  EXPECT_EQ(stateAt(m, 2.0, 0.8), CellState::kFree);
+  EXPECT_NEAR(m.ground_z_m[cellAt(m, 2.0, 0.8)], 0.0, 1e-6);
+  // Where only the ceiling was seen, beside the footprint: unknown, not a lowered plateau.
+  EXPECT_EQ(stateAt(m, 2.0, -0.35), CellState::kUnknown);
+}
+
 TEST(NavMap, CellsTheRobotDroveOverAreFree) {
   std::vector<Eigen::Vector3f> pts;
   addFlat(pts, -1.0, 3.0, -1.0, 1.0, 0.0);

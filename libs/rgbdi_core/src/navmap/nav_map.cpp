@@ -109,6 +109,41 @@ void classifyPlateaus(NavMap& m, const std::vector<float>& reference, double max
   }
 }
 
+/// The ground under each path position: the median ground of the cells within radius whose
+/// ground lies below the position (under a hand-held camera the floor beneath may be unseen and
+/// the ceiling the lowest surface of a cell); NaN where there is none. Computed once per cell
+/// travelled, positions closer than a cell to the last computed one take its value.
+std::vector<float> groundUnderPath(const NavMap& m, const std::vector<Eigen::Vector3d>& path,
+                                   double radius) {
+  const GridGeometry& g = m.grid;
+  const int r = static_cast<int>(std::ceil(radius / g.cell_size_m));
+  const double r2 = std::pow(radius / g.cell_size_m, 2);
+  std::vector<float> out(path.size(), kNaN);
+  std::vector<double> local;
+  Eigen::Vector2d last = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  float last_ground = kNaN;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const Eigen::Vector3d& p = path[k];
+    int ix = 0, iy = 0;
+    if (!p.allFinite() || !g.cellOf(p.x(), p.y(), &ix, &iy)) continue;
+    if ((p.head<2>() - last).norm() < g.cell_size_m) {
+      out[k] = last_ground;
+      continue;
+    }
+    last = p.head<2>();
+    local.clear();
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        if (dx * dx + dy * dy > r2 || !g.contains(ix + dx, iy + dy)) continue;
+        const float h = m.ground_z_m[g.index(ix + dx, iy + dy)];
+        if (std::isfinite(h) && h < p.z()) local.push_back(h);
+      }
+    last_ground = local.empty() ? kNaN : static_cast<float>(median(local));
+    out[k] = last_ground;
+  }
+  return out;
+}
+
 /// Margin [0, 1] a free cell leaves to the slope and roughness limits and to the steps towards
 /// free neighbours.
 float cellScore(const NavMap& m, std::size_t i, int ix, int iy, const NavMapOptions& o) {
@@ -211,21 +246,20 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
       m.ground_sigma_m[i] = s;
     }
   }
-  // Height of the path above the ground it drove over, and each cell's reference ground.
+  // The ground under the path, its height above it, and each cell's reference ground: that
+  // under its nearest path position, measured, else the position less the path's height (a
+  // hand-held camera moves up and down; a robot's ground is where it drives).
+  std::vector<float> path_ground = groundUnderPath(m, path, o.path_ground_radius_m);
   std::vector<double> above;
-  for (const Eigen::Vector3d& p : path) {
-    int ix = 0, iy = 0;
-    if (!grid.cellOf(p.x(), p.y(), &ix, &iy)) continue;
-    const float h = m.ground_z_m[grid.index(ix, iy)];
-    if (std::isfinite(h) && std::isfinite(p.z())) above.push_back(p.z() - h);
-  }
+  for (std::size_t k = 0; k < path.size(); ++k)
+    if (std::isfinite(path_ground[k])) above.push_back(path[k].z() - path_ground[k]);
   m.path_height_m = median(above);
+  for (std::size_t k = 0; k < path.size(); ++k)
+    if (!std::isfinite(path_ground[k]))
+      path_ground[k] = static_cast<float>(path[k].z() - m.path_height_m);  // NaN without any
   std::vector<float> reference(n, kNaN);
-  if (std::isfinite(m.path_height_m))
-    for (std::size_t i = 0; i < n; ++i)
-      if (near.pose[i] >= 0)
-        reference[i] =
-            static_cast<float>(path[static_cast<std::size_t>(near.pose[i])].z() - m.path_height_m);
+  for (std::size_t i = 0; i < n; ++i)
+    if (near.pose[i] >= 0) reference[i] = path_ground[static_cast<std::size_t>(near.pose[i])];
   // A lowest surface above the robot's clearance is an overhang with the ground under it unseen.
   for (std::size_t i = 0; i < n; ++i)
     if (std::isfinite(m.ground_z_m[i]) && std::isfinite(reference[i]) &&

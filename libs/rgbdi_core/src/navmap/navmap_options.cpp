@@ -46,6 +46,8 @@ const std::vector<DoubleKey>& doubleKeys() {
        20.0},
       {"max_roughness_m", [](NavMapOptions& o) -> double& { return o.max_roughness_m; }, 0.001,
        5.0},
+      {"path_ground_radius_m", [](NavMapOptions& o) -> double& { return o.path_ground_radius_m; },
+       0.0, 100.0},
       {"max_depth_m", [](NavMapOptions& o) -> double& { return o.max_depth_m; }, 0.1, 100.0},
       {"refresh_interval_s", [](NavMapOptions& o) -> double& { return o.refresh_interval_s; }, 0.0,
        86400.0},

@@ -13,10 +13,11 @@
 //    surface is above the band (a table top with the floor under it unseen) stay unknown.
 //
 // The ground of a cell is its lowest surface: the mean of the points within ground_band_m of its
-// min_points_per_cell-th lowest point. The robot's own ground comes from the path: the median
-// height of the path above the ground of the cells it drove over gives the ground under every
-// path pose, and each cell takes the ground under its nearest path pose as its reference. Cells
-// the robot's footprint covered are free whatever the points say. The result depends only on
+// min_points_per_cell-th lowest point. The robot's own ground comes from the path: under each
+// path position, the median ground of the cells within path_ground_radius_m below it (where
+// none was seen: the position less the median height of the path above that ground), and each
+// cell takes the ground under its nearest path position as its reference. Cells the robot's
+// footprint covered are free whatever the points say. The result depends only on
 // the points (not their order) and the path.
 #pragma once
 
@@ -60,7 +61,7 @@ struct NavMap {
   std::vector<float> traversability;
   std::vector<CellState> state;
   std::vector<std::uint8_t> driven;  ///< 1 where the robot's footprint passed
-  /// [m] height of the path above the ground under it (NaN when no path cell had ground)
+  /// [m] height of the path above the ground under it (NaN when no ground was seen near the path)
   double path_height_m = 0.0;
 
   std::int8_t occupancy(std::size_t i) const {

@@ -30,10 +30,13 @@ struct NavMapOptions {
   double clearance_height_m = 0.5;
   /// [m] RMS deviation of the ground from its local plane that makes traversability 0
   double max_roughness_m = 0.05;
+  /// [m] the ground under a path position is the median ground of the cells within this radius
+  /// below it; the median of the path's height above it over the path gives the robot's ground
+  double path_ground_radius_m = 1.0;
   /// [m] map points the camera saw farther than this are left out: depth noise grows with the
   /// square of the distance, and the points of a wall seen from far spill into the floor cells
   /// in front of it as obstacles
-  double max_depth_m = 4.0;
+  double max_depth_m = 3.5;
   /// [s] live runs rewrite the maps at this wall-clock period (and after each loop correction);
   /// 0 = at the end only
   double refresh_interval_s = 10.0;

@@ -1,11 +1,13 @@
 // The true navigation map of a simulated world (doc/navigation-maps.md "Ground truth"): the
 // scene's solids rasterised on the grid and classified by the same rules as an estimated map
 // (navmap::buildNavMap), with the true path. The points stand for a complete, noise-free view:
-// on 2 x 2 vertical lines per cell, the top of every solid the line crosses (the union of the
-// primitives it passes through, solids that touch merged) and, where the top of the solid
-// standing on the lowest ground differs between a cell's lines by more than kFaceMinM (a
-// vertical face inside the cell: wall, box side, step, table leg, the rim of a hole), points
-// every kFaceStepM up that face.
+// on kLinesPerSide x kLinesPerSide vertical lines per cell (a quarter cell apart, the outer ones
+// at the cell's edges), the top of every solid the line crosses (the union of the primitives it
+// passes through, solids that touch merged) and, where the top of the solid standing on the
+// lowest ground differs between a cell's lines by more than kFaceMinM (a vertical face inside
+// the cell: wall, box side, step, table leg, the rim of a hole), points every kFaceStepM up that
+// face. A cell holding any part of a face is thus an obstacle, as a cell holding points of it
+// is in an estimate.
 //
 // One rule differs from an estimate's: a complete view knows what is under a solid. A cell whose
 // lowest solid rises from the ground above the robot's clearance (inside a tall box, a wall, a
@@ -22,8 +24,10 @@
 
 namespace rgbdi::sim {
 
-/// [m] height difference between the tops under two lines 2.5 cm apart that counts as a face
-/// (a slope of 39 deg; the worlds' ramps rise 0.4 cm over that distance).
+/// Vertical lines per cell side.
+inline constexpr int kLinesPerSide = 5;
+/// [m] height difference between the tops under a cell's lines that counts as a face (the
+/// worlds' ramps rise less than 1 cm over a 5 cm cell).
 inline constexpr double kFaceMinM = 0.02;
 /// [m] spacing of the points up a face.
 inline constexpr double kFaceStepM = 0.01;

@@ -1,6 +1,7 @@
 #include "rgbdi/sim/world_truth.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -10,13 +11,14 @@ namespace {
 
 using Interval = std::pair<double, double>;  ///< [bottom, top] of a solid on a vertical line
 
-/// The solids a vertical line through (x, y) crosses, merged where they touch, bottom up.
-std::vector<Interval> solidsAlong(const Scene& scene, double x, double y, double z_lo,
-                                  double z_hi) {
+/// The solids a vertical line through (x, y) crosses, merged where they touch, bottom up; only
+/// the primitives `candidates` (those whose bounds reach the line's cell).
+std::vector<Interval> solidsAlong(const Scene& scene, const std::vector<std::uint32_t>& candidates,
+                                  double x, double y, double z_lo, double z_hi) {
   std::vector<Interval> cuts;
   const Eigen::Vector3d down(0, 0, -1), up(0, 0, 1);
   const double length = z_hi - z_lo;
-  for (std::uint32_t p = 0; p < scene.primitiveCount(); ++p) {
+  for (std::uint32_t p : candidates) {
     const Eigen::AlignedBox3d& b = scene.primitiveBounds(p);
     if (x < b.min().x() || x > b.max().x() || y < b.min().y() || y > b.max().y()) continue;
     PrimitiveHit top, bottom;
@@ -56,15 +58,30 @@ WorldSurface worldSurface(const Scene& scene, const navmap::GridGeometry& grid) 
   const double z_lo = world.min().z() - 1.0, z_hi = world.max().z() + 1.0;
   WorldSurface out;
   out.column_top_m.assign(grid.cellCount(), std::numeric_limits<float>::quiet_NaN());
-  const double q = 0.25 * grid.cell_size_m;
+  // Line offsets from the cell centre: a quarter cell apart, the outer ones just inside the
+  // cell's edges, so that a face anywhere in the cell lies between two lines.
+  const double h = 0.5 * grid.cell_size_m, inset = 1e-4 * grid.cell_size_m;
+  std::array<double, kLinesPerSide> offsets{};
+  for (int k = 0; k < kLinesPerSide; ++k)
+    offsets[static_cast<std::size_t>(k)] =
+        std::clamp(-h + 2.0 * h * k / (kLinesPerSide - 1), -h + inset, h - inset);
+  std::vector<std::uint32_t> candidates;
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
       const Eigen::Vector2d c = grid.centre(ix, iy);
+      candidates.clear();
+      for (std::uint32_t p = 0; p < scene.primitiveCount(); ++p) {
+        const Eigen::AlignedBox3d& b = scene.primitiveBounds(p);
+        if (b.max().x() >= c.x() - h && b.min().x() <= c.x() + h && b.max().y() >= c.y() - h &&
+            b.min().y() <= c.y() + h)
+          candidates.push_back(p);
+      }
       double ground_lo = std::numeric_limits<double>::infinity(), ground_hi = -ground_lo;
       int lines_with_solid = 0;
-      for (int k = 0; k < 4; ++k) {
-        const double x = c.x() + ((k & 1) ? q : -q), y = c.y() + ((k & 2) ? q : -q);
-        const std::vector<Interval> solids = solidsAlong(scene, x, y, z_lo, z_hi);
+      for (int k = 0; k < kLinesPerSide * kLinesPerSide; ++k) {
+        const double x = c.x() + offsets[static_cast<std::size_t>(k % kLinesPerSide)];
+        const double y = c.y() + offsets[static_cast<std::size_t>(k / kLinesPerSide)];
+        const std::vector<Interval> solids = solidsAlong(scene, candidates, x, y, z_lo, z_hi);
         for (const Interval& s : solids)
           out.points.emplace_back(static_cast<float>(x), static_cast<float>(y),
                                   static_cast<float>(s.second));
@@ -74,7 +91,7 @@ WorldSurface worldSurface(const Scene& scene, const navmap::GridGeometry& grid) 
           ground_hi = std::max(ground_hi, solids.front().second);
         }
       }
-      if (lines_with_solid == 4)
+      if (lines_with_solid == kLinesPerSide * kLinesPerSide)
         out.column_top_m[grid.index(ix, iy)] = static_cast<float>(ground_hi);
       if (ground_hi - ground_lo > kFaceMinM)
         for (double z = ground_lo + kFaceStepM; z < ground_hi; z += kFaceStepM)
