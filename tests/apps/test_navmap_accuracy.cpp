@@ -16,10 +16,10 @@ using rgbdi::test::binDir;
 using rgbdi::test::runCommand;
 
 TEST(NavMapAccuracy, WheeledSlopesNavigationWorldMatchesTheTruth) {
-  const std::string seq = rgbdi::test::cachedSimSequence(
-      "--profile wheeled_slopes --duration 20 --config " + rgbdi::test::sourceDir() +
-      "/tests/apps/navmap_world.ini");
-  for (const char* f : {"truth_navmap.yaml", "truth_navmap.pgm", "truth_navmap_layers.yml",
+  const std::string seq =
+      rgbdi::test::cachedSimSequence("--profile wheeled_slopes --duration 20 --config " +
+                                     rgbdi::test::sourceDir() + "/tests/apps/navmap_world.ini");
+  for (const char* f : {"truth_navmap.yaml", "truth_navmap.pgm", "truth_navmap_layers.yml.gz",
                         "truth_navmap.gridmap", "truth_navmap.png"})
     EXPECT_TRUE(fs::exists(seq + "/" + f)) << f;
   const std::string out = rgbdi::test::makeTempDir("navmap_accuracy");
@@ -43,11 +43,12 @@ TEST(NavMapAccuracy, WheeledSlopesNavigationWorldMatchesTheTruth) {
   EXPECT_EQ(ros.grid.width, summary["navmap"]["width_cells"].get<int>());
 
   std::string eval;
-  ASSERT_EQ(runCommand(binDir() + "/rgbdi-eval " + seq + "/groundtruth.tum " + out +
-                           "/trajectory.tum --align posyaw --json --navmap " + out +
-                           "/navmap_layers.yml --navmap-truth " + seq + "/truth_navmap_layers.yml",
-                       &eval),
-            0)
+  ASSERT_EQ(
+      runCommand(binDir() + "/rgbdi-eval " + seq + "/groundtruth.tum " + out +
+                     "/trajectory.tum --align posyaw --json --navmap " + out +
+                     "/navmap_layers.yml.gz --navmap-truth " + seq + "/truth_navmap_layers.yml.gz",
+                 &eval),
+      0)
       << eval;
   const nlohmann::json nav = nlohmann::json::parse(eval)["navmap"];
   SCOPED_TRACE(nav.dump(1));
@@ -60,6 +61,7 @@ TEST(NavMapAccuracy, WheeledSlopesNavigationWorldMatchesTheTruth) {
   EXPECT_GT(nav["sloped_cells"].get<int>(), 100);
   EXPECT_GE(nav["sloped_free"].get<double>(), 0.95);
   EXPECT_LE(nav["height_rmse_m"].get<double>(), 0.02);
-  // The features were seen and classified: the hole's bottom lowered, the step's top raised.
-  EXPECT_GT(nav["confusion"]["lowered"].value("lowered", 0), 0);
+  // Obstacles were seen (boxes, walls; the hole and the step beside the path stay out of view of
+  // the forward-looking camera on this path, doc/navigation-maps.md).
+  EXPECT_GT(nav["true_occupied_cells"].get<int>(), 200);
 }

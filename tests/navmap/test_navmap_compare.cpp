@@ -35,8 +35,8 @@ TEST(NavMapCompare, AMapAgreesWithItselfCellForCell) {
   EXPECT_EQ(c.observed, c.true_known);
   EXPECT_EQ(c.true_free, m.count(CellState::kFree));
   EXPECT_EQ(c.free_as_free, c.true_free);
-  EXPECT_EQ(c.true_occupied, m.grid.cellCount() - m.count(CellState::kFree) -
-                                 m.count(CellState::kUnknown));
+  EXPECT_EQ(c.true_occupied,
+            m.grid.cellCount() - m.count(CellState::kFree) - m.count(CellState::kUnknown));
   EXPECT_GT(c.true_occupied, 0u);
   EXPECT_EQ(c.occupied_as_occupied, c.true_occupied);
   EXPECT_GT(c.true_driven, 0u);

@@ -153,6 +153,12 @@ TEST(NavMapFiles, LayersFileRoundTrips) {
   EXPECT_TRUE(same(r.ground_z_m, m.ground_z_m));
   EXPECT_TRUE(same(r.traversability, m.traversability));
   EXPECT_TRUE(same(r.slope_deg, m.slope_deg));
+  // Compressed (the name ends in .gz): the same layers, a smaller file.
+  writeLayers(m, dir + "/l.yml.gz");
+  const NavMap z = readLayers(dir + "/l.yml.gz");
+  EXPECT_EQ(z.state, m.state);
+  EXPECT_TRUE(same(z.ground_z_m, m.ground_z_m));
+  EXPECT_LT(fs::file_size(dir + "/l.yml.gz"), fs::file_size(dir + "/l.yml") / 2);
   std::ofstream(dir + "/bad.yml") << "%YAML:1.0\n---\nwidth: 3\n";
   EXPECT_THROW(readLayers(dir + "/bad.yml"), rgbdi::IoError);
   fs::remove_all(dir);

@@ -1,5 +1,8 @@
-// navmap_layers.yml: every layer as an OpenCV matrix (rows = iy), readable with cv::FileStorage
-// in C++ and Python.
+// navmap_layers.yml.gz: every layer as an OpenCV matrix (rows = iy), readable with
+// cv::FileStorage in C++ and Python (which open a .gz file as such). Compressed because most
+// cells of a large grid are unknown (NaN): a quarter of the size.
+#include <mrpt/io/CFileGZOutputStream.h>
+
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
@@ -47,7 +50,18 @@ void writeLayers(const NavMap& map, const std::string& path) {
   fs << "state" << asMat(g, state, CV_8U);
   fs << "driven" << asMat(g, map.driven, CV_8U);
   const std::string text = fs.releaseAndGetString();
-  writeFileAtomically(path, [&](std::ostream& os) { os << text; });
+  const bool gz = path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0;
+  if (!gz) {
+    writeFileAtomically(path, [&](std::ostream& os) { os << text; });
+    return;
+  }
+  writeFileAtomicallyVia(path, [&](const std::string& tmp) {
+    mrpt::io::CFileGZOutputStream out;
+    if (!out.open(tmp)) throw IoError(path + ": cannot create the compressed layers file");
+    if (out.Write(text.data(), text.size()) != text.size())
+      throw IoError(path + ": cannot write the compressed layers file");
+    out.close();
+  });
 }
 
 NavMap readLayers(const std::string& path) {

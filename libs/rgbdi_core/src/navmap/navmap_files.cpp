@@ -60,8 +60,8 @@ std::vector<std::pair<std::string, std::string>> writeNavMapFiles(
   out.emplace_back(name + "_gridmap", stem + ".gridmap");
   writeMrptHeightMap(map, stem + "_height.gridmap");
   out.emplace_back(name + "_height_gridmap", stem + "_height.gridmap");
-  writeLayers(map, stem + "_layers.yml");
-  out.emplace_back(name + "_layers", stem + "_layers.yml");
+  writeLayers(map, stem + "_layers.yml.gz");
+  out.emplace_back(name + "_layers", stem + "_layers.yml.gz");
   writeOccupancyPicture(map, stem + ".png", robot_path);
   out.emplace_back(name + "_png", stem + ".png");
   writeTraversabilityPicture(map, stem + "_traversability.png");

@@ -6,7 +6,8 @@
 //    CMultiMetricMap load it; free 1, occupied 0, unknown 0.5) and NAME_height.gridmap
 //    (mrpt::maps::CHeightGridMap2D: h = ground height, var = its standard deviation, w = 1 where
 //    known);
-//  * NAME_layers.yml: every layer of the elevation grid (OpenCV FileStorage, base64 matrices);
+//  * NAME_layers.yml.gz: every layer of the elevation grid (OpenCV FileStorage, base64
+//    matrices, gzip-compressed);
 //  * NAME.png and NAME_traversability.png: pictures for people (north = +y up).
 // Failures throw IoError naming the file.
 #pragma once
@@ -41,6 +42,7 @@ RosMap readRosMap(const std::string& yaml_path);
 void writeMrptOccupancyGrid(const NavMap& map, const std::string& path);
 void writeMrptHeightMap(const NavMap& map, const std::string& path);
 
+/// Gzip-compressed when the path ends in .gz (readLayers reads both).
 void writeLayers(const NavMap& map, const std::string& path);
 /// Reads writeLayers' file back (every layer, geometry and state; not `driven`, which it stores
 /// too, nor path_height_m). Throws IoError naming the file.
@@ -59,7 +61,7 @@ void writeTraversabilityPicture(const NavMap& map, const std::string& path);
 std::vector<mrpt::opengl::CRenderizable::Ptr> sceneObjects(const NavMap& map);
 
 /// Writes all files into dir as STEM.yaml, STEM.pgm, STEM.gridmap, STEM_height.gridmap,
-/// STEM_layers.yml, STEM.png, STEM_traversability.png; returns (output name, path) pairs, the
+/// STEM_layers.yml.gz, STEM.png, STEM_traversability.png; returns (output name, path) pairs, the
 /// names STEM_yaml, STEM_pgm, STEM_gridmap, STEM_height_gridmap, STEM_layers, STEM_png,
 /// STEM_traversability_png.
 std::vector<std::pair<std::string, std::string>> writeNavMapFiles(
