@@ -21,8 +21,10 @@ void NavMapRefresher::update(const mapping::Mapper& mapper, bool correction) {
       options_.refresh_interval_s > 0.0 &&
       std::chrono::duration<double>(now - last_).count() >= options_.refresh_interval_s;
   if (!correction && !due) return;
-  last_ = now;
   refresh(mapper);
+  // The period counts from the end of a refresh: a rebuild slower than the interval does not
+  // make the mapping thread rebuild back to back.
+  last_ = std::chrono::steady_clock::now();
 }
 
 void NavMapRefresher::refresh(const mapping::Mapper& mapper) {

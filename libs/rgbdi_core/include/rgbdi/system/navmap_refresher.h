@@ -1,8 +1,9 @@
 // Live runs keep the navigation maps in the output directory current while they run
 // (doc/navigation-maps.md): after each loop correction of the map and, between corrections, at
-// [navmap] refresh_interval_s of wall-clock time, the maps are rebuilt from the mapper's points
-// and its keyframes' positions and rewritten (each file atomically: a planner reads a whole map).
-// Called on the mapping thread (SlamSystemOptions::on_map_update), which owns the mapper.
+// [navmap] refresh_interval_s of wall-clock time (counted from the end of the last refresh), the
+// maps are rebuilt from the keyframes' kept points (system::navMapPoints) and positions and
+// rewritten (each file atomically: a planner reads a whole map). Called on the mapping thread
+// (SlamSystemOptions::on_map_update), which owns the mapper.
 #pragma once
 
 #include <atomic>
