@@ -4,6 +4,7 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <opencv2/core.hpp>
 
@@ -66,6 +67,8 @@ void writeLayers(const NavMap& map, const std::string& path) {
 
 NavMap readLayers(const std::string& path) {
   NavMap m;
+  // Checked first: OpenCV would also log its own error line for a missing file.
+  if (!std::ifstream(path).good()) throw IoError(path + ": cannot open");
   cv::FileStorage fs;
   try {
     if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
