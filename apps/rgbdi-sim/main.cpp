@@ -22,8 +22,10 @@
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/common/command_line.h"
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/navmap/navmap_files.h"
 #include "rgbdi/sim/recording.h"
 #include "rgbdi/sim/sequence_writer.h"
+#include "rgbdi/sim/world_truth.h"
 
 namespace {
 
@@ -47,7 +49,8 @@ const char* const kUsage =
     "                     mav0/ layout)\n"
     "  --out              output directory (sequence.rawlog, sequence_Images/, groundtruth.tum,\n"
     "                     groundtruth_cam.tum, config.ini, simulation.ini[, sequence.bag,\n"
-    "                     vins_config.yaml])\n"
+    "                     vins_config.yaml], truth_navmap.*: the true navigation maps of the\n"
+    "                     path, [navmap] limits)\n"
     "  --duration         total duration [s] (default: the profile's; recorded: the recording\n"
     "                     from its first ground-truth sample inside the IMU's span)\n"
     "  --speed            speed preset (wheeled_slopes: the paper's slow/normal/fast runs)\n"
@@ -212,13 +215,15 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Arguments& a) {
   return outcome;
 }
 
-rgbdi::sim::SimOptions options(const Arguments& a) {
+rgbdi::sim::SimOptions options(const Arguments& a, rgbdi::navmap::NavMapOptions* navmap) {
   rgbdi::IniReader ini =
       a.config.empty() ? rgbdi::IniReader::empty() : rgbdi::IniReader::fromFile(a.config);
   rgbdi::sim::SimOptions o = rgbdi::sim::SimOptions::load(ini);
-  // The simulator reads [sim], [camera] and [extrinsic]; the other modules' sections of a full
-  // rgbdi configuration (e.g. share/config.ini) are allowed but not used.
-  ini.acceptConfigSectionsExcept({"sim", "camera", "extrinsic"});
+  // The robot's limits of the true navigation map.
+  *navmap = rgbdi::navmap::NavMapOptions::load(ini);
+  // The simulator reads [sim], [camera], [extrinsic] and [navmap]; the other modules' sections
+  // of a full rgbdi configuration (e.g. share/config.ini) are allowed but not used.
+  ini.acceptConfigSectionsExcept({"sim", "camera", "extrinsic", "navmap"});
   ini.checkNoUnknownKeys();
   if (a.profile == "recorded") {
     o.profile.kind = rgbdi::sim::ProfileKind::Recorded;
@@ -260,6 +265,7 @@ rgbdi::sim::SimOptions options(const Arguments& a) {
 int main(int argc, char** argv) {
   Arguments args;
   rgbdi::sim::SimOptions opt;
+  rgbdi::navmap::NavMapOptions navmap_options;
   rgbdi::sim::SequenceWriterOptions wo;
   try {
     const auto outcome = parse(argc, argv, args);
@@ -276,7 +282,7 @@ int main(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--bag-compression: ") + e.what());
     }
-    opt = options(args);
+    opt = options(args, &navmap_options);
   } catch (const UsageError& e) {
     std::cerr << rgbdi::usageErrorLine("rgbdi-sim", e.what());
     return kExitUsage;
@@ -315,6 +321,14 @@ int main(int argc, char** argv) {
               << "\n";
     if (!s.bag_path.empty()) std::cout << "  " << s.bag_path << "\n";
     if (!s.vins_config_path.empty()) std::cout << "  " << s.vins_config_path << "\n";
+    // The true navigation maps of the world along the true path (doc/navigation-maps.md).
+    const std::vector<Eigen::Vector3d> path = rgbdi::sim::truePath(sequence);
+    const rgbdi::navmap::NavMap truth = rgbdi::sim::trueNavMap(sequence, navmap_options);
+    for (const auto& [name, file] :
+         rgbdi::navmap::writeNavMapFiles(truth, args.out, &path, "truth_navmap"))
+      if (name == "truth_navmap_layers" || name == "truth_navmap_yaml" ||
+          name == "truth_navmap_png")
+        std::cout << "  " << file << "\n";
   } catch (const std::exception& e) {
     std::cerr << "rgbdi-sim: error: " << e.what() << "\n";
     return kExitError;

@@ -94,6 +94,23 @@ TEST(RgbdiEvalApp, MissingFileIsADataError) {
   EXPECT_NE(out.find(missing + ": cannot open"), std::string::npos) << out;
 }
 
+TEST(RgbdiEvalApp, AMissingOrBrokenNavigationMapIsADataErrorNamingTheFile) {
+  RGBDI_REQUIRE_FIXTURE(fixturePath("eval/freiburg1_xyz-groundtruth.txt"));
+  std::string out;
+  const std::string missing = "/nonexistent/navmap_layers.yml.gz";
+  const std::string broken = writeFile("broken_layers.yml", "%YAML:1.0\n---\nwidth: 3\n");
+  for (const std::string& bad : {missing, broken}) {
+    EXPECT_EQ(
+        runCommand(evalCommand(goldenArgs() + " --navmap " + bad + " --navmap-truth " + bad), &out),
+        1);
+    EXPECT_EQ(lineCount(out), 1u) << out;
+    EXPECT_NE(out.find(bad + ": "), std::string::npos) << out;
+  }
+  EXPECT_EQ(runCommand(evalCommand(goldenArgs() + " --navmap " + broken), &out), 2);
+  EXPECT_NE(out.find("--navmap and --navmap-truth go together"), std::string::npos) << out;
+  EXPECT_EQ(runCommand(evalCommand(goldenArgs() + " --navmap-diff x.png"), &out), 2);
+}
+
 TEST(RgbdiEvalApp, NanLineIsADataErrorNamingFileAndLine) {
   RGBDI_REQUIRE_FIXTURE(fixturePath("eval/freiburg1_xyz-groundtruth.txt"));
   const std::string est =

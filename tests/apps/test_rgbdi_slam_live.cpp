@@ -395,6 +395,26 @@ TEST(RgbdiSlamLive, DurationAndSigtermStopTheRunWithEveryOutput) {
   EXPECT_NO_THROW(rgbdi::eval::readTum(out + "/trajectory.tum"));
 }
 
+TEST(RgbdiSlamLive, NavigationMapsAreRefreshedWhileTheRunGoesOn) {
+  const std::string dir = makeTempDir("rgbdi_live_navmap");
+  const std::string ini = replayIni(dir, sequenceDir() + "/sequence.rawlog", 1.0);
+  const std::string config = dir + "/config.ini";
+  {
+    std::ifstream in(sequenceDir() + "/config.ini");
+    std::ofstream o(config);
+    o << in.rdbuf() << "\n[navmap]\nrefresh_interval_s = 1\n";
+  }
+  const SlamRun r =
+      runSlam("--live " + ini + " --config " + config + " --duration 6", "rgbdi_live_navmap");
+  EXPECT_EQ(r.rc, 0) << r.log;
+  ASSERT_TRUE(r.summary.is_object()) << r.log;
+  // Rewritten during the run (every second from the first keyframes on), then once at the end.
+  EXPECT_GE(r.summary["live"]["navmap_refreshes"].get<int>(), 2) << r.summary["live"].dump();
+  EXPECT_FALSE(r.summary["live"].contains("navmap_refresh_error")) << r.summary["live"].dump();
+  EXPECT_TRUE(fs::exists(r.out + "/navmap.yaml"));
+  EXPECT_TRUE(r.summary["outputs"].contains("navmap_layers"));
+}
+
 TEST(RgbdiSlamLive, SensorsThatCannotOpenAreNamedWithTheirSection) {
   const std::string dir = makeTempDir("rgbdi_live_err");
   std::string log;

@@ -13,6 +13,7 @@
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/live/live_source.h"
 #include "rgbdi/live_run/pose_latency.h"
+#include "rgbdi/system/navmap_refresher.h"
 #include "rgbdi/system/progress_reporter.h"
 #include "rgbdi/system/slam_system.h"
 
@@ -201,6 +202,11 @@ LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log) {
   so.on_pose = [&latency](const FrameRecord& r) { latency.posed(r.t_image, wallNow()); };
   so.map = loadRunMap(opt.map, cfg);
   so.localize_only = opt.map.localize_only;
+  // The navigation maps in the output directory follow the map while the run goes on.
+  NavMapRefresher navmap_refresher(opt.out_dir, cfg.navmap);
+  so.on_map_update = [&navmap_refresher](const mapping::Mapper& m, bool correction) {
+    navmap_refresher.update(m, correction);
+  };
   SlamSystem system(cfg, so);
   ProgressReporter progress(system, log, opt.quiet, cfg.output.progress_interval_s, nullptr);
   progress.setLiveStatus([&] {
@@ -238,6 +244,9 @@ LiveRunResult runLive(const LiveRunOptions& opt, std::ostream& log) {
   live["sensors_file"] = opt.sensors_path;
   live["stop_reason"] = toString(result.stop_reason);
   live["duration_limit_s"] = opt.duration_s > 0.0 ? nlohmann::json(opt.duration_s) : nullptr;
+  live["navmap_refreshes"] = navmap_refresher.refreshes();
+  if (!navmap_refresher.lastError().empty())
+    live["navmap_refresh_error"] = navmap_refresher.lastError();
   live["recording"] = opt.record_path.empty() ? nlohmann::json() : nlohmann::json(opt.record_path);
   live["received"] = {{"imu", st.imu_received}, {"frames", st.frames_received}};
   live["delivered"] = {{"imu", st.imu_delivered}, {"frames", st.frames_delivered}};

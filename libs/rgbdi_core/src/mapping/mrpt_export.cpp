@@ -93,7 +93,8 @@ void writePointsMap(const std::string& path, const PointMap& map) {
 
 void writeScene(const std::string& path, const PointMap& map, const Trajectory& trajectory,
                 const KeyframeStore& keyframes, const SceneOptions& options,
-                const Trajectory* ground_truth, const std::vector<SceneSegment>* loop_edges) {
+                const Trajectory* ground_truth, const std::vector<SceneSegment>* loop_edges,
+                const std::vector<mrpt::opengl::CRenderizable::Ptr>* extra_objects) {
   checkFinite(trajectory, path, "trajectory");
   if (ground_truth) checkFinite(*ground_truth, path, "ground-truth");
   mrpt::opengl::COpenGLScene scene;
@@ -153,6 +154,9 @@ void writeScene(const std::string& path, const PointMap& map, const Trajectory& 
                         e.second.z());
     scene.insert(lines);
   }
+
+  if (extra_objects)
+    for (const auto& object : *extra_objects) scene.insert(object);
 
   if (!(lo.allFinite() && hi.allFinite())) {
     lo = Eigen::Vector3d::Constant(-1.0);

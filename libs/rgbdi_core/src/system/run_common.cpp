@@ -139,16 +139,18 @@ nlohmann::json finishRun(const SlamSystem& system, RunInfo run,
   // Without a pose every trajectory, map and plot would be an empty file: only summary.json,
   // which says why, is written.
   const bool no_pose = system.frames().empty();
+  nlohmann::json navmap_summary;
   nlohmann::json outputs =
       no_pose ? nlohmann::json::object()
               : writeSlamOutputs(system, options.out_dir, gt_in_est.empty() ? nullptr : &gt_in_est,
-                                 options.save_simplemap);
+                                 options.save_simplemap, &navmap_summary);
   // CPU time of writing the map directory and every output file (summary.json itself excluded).
   const double output_ms = 1e3 * (threadCpuSeconds() - output_t0);
   const std::string summary_path = options.out_dir + "/summary.json";
   outputs["summary"] = summary_path;
   nlohmann::json summary = slamSummary(system, run, evaluation, outputs);
   summary["timing_ms_total"] = {{"output", output_ms}};
+  if (!navmap_summary.is_null()) summary["navmap"] = navmap_summary;
   if (no_pose) summary["no_pose_reason"] = noPoseReason(run, summary["initialisation_waits"]);
   for (const auto& [key, value] : extra.items()) summary[key] = value;
   output::writeSummaryJson(summary_path, summary);

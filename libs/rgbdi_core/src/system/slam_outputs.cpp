@@ -1,5 +1,6 @@
 #include "rgbdi/system/slam_outputs.h"
 
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
@@ -7,8 +8,10 @@
 
 #include "rgbdi/mapping/map_export.h"
 #include "rgbdi/mapping/trajectory_plot.h"
+#include "rgbdi/navmap/navmap_files.h"
 #include "rgbdi/output/pose_graph.h"
 #include "rgbdi/output/tum_writer.h"
+#include "rgbdi/system/slam_navmap.h"
 
 namespace rgbdi::system {
 
@@ -124,7 +127,8 @@ std::string plotAlignmentText(bool ground_truth_aligned) {
 }
 
 nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
-                                const Trajectory* gt_in_est, bool write_simplemap) {
+                                const Trajectory* gt_in_est, bool write_simplemap,
+                                nlohmann::json* navmap_summary) {
   const SystemConfig& cfg = sys.config();
   nlohmann::json out;
   const Trajectory final_body = sys.finalTrajectory();
@@ -178,6 +182,19 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
     out["keyframes_simplemap"] = dir + "/keyframes.simplemap";
     mapping::writeSimpleMap(out["keyframes_simplemap"], entries);
   }
+  // Navigation maps from the same points as map.ply and the best-estimate path.
+  std::vector<mrpt::opengl::CRenderizable::Ptr> nav_objects;
+  if (cfg.navmap.enable && !final_body.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const navmap::NavMap nav = slamNavMap(sys, cfg.navmap);
+    const double build_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<Eigen::Vector3d> path;
+    for (const StampedPose& p : final_body) path.push_back(p.p);
+    for (const auto& [name, file] : navmap::writeNavMapFiles(nav, dir, &path)) out[name] = file;
+    if (navmap_summary) *navmap_summary = navMapSummary(nav, build_ms);
+    if (cfg.output.write_scene) nav_objects = navmap::sceneObjects(nav);
+  }
   if (cfg.output.write_scene) {
     std::vector<mapping::SceneSegment> loop_lines;
     std::map<std::uint64_t, Eigen::Vector3d> node_position;  // ids: a loaded map's included
@@ -188,7 +205,7 @@ nlohmann::json writeSlamOutputs(const SlamSystem& sys, const std::string& dir,
     }
     out["scene"] = dir + "/scene.3Dscene";
     mapping::writeScene(out["scene"], map.pointMap(), final_body, map.store(), cfg.mapping.scene,
-                        gt_in_est, &loop_lines);
+                        gt_in_est, &loop_lines, &nav_objects);
   }
   if (cfg.output.write_plot && final_body.size() >= 2) {
     out["plot"] = dir + "/trajectory.png";

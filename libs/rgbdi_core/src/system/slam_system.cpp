@@ -357,6 +357,7 @@ void SlamSystem::handleMap(MapPacket& p) {
   } else {
     mapper_->addKeyframe(std::move(p.keyframe), p.frame);
   }
+  if (options_.on_map_update) options_.on_map_update(*mapper_, p.is_correction);
 }
 
 SlamProgress SlamSystem::progress() const {

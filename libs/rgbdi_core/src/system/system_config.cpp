@@ -18,6 +18,7 @@ SystemConfig SystemConfig::load(IniReader& ini) {
   c.estimator = estimator::EstimatorOptions::load(ini);
   c.output = output::OutputOptions::load(ini);
   c.mapping = mapping::MappingOptions::load(ini);
+  c.navmap = navmap::NavMapOptions::load(ini);
   c.loop = loop::LoopOptions::load(ini);
   c.reloc = reloc::RelocOptions::load(ini);
   c.pipeline = PipelineOptions::load(ini);

@@ -28,8 +28,8 @@ class ConfigError : public std::runtime_error {
 /// The sections of the rgbdi configuration (share/config.ini), in its order. A section that
 /// is added to the file is added here, so that every tool reading part of the file accepts it.
 inline const std::vector<std::string> kConfigSections = {
-    "camera",     "imu",     "extrinsic", "stream", "frontend", "estimator", "loop",
-    "relocalise", "mapping", "pipeline",  "output", "convert",  "sim",       "wheel"};
+    "camera",  "imu",    "extrinsic", "stream", "frontend", "estimator", "loop", "relocalise",
+    "mapping", "navmap", "pipeline",  "output", "convert",  "sim",       "wheel"};
 
 class IniReader {
  public:

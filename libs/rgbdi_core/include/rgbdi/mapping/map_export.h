@@ -6,6 +6,7 @@
 #pragma once
 
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/opengl/CRenderizable.h>
 
 #include <Eigen/Geometry>
 #include <string>
@@ -36,11 +37,13 @@ using SceneSegment = std::pair<Eigen::Vector3d, Eigen::Vector3d>;
 /// yellow), an axes frame per keyframe ("keyframes", CSetOfObjects: the colour camera optical
 /// frame, z forward, not the body frame of the trajectory), the loop edges when given
 /// ("loop_edges", red CSetOfLines), a ground grid ("ground_grid") and a CCamera looking at the
-/// centre of all of it from a distance that shows it whole.
+/// centre of all of it from a distance that shows it whole. `extra_objects` (e.g. the
+/// navigation maps, navmap::sceneObjects) are inserted as they are.
 void writeScene(const std::string& path, const PointMap& map, const Trajectory& trajectory,
                 const KeyframeStore& keyframes, const SceneOptions& options,
                 const Trajectory* ground_truth = nullptr,
-                const std::vector<SceneSegment>* loop_edges = nullptr);
+                const std::vector<SceneSegment>* loop_edges = nullptr,
+                const std::vector<mrpt::opengl::CRenderizable::Ptr>* extra_objects = nullptr);
 
 /// One entry of keyframes.simplemap: the body pose and the observation taken there (e.g. a
 /// CObservation3DRangeScan whose sensorPose places the camera on the body).

@@ -39,10 +39,14 @@ struct ProfileSceneOptions {
   /// so each half is the other's twin (geometric relocalisation must see two places, not
   /// guess one). Room walls and the partition's two faces keep their own textures.
   bool twin_rooms = false;
+  /// The navigation-map test world (doc/navigation-maps.md): beside the path, a two-level step
+  /// (0.06 m, then 0.15 m), a hole (0.6 x 0.6 m, 0.3 m deep: the floor is a 0.3 m deck over the
+  /// room's bottom with the hole cut in it) and a table (top 0.70-0.74 m on four 5 cm legs).
+  bool nav_features = false;
 
   /// Reads [sim] aliased_walls, world_seed, room_margin_m, furniture_density,
-  /// furniture_lateral_max_m, texture_contrast, twin_rooms (ConfigError naming the key when out of
-  /// range).
+  /// furniture_lateral_max_m, texture_contrast, twin_rooms, nav_features (ConfigError naming the
+  /// key when out of range).
   static ProfileSceneOptions load(IniReader& ini);
   /// Throws std::invalid_argument when a value is out of the ranges load() accepts.
   void validate() const;
@@ -51,7 +55,7 @@ struct ProfileSceneOptions {
 /// Builds (and build()s) the scene of a profile. With the default options the geometry is the
 /// same for every seed (the seed drives the textures only); world_seed and the other options
 /// change the furniture and the room. Throws std::invalid_argument for twin_rooms with a profile
-/// other than wheeled_circle.
+/// other than wheeled_circle, and for nav_features when a feature finds no room beside the path.
 Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
                         const ProfileSceneOptions& options = {});
 

@@ -42,9 +42,11 @@ Trajectory cameraTwin(const Trajectory& body, const std::deque<FrameRecord>& fra
 std::string plotAlignmentText(bool ground_truth_aligned);
 
 /// `gt_in_est`: ground truth expressed in the estimate's frame (for the plot and the scene), or
-/// nullptr. `write_simplemap`: also keyframes.simplemap (needs keep_observations).
+/// nullptr. `write_simplemap`: also keyframes.simplemap (needs keep_observations). With [navmap]
+/// enable, the navigation maps too (navmap.*; their figures into `navmap_summary` when given).
 nlohmann::json writeSlamOutputs(const SlamSystem& system, const std::string& dir,
-                                const Trajectory* gt_in_est, bool write_simplemap);
+                                const Trajectory* gt_in_est, bool write_simplemap,
+                                nlohmann::json* navmap_summary = nullptr);
 
 /// The pose graph of the run: one node per keyframe at its final pose, odometry edges between
 /// consecutive keyframes of the same segment (never across a reset), and the loop edges.

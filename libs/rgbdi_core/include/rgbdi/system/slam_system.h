@@ -59,6 +59,9 @@ struct SlamSystemOptions {
   /// Called on the odometry thread for every frame pose as it is produced (live latency
   /// figures); must be quick and thread-safe towards its owner.
   std::function<void(const FrameRecord&)> on_pose;
+  /// Called on the mapping thread after the mapper took a keyframe (false) or a loop correction
+  /// (true), with the mapper (live navigation maps: NavMapRefresher).
+  std::function<void(const mapping::Mapper&, bool correction)> on_map_update;
 };
 
 /// One processed image as the outputs need it.

@@ -10,6 +10,7 @@
 #include "rgbdi/io/stream_options.h"
 #include "rgbdi/loop/loop_options.h"
 #include "rgbdi/mapping/mapping_options.h"
+#include "rgbdi/navmap/navmap_options.h"
 #include "rgbdi/output/output_options.h"
 #include "rgbdi/reloc/reloc_options.h"
 #include "rgbdi/system/pipeline_options.h"
@@ -26,6 +27,7 @@ struct SystemConfig {
   estimator::EstimatorOptions estimator;
   output::OutputOptions output;
   mapping::MappingOptions mapping;
+  navmap::NavMapOptions navmap;
   loop::LoopOptions loop;
   reloc::RelocOptions reloc;  ///< [relocalise]
   PipelineOptions pipeline;

@@ -80,6 +80,8 @@ class Furnisher {
     if (keep_side_ && keep_side_normal_.dot(c - keep_side_point_) < r + 0.15) return false;
     return true;
   }
+  /// Keeps furniture away from a footprint placed by someone else (the navigation features).
+  void reserve(const Eigen::Vector2d& c, double r) { items_.push_back({c, r}); }
   /// Only footprints entirely on the side of the line through `point` that `normal` points to.
   void keepSide(const Eigen::Vector2d& point, const Eigen::Vector2d& normal) {
     keep_side_ = true;
@@ -190,6 +192,72 @@ void addPartition(Scene& scene, const ProfileLayout& l, const Eigen::Vector2d& c
   }
 }
 
+// The navigation-map features (ProfileSceneOptions::nav_features).
+constexpr double kHoleDepthM = 0.3, kHoleSideM = 0.6;
+constexpr double kStepLowM = 0.06, kStepHighM = 0.15;
+constexpr double kTableTopM = 0.70, kTableThicknessM = 0.04, kTableLegM = 0.05;
+
+/// A place beside the path for a footprint of radius r near lap fraction `at` (either side, two
+/// distances from the corridor, then further along); throws when there is none.
+std::pair<Eigen::Vector2d, double> featurePlace(const ProfileLayout& l, const Furnisher& f,
+                                                std::size_t lap_samples, double at, double r,
+                                                const char* what) {
+  const auto& xy = l.path_xy;
+  for (std::size_t k = 0; k < lap_samples; k += 5) {
+    const std::size_t i = (static_cast<std::size_t>(at * lap_samples) + k) % lap_samples;
+    const Eigen::Vector2d t =
+        (xy[std::min(i + 1, xy.size() - 1)] - xy[i > 0 ? i - 1 : 0]).normalized();
+    const Eigen::Vector2d n(-t.y(), t.x());
+    for (double side : {1.0, -1.0})
+      for (double extra : {0.15, 0.5}) {
+        const Eigen::Vector2d c = xy[i] + side * (l.path_clearance_m + r + extra) * n;
+        if (f.free(c, r)) return {c, std::atan2(t.y(), t.x())};
+      }
+  }
+  throw std::invalid_argument(std::string("[sim] nav_features: no room for the ") + what +
+                              " beside the path");
+}
+
+/// Step, hole and table beside the path; the floor becomes a deck with the hole cut in it (the
+/// room itself was built kHoleDepthM deeper).
+void addNavFeatures(Scene& scene, const ProfileLayout& l, Furnisher& f, std::size_t lap_samples) {
+  const double step_r = 0.5 * std::hypot(1.0, 0.6);
+  const auto [step_c, step_yaw] = featurePlace(l, f, lap_samples, 0.15, step_r, "step");
+  f.reserve(step_c, step_r);
+  scene.addStep(step_c, {1.0, 0.6}, step_yaw, 0.0, kStepLowM, TextureStyle::Planks);
+  const Eigen::Vector2d along(std::cos(step_yaw), std::sin(step_yaw));
+  scene.addStep(step_c + 0.25 * along, {0.5, 0.6}, step_yaw, kStepLowM, kStepHighM - kStepLowM,
+                TextureStyle::Bricks);
+
+  const double hole_r = 0.5 * std::sqrt(2.0) * kHoleSideM;
+  const Eigen::Vector2d hole_c = featurePlace(l, f, lap_samples, 0.45, hole_r, "hole").first;
+  f.reserve(hole_c, hole_r);
+  const Eigen::Vector2d h0 = hole_c.array() - 0.5 * kHoleSideM,
+                        h1 = hole_c.array() + 0.5 * kHoleSideM;
+  const Eigen::Vector2d r0 = l.room_min.head<2>(), r1 = l.room_max.head<2>();
+  auto deck = [&](const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+    if (hi.x() <= lo.x() || hi.y() <= lo.y()) return;
+    scene.addStep(0.5 * (lo + hi), hi - lo, 0.0, -kHoleDepthM, kHoleDepthM, TextureStyle::Tiles);
+  };
+  deck(r0, {h0.x(), r1.y()});
+  deck({h1.x(), r0.y()}, r1);
+  deck({h0.x(), r0.y()}, {h1.x(), h0.y()});
+  deck({h0.x(), h1.y()}, {h1.x(), r1.y()});
+
+  const double table_r = 0.5 * std::hypot(0.9, 0.6);
+  const auto [table_c, table_yaw] = featurePlace(l, f, lap_samples, 0.75, table_r, "table");
+  f.reserve(table_c, table_r);
+  scene.addStep(table_c, {0.9, 0.6}, table_yaw, kTableTopM, kTableThicknessM, TextureStyle::Planks);
+  const Eigen::Rotation2Dd R(table_yaw);
+  for (double sx : {-1.0, 1.0})
+    for (double sy : {-1.0, 1.0}) {
+      const Eigen::Vector2d leg(sx * (0.45 - 0.03 - 0.5 * kTableLegM),
+                                sy * (0.3 - 0.03 - 0.5 * kTableLegM));
+      scene.addStep(table_c + R * leg, {kTableLegM, kTableLegM}, table_yaw, 0.0, kTableTopM,
+                    TextureStyle::Speckle);
+    }
+}
+
 }  // namespace
 
 Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
@@ -203,7 +271,11 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
   Scene scene(seed, textures);
   RoomStyles room;
   room.aliased_x_walls = options.aliased_walls;
-  scene.addRoom(l.room_min, l.room_max, room);
+  // The navigation features' hole needs ground below the floor: the room goes deeper and its
+  // floor becomes a deck (addNavFeatures).
+  Eigen::Vector3d room_min = l.room_min;
+  if (options.nav_features) room_min.z() -= kHoleDepthM;
+  scene.addRoom(room_min, l.room_max, room);
   for (const RampLayout& r : l.ramps) {
     if (r.symmetric)
       scene.addSymmetricRamp(r.from, r.to, 0.0, r.width, r.height, TextureStyle::Planks);
@@ -222,6 +294,8 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
         "[sim] twin_rooms needs the wheeled_circle profile (its path is "
         "symmetric about the room's centre), not " +
         toString(profile.kind));
+  if (twin && options.nav_features)
+    throw std::invalid_argument("[sim] nav_features and twin_rooms cannot be combined");
   const Eigen::Vector2d centre = 0.5 * (l.room_min + l.room_max).head<2>();
   Eigen::Vector2d split_dir = Eigen::Vector2d::UnitX();
   if (twin) {
@@ -242,6 +316,7 @@ Scene buildProfileScene(const MotionProfile& profile, std::uint64_t seed,
       profile.kind == ProfileKind::Handheld || profile.kind == ProfileKind::Recorded;
   const std::size_t lap_samples = std::min(
       l.path_xy.size(), static_cast<std::size_t>(std::ceil(profile.lap_length_m / 0.1)) + 1);
+  if (options.nav_features) addNavFeatures(scene, l, furnisher, lap_samples);
   for (std::size_t i = 0; i < lap_samples; i += 8)
     for (double side : {1.0, -1.0}) {
       // The slot draw has its own stream: at density 1 nothing is drawn and the layout is the

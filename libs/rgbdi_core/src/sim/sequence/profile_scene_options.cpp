@@ -25,6 +25,7 @@ ProfileSceneOptions ProfileSceneOptions::load(IniReader& ini) {
                                             kMinFurnitureLateralM, kMaxFurnitureLateralM);
   o.texture_contrast = ini.getDouble(s, "texture_contrast", o.texture_contrast, 0.0, 1.0);
   o.twin_rooms = ini.getBool(s, "twin_rooms", o.twin_rooms);
+  o.nav_features = ini.getBool(s, "nav_features", o.nav_features);
   if (!(o.texture_contrast > 0.0))
     ini.fail(s, "texture_contrast", "must be greater than 0 (at most 1)");
   return o;

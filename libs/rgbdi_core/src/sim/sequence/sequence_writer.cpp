@@ -249,6 +249,8 @@ std::string simulationSettingsText(const SimulatedSequence& seq) {
           "[bool] the +x wall repeats the -x wall (perceptual aliasing)");
   if (o.scene.twin_rooms)  // written only when set: other sequences' files stay as they were
     iniLine(os, "twin_rooms", "true", "[bool] two identical rooms (wheeled_circle)");
+  if (o.scene.nav_features)
+    iniLine(os, "nav_features", "true", "[bool] step, hole and table beside the path");
   iniLine(os, "blackout_start_s", iniNumber(o.blackout_start_s), "[s] since the start");
   iniLine(os, "blackout_duration_s", iniNumber(o.blackout_duration_s),
           "[s] frames impaired as blackout_kind says (0 = none)");

@@ -1,0 +1,36 @@
+// The map's points binned per grid cell: the heights of each cell's points, sorted, in one
+// array (counting sort by cell), so that a cell's lowest surface and the points above it are
+// found by binary search.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "rgbdi/navmap/grid_geometry.h"
+
+namespace rgbdi::navmap::detail {
+
+class CellPoints {
+ public:
+  CellPoints(const std::vector<Eigen::Vector3f>& points, const GridGeometry& grid);
+
+  /// Heights [m] of the points in cell i, ascending.
+  const float* begin(std::size_t i) const { return z_.data() + start_[i]; }
+  const float* end(std::size_t i) const { return z_.data() + start_[i + 1]; }
+  std::size_t size(std::size_t i) const { return start_[i + 1] - start_[i]; }
+  /// Points with z in (lo, hi].
+  std::size_t countIn(std::size_t i, float lo, float hi) const;
+
+ private:
+  std::vector<std::uint32_t> start_;  ///< cellCount + 1 offsets into z_
+  std::vector<float> z_;
+};
+
+/// The lowest surface of a cell: mean and standard deviation of the points within band of its
+/// k-th lowest point; false when fewer than k points are there.
+bool lowestSurface(const float* first, const float* last, int k, float band, float* mean,
+                   float* sigma);
+
+}  // namespace rgbdi::navmap::detail
