@@ -38,7 +38,7 @@ struct EstimatorOptions {
   double cauchy_loss_sigma = 1.0;      ///< [unitless] Cauchy scale in units of reprojection sigma
   double depth_verify_tolerance_px = 10.0;  ///< [px at focal 460]
   double depth_verify_min_m = 0.1;          ///< [m]
-  double depth_verify_max_m = 3.5;          ///< [m]
+  double depth_verify_max_m = 5.0;          ///< [m]
   /// How depth-verified features enter the optimisation: "constant" (paper: inverse depth held
   /// fixed) or "prior" (free inverse depth with a Gaussian prior from the verified mean, sigma
   /// from depth_noise_coeff and the number of agreeing observations).
