@@ -148,6 +148,8 @@ TEST(LoopJoinCheckOptions, DefaultsEqualTheShippedConfigAndBadValuesAreNamed) {
   EXPECT_EQ(shipped.relocalize_check_radius_m, code.relocalize_check_radius_m);
   EXPECT_EQ(shipped.relocalize_check_max_conflict_fraction,
             code.relocalize_check_max_conflict_fraction);
+  EXPECT_EQ(shipped.relocalize_check_max_conflict_fraction_geometric,
+            code.relocalize_check_max_conflict_fraction_geometric);
   IniReader off = IniReader::fromText("[loop]\nrelocalize_check_keyframes = 0\n", "off.ini");
   EXPECT_EQ(rgbdi::loop::LoopOptions::load(off).relocalize_check_keyframes, 0);
   const std::string e1 =
@@ -159,4 +161,7 @@ TEST(LoopJoinCheckOptions, DefaultsEqualTheShippedConfigAndBadValuesAreNamed) {
   const std::string e3 =
       loadError<rgbdi::loop::LoopOptions>("[loop]\nrelocalize_check_max_conflict_fraction = 1.5\n");
   EXPECT_NE(e3.find("relocalize_check_max_conflict_fraction"), std::string::npos) << e3;
+  const std::string e4 = loadError<rgbdi::loop::LoopOptions>(
+      "[loop]\nrelocalize_check_max_conflict_fraction_geometric = -0.1\n");
+  EXPECT_NE(e4.find("relocalize_check_max_conflict_fraction_geometric"), std::string::npos) << e4;
 }

@@ -371,6 +371,7 @@ const std::vector<Field> kFields = {
     {"loop", "relocalize_check_keyframes", [](const Defaults& d) { return text(d.system.loop.relocalize_check_keyframes); }},
     {"loop", "relocalize_check_radius_m", [](const Defaults& d) { return text(d.system.loop.relocalize_check_radius_m); }},
     {"loop", "relocalize_check_max_conflict_fraction", [](const Defaults& d) { return text(d.system.loop.relocalize_check_max_conflict_fraction); }},
+    {"loop", "relocalize_check_max_conflict_fraction_geometric", [](const Defaults& d) { return text(d.system.loop.relocalize_check_max_conflict_fraction_geometric); }},
     {"loop", "correction_gate_sigma", [](const Defaults& d) { return text(d.system.loop.correction.gate_sigma); }},
     {"loop", "correction_sigma_floor_m", [](const Defaults& d) { return text(d.system.loop.correction.sigma_floor_m); }},
     {"loop", "correction_yaw_sigma_deg_per_m", [](const Defaults& d) { return text(d.system.loop.correction.yaw_sigma_deg_per_m); }},

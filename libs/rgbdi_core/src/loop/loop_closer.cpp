@@ -340,7 +340,8 @@ LoopUpdate LoopCloser::joinByAlignment(int segment, const Eigen::Isometry3d& T_o
     j.check_compared = tally.compared;
     j.check_conflicts = tally.conflicts;
     if (tally.compared >= options_.verify.freespace_min_samples &&
-        tally.conflicts > options_.relocalize_check_max_conflict_fraction * tally.compared) {
+        tally.conflicts >
+            options_.relocalize_check_max_conflict_fraction_geometric * tally.compared) {
       ++stats_.geometric_refused_free_space;
       return update;
     }

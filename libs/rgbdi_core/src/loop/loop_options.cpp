@@ -37,6 +37,9 @@ LoopOptions LoopOptions::load(IniReader& ini) {
   o.relocalize_check_max_conflict_fraction =
       ini.getDouble(s, "relocalize_check_max_conflict_fraction",
                     o.relocalize_check_max_conflict_fraction, 0.0, 1.0);
+  o.relocalize_check_max_conflict_fraction_geometric =
+      ini.getDouble(s, "relocalize_check_max_conflict_fraction_geometric",
+                    o.relocalize_check_max_conflict_fraction_geometric, 0.0, 1.0);
   if (o.relocalize_window_keyframes < o.relocalize_consistent_keyframes)
     ini.fail(s, "relocalize_window_keyframes",
              std::to_string(o.relocalize_window_keyframes) +

@@ -47,11 +47,14 @@ struct LoopOptions {
   /// as in verification step 7) with every keyframe of the other part within
   /// relocalize_check_radius_m of where the join puts them, not only with the matched ones: a
   /// repeated texture matches on one wall, but the furniture around it is elsewhere. More than
-  /// relocalize_check_max_conflict_fraction of the compared samples conflicting refuses the
-  /// join (its matches are dropped).
-  int relocalize_check_keyframes = 8;                    ///< [count] 0 = check off
-  double relocalize_check_radius_m = 3.0;                ///< [m]
-  double relocalize_check_max_conflict_fraction = 0.05;  ///< [unitless]
+  /// relocalize_check_max_conflict_fraction of the compared samples conflicting refuses a
+  /// join by views (its matches are dropped); a join by geometry, already confirmed by a second
+  /// independent fit and ICP, is refused above relocalize_check_max_conflict_fraction_geometric
+  /// (its local plan fitted the map's obstacles, so views from other sides conflict more).
+  int relocalize_check_keyframes = 8;                              ///< [count] 0 = check off
+  double relocalize_check_radius_m = 3.0;                          ///< [m]
+  double relocalize_check_max_conflict_fraction = 0.01;            ///< [unitless]
+  double relocalize_check_max_conflict_fraction_geometric = 0.05;  ///< [unitless]
 
   /// When accepted loops start correcting the odometry (correction_* keys).
   CorrectionGateOptions correction;
