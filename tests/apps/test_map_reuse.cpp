@@ -64,24 +64,29 @@ double ateInMapFrame(const Trajectory& gt, const Trajectory& est,
   return eval::evaluate(gt, moved, eo).ate.rmse;
 }
 
-/// The first run's map and its alignment to ground truth, shared by the tests of this file.
+/// A mapping run's saved map and its alignment to ground truth.
 struct FirstRun {
   std::shared_ptr<const map::MapData> map;
   Eigen::Isometry3d T_gt_map = Eigen::Isometry3d::Identity();
   double ate = 0.0;
 };
 
+FirstRun mapRun(const sim::SimOptions& so) {
+  FirstRun out;
+  SessionRun a = run(so);
+  eval::EvalOptions eo;
+  eo.align = eval::AlignMode::PosYaw;
+  const eval::EvalResult ev = eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo);
+  out.T_gt_map = ev.alignment.rigid();
+  out.ate = ev.ate.rmse;
+  out.map = std::make_shared<const map::MapData>(a.sys->mapToSave());
+  return out;
+}
+
+/// The first run's map, shared by the tests of this file.
 const FirstRun& firstRun() {
   static const FirstRun f = [] {
-    FirstRun out;
-    SessionRun a = run(circle(20.0));
-    eval::EvalOptions eo;
-    eo.align = eval::AlignMode::PosYaw;
-    const eval::EvalResult ev =
-        eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo);
-    out.T_gt_map = ev.alignment.rigid();
-    out.ate = ev.ate.rmse;
-    out.map = std::make_shared<const map::MapData>(a.sys->mapToSave());
+    FirstRun out = mapRun(circle(20.0));
     std::cout << "first run: ATE " << out.ate << " m, " << out.map->places.size()
               << " place keyframes, " << out.map->keyframes.size() << " keyframes" << std::endl;
     return out;
@@ -224,15 +229,10 @@ TEST(MapReuse, LocalizeOnlyStaysInTheMapAfterAGeometricRelocalisation) {
 TEST(MapReuse, TwinRoomsAreAmbiguousNotGuessed) {
   sim::SimOptions map_so = circle(20.0);
   map_so.scene.twin_rooms = true;
-  SessionRun a = run(map_so);
-  eval::EvalOptions eo;
-  eo.align = eval::AlignMode::PosYaw;
-  const Eigen::Isometry3d T_gt_map =
-      eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo).alignment.rigid();
-  const auto map = std::make_shared<const map::MapData>(a.sys->mapToSave());
+  const FirstRun mapped = mapRun(map_so);
   sim::SimOptions so = circle(12.0, 1);
   so.scene.twin_rooms = true;
-  SessionRun b = run(so, map);
+  SessionRun b = run(so, mapped.map);
   const system::GeoRelocReport rep = b.sys->geoReloc()->report();
   std::cout << "twin rooms: searches " << rep.results << ", ambiguous " << rep.ambiguous
             << " (most places " << rep.max_places << "), fits " << rep.fits << ", confirmed "
@@ -240,8 +240,10 @@ TEST(MapReuse, TwinRoomsAreAmbiguousNotGuessed) {
   EXPECT_GT(rep.ambiguous, 0u);
   EXPECT_GE(rep.max_places, 2);
   for (const loop::JoinRecord& j : b.sys->loopCloser()->joins()) EXPECT_FALSE(j.geometric);
-  if (b.sys->mapState() == system::MapState::kLocalised)
-    EXPECT_LE(ateInMapFrame(b.seq->bodyTrajectory(), b.sys->finalTrajectory(), T_gt_map), 0.03);
+  if (b.sys->mapState() == system::MapState::kLocalised) {
+    EXPECT_LE(ateInMapFrame(b.seq->bodyTrajectory(), b.sys->finalTrajectory(), mapped.T_gt_map),
+              0.03);
+  }
 }
 
 // The same room with other furniture (a furniture-moved building): a map of part of a hand-held
@@ -257,19 +259,16 @@ TEST(MapReuse, TheSameRoomWithOtherFurnitureIsNotJoinedElsewhere) {
   sim::SimOptions map_so = sim::SimOptions::load(empty);
   map_so.profile.kind = sim::ProfileKind::Handheld;
   map_so.profile.duration_s = 20.0;
-  SessionRun a = run(map_so);
-  eval::EvalOptions eo;
-  eo.align = eval::AlignMode::PosYaw;
-  const Eigen::Isometry3d T_gt_map =
-      eval::evaluate(a.seq->bodyTrajectory(), a.sys->finalTrajectory(), eo).alignment.rigid();
-  const auto map = std::make_shared<const map::MapData>(a.sys->mapToSave());
+  const FirstRun mapped = mapRun(map_so);
   sim::SimOptions so = map_so;
   so.profile.duration_s = 10.0;
   so.profile.variant = 1;
-  SessionRun b = run(so, map, /*localize_only=*/true);
+  SessionRun b = run(so, mapped.map, /*localize_only=*/true);
   const auto& joins = b.sys->loopCloser()->joins();
   std::cout << "same room, other furniture: " << joins.size() << " joins, refused by free space "
             << b.sys->loopCloser()->stats().joins_refused_free_space << std::endl;
-  if (b.sys->mapState() == system::MapState::kLocalised)
-    EXPECT_LE(ateInMapFrame(b.seq->bodyTrajectory(), b.sys->finalTrajectory(), T_gt_map), 1.0);
+  if (b.sys->mapState() == system::MapState::kLocalised) {
+    EXPECT_LE(ateInMapFrame(b.seq->bodyTrajectory(), b.sys->finalTrajectory(), mapped.T_gt_map),
+              1.0);
+  }
 }
