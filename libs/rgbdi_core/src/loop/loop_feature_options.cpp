@@ -1,9 +1,8 @@
 // LoopFeatureOptions: the feature_ keys of [loop], their ranges and cross-key rules.
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "rgbdi/common/option_keys.h"
 #include "rgbdi/loop/loop_features.h"
 
 namespace rgbdi::loop {
@@ -13,16 +12,8 @@ const char* const kSection = "loop";
 
 // One table of keys and ranges serves load() and validate(), so options built in code are held
 // to the same limits as options read from a file.
-struct IntKey {
-  const char* key;
-  std::function<int&(LoopFeatureOptions&)> field;
-  int min, max;
-};
-struct DoubleKey {
-  const char* key;
-  std::function<double&(LoopFeatureOptions&)> field;
-  double min, max;
-};
+using IntKey = rgbdi::IntKey<LoopFeatureOptions>;
+using DoubleKey = rgbdi::DoubleKey<LoopFeatureOptions>;
 
 const std::vector<IntKey>& intKeys() {
   static const std::vector<IntKey> keys = {
@@ -69,13 +60,6 @@ const std::vector<DoubleKey>& doubleKeys() {
   throw ConfigError("LoopFeatureOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
 
-template <typename T>
-std::string outside(T v, T lo, T hi) {
-  std::ostringstream os;
-  os << "value " << v << " outside [" << lo << ", " << hi << "]";
-  return os.str();
-}
-
 template <typename Fail>
 void checkConsistency(const LoopFeatureOptions& o, Fail&& fail) {
   if (o.depth_min_m >= o.depth_max_m)
@@ -90,25 +74,14 @@ void checkConsistency(const LoopFeatureOptions& o, Fail&& fail) {
 }  // namespace
 
 void LoopFeatureOptions::validate() const {
-  LoopFeatureOptions copy = *this;
-  for (const IntKey& k : intKeys()) {
-    const int v = k.field(copy);
-    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
-  }
-  for (const DoubleKey& k : doubleKeys()) {
-    const double v = k.field(copy);
-    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
-  }
+  checkKeyRanges(*this, intKeys(), doubleKeys(), failKey);
   checkConsistency(*this,
                    [](const std::string& key, const std::string& what) { failKey(key, what); });
 }
 
 LoopFeatureOptions LoopFeatureOptions::load(IniReader& ini) {
   LoopFeatureOptions o;
-  for (const IntKey& k : intKeys())
-    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
-  for (const DoubleKey& k : doubleKeys())
-    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  loadKeys(ini, kSection, o, intKeys(), doubleKeys());
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });

@@ -1,10 +1,9 @@
 // LoopVerificationOptions: the verify_* keys of [loop], one table of keys and ranges for load()
 // and validate() (the mapping_options.cpp pattern).
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "rgbdi/common/option_keys.h"
 #include "rgbdi/loop/loop_verifier.h"
 
 namespace rgbdi::loop {
@@ -12,16 +11,8 @@ namespace {
 
 const char* const kSection = "loop";
 
-struct IntKey {
-  const char* key;
-  std::function<int&(LoopVerificationOptions&)> field;
-  int min, max;
-};
-struct DoubleKey {
-  const char* key;
-  std::function<double&(LoopVerificationOptions&)> field;
-  double min, max;
-};
+using IntKey = rgbdi::IntKey<LoopVerificationOptions>;
+using DoubleKey = rgbdi::DoubleKey<LoopVerificationOptions>;
 using O = LoopVerificationOptions;
 
 const std::vector<IntKey>& intKeys() {
@@ -73,13 +64,6 @@ const std::vector<DoubleKey>& doubleKeys() {
   throw ConfigError("LoopVerificationOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
 
-template <typename T>
-std::string outside(T v, T lo, T hi) {
-  std::ostringstream os;
-  os << "value " << v << " outside [" << lo << ", " << hi << "]";
-  return os.str();
-}
-
 // PnP inliers are a subset of the matches and agreeing pairs a subset of the inliers: a gate
 // above the one before it could never pass.
 template <typename Fail>
@@ -93,25 +77,14 @@ void checkConsistency(const O& o, Fail&& fail) {
 }  // namespace
 
 void LoopVerificationOptions::validate() const {
-  O copy = *this;
-  for (const IntKey& k : intKeys()) {
-    const int v = k.field(copy);
-    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
-  }
-  for (const DoubleKey& k : doubleKeys()) {
-    const double v = k.field(copy);
-    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
-  }
+  checkKeyRanges(*this, intKeys(), doubleKeys(), failKey);
   checkConsistency(*this,
                    [](const std::string& key, const std::string& what) { failKey(key, what); });
 }
 
 LoopVerificationOptions LoopVerificationOptions::load(IniReader& ini) {
   O o;
-  for (const IntKey& k : intKeys())
-    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
-  for (const DoubleKey& k : doubleKeys())
-    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  loadKeys(ini, kSection, o, intKeys(), doubleKeys());
   o.cross_check = ini.getBool(kSection, "verify_cross_check", o.cross_check);
   o.freespace_for_loops =
       ini.getBool(kSection, "verify_freespace_for_loops", o.freespace_for_loops);

@@ -1,9 +1,8 @@
 // PlaceRecognitionOptions: the place_ keys of [loop] and their ranges.
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "rgbdi/common/option_keys.h"
 #include "rgbdi/loop/place_recognizer.h"
 
 namespace rgbdi::loop {
@@ -12,16 +11,8 @@ namespace {
 const char* const kSection = "loop";
 
 // One table of keys and ranges serves load() and validate().
-struct IntKey {
-  const char* key;
-  std::function<int&(PlaceRecognitionOptions&)> field;
-  int min, max;
-};
-struct DoubleKey {
-  const char* key;
-  std::function<double&(PlaceRecognitionOptions&)> field;
-  double min, max;
-};
+using IntKey = rgbdi::IntKey<PlaceRecognitionOptions>;
+using DoubleKey = rgbdi::DoubleKey<PlaceRecognitionOptions>;
 
 const std::vector<IntKey>& intKeys() {
   static const std::vector<IntKey> keys = {
@@ -67,34 +58,16 @@ constexpr int kMaxSeed = 2147483647;
   throw ConfigError("PlaceRecognitionOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
 
-template <typename T>
-std::string outside(T v, T lo, T hi) {
-  std::ostringstream os;
-  os << "value " << v << " outside [" << lo << ", " << hi << "]";
-  return os.str();
-}
-
 }  // namespace
 
 void PlaceRecognitionOptions::validate() const {
-  PlaceRecognitionOptions copy = *this;
-  for (const IntKey& k : intKeys()) {
-    const int v = k.field(copy);
-    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
-  }
-  for (const DoubleKey& k : doubleKeys()) {
-    const double v = k.field(copy);
-    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
-  }
+  checkKeyRanges(*this, intKeys(), doubleKeys(), failKey);
   index.validate();
 }
 
 PlaceRecognitionOptions PlaceRecognitionOptions::load(IniReader& ini) {
   PlaceRecognitionOptions o;
-  for (const IntKey& k : intKeys())
-    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
-  for (const DoubleKey& k : doubleKeys())
-    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  loadKeys(ini, kSection, o, intKeys(), doubleKeys());
   o.index.seed = static_cast<std::uint64_t>(
       ini.getInt(kSection, "place_index_seed", static_cast<int>(o.index.seed), 0, kMaxSeed));
   return o;

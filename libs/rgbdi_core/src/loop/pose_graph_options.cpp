@@ -1,9 +1,9 @@
 #include "rgbdi/loop/pose_graph_options.h"
 
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "rgbdi/common/option_keys.h"
 
 namespace rgbdi::loop {
 namespace {
@@ -12,16 +12,8 @@ const char* const kSection = "loop";
 
 // One table of keys and ranges serves load() and validate(), so options built in code are held
 // to the same limits as options read from a file.
-struct IntKey {
-  const char* key;
-  std::function<int&(PoseGraphOptions&)> field;
-  int min, max;
-};
-struct DoubleKey {
-  const char* key;
-  std::function<double&(PoseGraphOptions&)> field;
-  double min, max;
-};
+using IntKey = rgbdi::IntKey<PoseGraphOptions>;
+using DoubleKey = rgbdi::DoubleKey<PoseGraphOptions>;
 
 const std::vector<IntKey>& intKeys() {
   static const std::vector<IntKey> keys = {
@@ -76,35 +68,17 @@ const char* lossName(RobustLoss l) { return l == RobustLoss::kHuber ? "huber" : 
   throw ConfigError("PoseGraphOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
 
-template <typename T>
-std::string outside(T v, T lo, T hi) {
-  std::ostringstream os;
-  os << "value " << v << " outside [" << lo << ", " << hi << "]";
-  return os.str();
-}
-
 }  // namespace
 
 void PoseGraphOptions::validate() const {
-  PoseGraphOptions copy = *this;
-  for (const IntKey& k : intKeys()) {
-    const int v = k.field(copy);
-    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
-  }
-  for (const DoubleKey& k : doubleKeys()) {
-    const double v = k.field(copy);
-    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
-  }
+  checkKeyRanges(*this, intKeys(), doubleKeys(), failKey);
   if (loss != RobustLoss::kHuber && loss != RobustLoss::kCauchy)
     failKey("graph_loss", "unknown robust loss");
 }
 
 PoseGraphOptions PoseGraphOptions::load(IniReader& ini) {
   PoseGraphOptions o;
-  for (const IntKey& k : intKeys())
-    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
-  for (const DoubleKey& k : doubleKeys())
-    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  loadKeys(ini, kSection, o, intKeys(), doubleKeys());
   const std::string loss =
       ini.getEnum(kSection, "graph_loss", lossName(o.loss), {"huber", "cauchy"});
   o.loss = loss == "huber" ? RobustLoss::kHuber : RobustLoss::kCauchy;

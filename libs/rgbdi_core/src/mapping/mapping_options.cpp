@@ -1,9 +1,9 @@
 #include "rgbdi/mapping/mapping_options.h"
 
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "rgbdi/common/option_keys.h"
 
 namespace rgbdi::mapping {
 namespace {
@@ -12,16 +12,8 @@ const char* const kSection = "mapping";
 
 // One table of keys and ranges serves load() and validate(), so options built in code are held
 // to the same limits as options read from a file. Accessors reach into the nested structs.
-struct IntKey {
-  const char* key;
-  std::function<int&(MappingOptions&)> field;
-  int min, max;
-};
-struct DoubleKey {
-  const char* key;
-  std::function<double&(MappingOptions&)> field;
-  double min, max;
-};
+using IntKey = rgbdi::IntKey<MappingOptions>;
+using DoubleKey = rgbdi::DoubleKey<MappingOptions>;
 
 const std::vector<IntKey>& intKeys() {
   static const std::vector<IntKey> keys = {
@@ -73,13 +65,6 @@ const std::vector<DoubleKey>& doubleKeys() {
   throw ConfigError("MappingOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
 
-template <typename T>
-std::string outside(T v, T lo, T hi) {
-  std::ostringstream os;
-  os << "value " << v << " outside [" << lo << ", " << hi << "]";
-  return os.str();
-}
-
 // Cross-key rules shared by load() (reported with the file name) and validate().
 template <typename Fail>
 void checkConsistency(const MappingOptions& o, Fail&& fail) {
@@ -94,25 +79,14 @@ void checkConsistency(const MappingOptions& o, Fail&& fail) {
 }  // namespace
 
 void MappingOptions::validate() const {
-  MappingOptions copy = *this;
-  for (const IntKey& k : intKeys()) {
-    const int v = k.field(copy);
-    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
-  }
-  for (const DoubleKey& k : doubleKeys()) {
-    const double v = k.field(copy);
-    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
-  }
+  checkKeyRanges(*this, intKeys(), doubleKeys(), failKey);
   checkConsistency(*this,
                    [](const std::string& key, const std::string& what) { failKey(key, what); });
 }
 
 MappingOptions MappingOptions::load(IniReader& ini) {
   MappingOptions o;
-  for (const IntKey& k : intKeys())
-    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
-  for (const DoubleKey& k : doubleKeys())
-    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  loadKeys(ini, kSection, o, intKeys(), doubleKeys());
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });

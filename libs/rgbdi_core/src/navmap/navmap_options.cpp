@@ -1,9 +1,9 @@
 #include "rgbdi/navmap/navmap_options.h"
 
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "rgbdi/common/option_keys.h"
 
 namespace rgbdi::navmap {
 namespace {
@@ -12,16 +12,8 @@ const char* const kSection = "navmap";
 
 // One table of keys and ranges serves load() and validate(), so options built in code are held
 // to the same limits as options read from a file.
-struct IntKey {
-  const char* key;
-  std::function<int&(NavMapOptions&)> field;
-  int min, max;
-};
-struct DoubleKey {
-  const char* key;
-  std::function<double&(NavMapOptions&)> field;
-  double min, max;
-};
+using IntKey = rgbdi::IntKey<NavMapOptions>;
+using DoubleKey = rgbdi::DoubleKey<NavMapOptions>;
 
 const std::vector<IntKey>& intKeys() {
   static const std::vector<IntKey> keys = {
@@ -59,13 +51,6 @@ const std::vector<DoubleKey>& doubleKeys() {
   throw ConfigError("NavMapOptions [" + std::string(kSection) + "] " + key + ": " + what);
 }
 
-template <typename T>
-std::string outside(T v, T lo, T hi) {
-  std::ostringstream os;
-  os << "value " << v << " outside [" << lo << ", " << hi << "]";
-  return os.str();
-}
-
 // Cross-key rules shared by load() (reported with the file name) and validate().
 template <typename Fail>
 void checkConsistency(const NavMapOptions& o, Fail&& fail) {
@@ -79,15 +64,7 @@ void checkConsistency(const NavMapOptions& o, Fail&& fail) {
 }  // namespace
 
 void NavMapOptions::validate() const {
-  NavMapOptions copy = *this;
-  for (const IntKey& k : intKeys()) {
-    const int v = k.field(copy);
-    if (v < k.min || v > k.max) failKey(k.key, outside(v, k.min, k.max));
-  }
-  for (const DoubleKey& k : doubleKeys()) {
-    const double v = k.field(copy);
-    if (!(v >= k.min && v <= k.max)) failKey(k.key, outside(v, k.min, k.max));  // also NaN
-  }
+  checkKeyRanges(*this, intKeys(), doubleKeys(), failKey);
   checkConsistency(*this,
                    [](const std::string& key, const std::string& what) { failKey(key, what); });
 }
@@ -95,10 +72,7 @@ void NavMapOptions::validate() const {
 NavMapOptions NavMapOptions::load(IniReader& ini) {
   NavMapOptions o;
   o.enable = ini.getBool(kSection, "enable", o.enable);
-  for (const IntKey& k : intKeys())
-    k.field(o) = ini.getInt(kSection, k.key, k.field(o), k.min, k.max);
-  for (const DoubleKey& k : doubleKeys())
-    k.field(o) = ini.getDouble(kSection, k.key, k.field(o), k.min, k.max);
+  loadKeys(ini, kSection, o, intKeys(), doubleKeys());
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });
