@@ -56,13 +56,25 @@ TEST(FitConfirmation, ADisagreeingFitReplacesTheProposal) {
   EXPECT_TRUE(c.add(fitAt(4.5, 2.2, 33.5), p, unchanged));
 }
 
-TEST(FitConfirmation, AmbiguousAttemptsLeaveTheProposalWaitingAndSegmentsStartOver) {
+TEST(FitConfirmation, AmbiguousAttemptsDropTheProposalFailedOnesLeaveItWaiting) {
   FitConfirmation c(options());
   const Eigen::Vector3d p(0, 0, 0);
   EXPECT_FALSE(c.add(fitAt(0.0, 2.0, 0), p, unchanged));
-  EXPECT_FALSE(c.add(fitAt(1.0, 9.0, 0, FitOutcome::kAmbiguous), p, unchanged));
+  EXPECT_FALSE(c.add(fitAt(0.5, 9.0, 0, FitOutcome::kUnrefined), p, unchanged));
   EXPECT_TRUE(c.waiting());
+  EXPECT_FALSE(c.add(fitAt(1.0, 9.0, 0, FitOutcome::kAmbiguous), p, unchanged));
+  EXPECT_FALSE(c.waiting());
   EXPECT_EQ(c.lastOutcome(), FitOutcome::kAmbiguous);
+  // The agreeing fit 1.5 m after the first starts a new proposal instead of confirming it.
+  EXPECT_FALSE(c.add(fitAt(1.5, 2.0, 0), p, unchanged));
+  EXPECT_TRUE(c.waiting());
+  EXPECT_TRUE(c.add(fitAt(3.0, 2.0, 0), p, unchanged));
+}
+
+TEST(FitConfirmation, SegmentsStartOver) {
+  FitConfirmation c(options());
+  const Eigen::Vector3d p(0, 0, 0);
+  EXPECT_FALSE(c.add(fitAt(0.0, 2.0, 0), p, unchanged));
   EXPECT_FALSE(c.add(fitAt(2.0, 2.0, 0, FitOutcome::kFit, 2), p, unchanged));  // another segment
   EXPECT_FALSE(c.add(fitAt(3.0, 2.0, 0, FitOutcome::kFit, 2), p, unchanged));  // 1 m only
   EXPECT_TRUE(c.add(fitAt(3.5, 2.0, 0, FitOutcome::kFit, 2), p, unchanged));

@@ -40,6 +40,9 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.search.min_overlap_fraction, d.search.min_overlap_fraction);
   EXPECT_EQ(o.search.max_conflict_fraction, d.search.max_conflict_fraction);
   EXPECT_EQ(o.search.max_hypotheses, d.search.max_hypotheses);
+  EXPECT_EQ(o.search.candidate_margin, d.search.candidate_margin);
+  EXPECT_EQ(o.search.conflict_penalty, d.search.conflict_penalty);
+  EXPECT_EQ(o.refine_huber_m, d.refine_huber_m);
   EXPECT_EQ(o.submap_path_m, d.submap_path_m);
   EXPECT_EQ(o.submap_min_occupied_cells, d.submap_min_occupied_cells);
   EXPECT_EQ(o.attempt_interval_m, d.attempt_interval_m);

@@ -129,3 +129,23 @@ TEST(ScanSearch, ObstaclesInTheMapsFreeSpaceRefuseAPlace) {
   EXPECT_GT(r.candidates.front().conflict_fraction, o.max_conflict_fraction);
   EXPECT_TRUE(r.places.empty());
 }
+
+TEST(ScanSearch, AgreementIsTheScoreLessThePenaltyPerConflict) {
+  // The box-in-free-space case at the true alignment: score and conflicts as counted, the
+  // agreement exactly score - conflict_penalty x conflicts.
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  const std::vector<DepthSample> map_samples =
+      scan({cells(0, 0, 59, 39), cells(5, 28, 14, 34)}, cam);
+  const PlanGrid local = PlanGrid::build(
+      scan({cells(0, 0, 59, 39), cells(5, 28, 14, 34), cells(36, 12, 50, 30)}, cam), gridOptions());
+  PlanAlignment a;
+  a.pivot = a.t = cam.head<2>();
+  for (double penalty : {0.0, 1.0, 2.5}) {
+    ScanSearchOptions o = searchOptions();
+    o.conflict_penalty = penalty;
+    const PlanHypothesis h =
+        ScanSearch(PlanGrid::build(map_samples, gridOptions()), o).evaluate(local, a);
+    ASSERT_GT(h.conflicts, 0);
+    EXPECT_DOUBLE_EQ(h.agreement, h.score - penalty * h.conflicts);
+  }
+}

@@ -67,9 +67,12 @@ bool GeometricRelocaliser::floorOffset(const PlanGrid& map, const PlanGrid& loca
 
 GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
     const std::vector<Eigen::Vector3d>& local, const PointIndex& map, const Eigen::Isometry3d& T0,
-    double max_distance_m, int iterations) {
+    double max_distance_m, int iterations, double huber_m) {
   // Point-to-plane: each local point's distance along the normal of its nearest map point,
-  // linearised in (yaw step, tx, ty, tz) about the current T; the yaw keeps T 4-DOF.
+  // linearised in (yaw step, tx, ty, tz) about the current T; the yaw keeps T 4-DOF. Pairs
+  // farther than huber_m weigh huber_m / |r| (Huber): surfaces the map saw differently (the
+  // backs of things, a few centimetres of the odometry's height drift on ramps) must not drag
+  // the fit sideways.
   Refinement out;
   Eigen::Isometry3d T = T0;
   const std::vector<Eigen::Vector3d>& mp = map.points();
@@ -90,8 +93,9 @@ GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
       const Eigen::Vector3d q = p - T.translation();
       Eigen::Vector4d J;
       J << nrm.dot(Eigen::Vector3d(-q.y(), q.x(), 0.0)), nrm.x(), nrm.y(), nrm.z();
-      H += J * J.transpose();
-      g += J * r;
+      const double w = std::abs(r) > huber_m ? huber_m / std::abs(r) : 1.0;
+      H += w * J * J.transpose();
+      g += w * J * r;
       nn += nrm.head<2>() * nrm.head<2>().transpose();
       sq += r * r;
       ++n;
@@ -143,7 +147,7 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   int near_best = 0;
   const double anchor_yaw = std::atan2(job.T_anchor.linear()(1, 0), job.T_anchor.linear()(0, 0));
   for (const PlanHypothesis& h : r.places)
-    if (h.score >= (1.0 - options_.search.hypothesis_margin) * best.score) {
+    if (h.agreement >= (1.0 - options_.search.hypothesis_margin) * best.agreement) {
       ++near_best;
       const double yaw = std::remainder(anchor_yaw + h.alignment.yaw, 2.0 * M_PI);
       f.place_poses.emplace_back(h.alignment.t.x(), h.alignment.t.y(), yaw);
@@ -165,7 +169,7 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
     const std::vector<Eigen::Vector3d> local_points = PointIndex::thin(
         pointsOf(job.samples, options_.grid.max_range_m), options_.grid.resolution_m);
     const Refinement r3 = refine(local_points, points_, T, options_.refine_max_distance_m,
-                                 options_.refine_iterations);
+                                 options_.refine_iterations, options_.refine_huber_m);
     T = r3.T;
     f.refine_pairs = r3.pairs;
     f.refine_rms_m = r3.rms_m;

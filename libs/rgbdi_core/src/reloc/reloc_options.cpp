@@ -21,6 +21,8 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   ScanSearchOptions& q = o.search;
   q.yaw_step_deg = ini.getDouble(s, "yaw_step_deg", q.yaw_step_deg, 0.05, 45.0);
   q.pyramid_levels = ini.getInt(s, "pyramid_levels", q.pyramid_levels, 0, 12);
+  q.candidate_margin = ini.getDouble(s, "candidate_margin", q.candidate_margin, 0.0, 1.0);
+  q.conflict_penalty = ini.getDouble(s, "conflict_penalty", q.conflict_penalty, 0.0, 100.0);
   q.hypothesis_margin = ini.getDouble(s, "hypothesis_margin", q.hypothesis_margin, 0.0, 1.0);
   q.place_separation_m = ini.getDouble(s, "place_separation_m", q.place_separation_m, 0.0, 1000.0);
   q.place_separation_deg =
@@ -44,6 +46,7 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
   o.refine_iterations = ini.getInt(s, "refine_iterations", o.refine_iterations, 0, 1000);
+  o.refine_huber_m = ini.getDouble(s, "refine_huber_m", o.refine_huber_m, 0.0001, 1e12);
   o.refine_min_pair_fraction =
       ini.getDouble(s, "refine_min_pair_fraction", o.refine_min_pair_fraction, 0.0, 1.0);
   o.refine_max_rms_m = ini.getDouble(s, "refine_max_rms_m", o.refine_max_rms_m, 0.0, 10.0);

@@ -90,6 +90,7 @@ PlanHypothesis ScanSearch::evaluate(const PlanGrid& local, const PlanAlignment& 
     }
   hyp.overlap = obstacles > 0 ? hyp.score / (2.0 * obstacles) : 0.0;
   hyp.conflict_fraction = hyp.compared > 0 ? static_cast<double>(hyp.conflicts) / hyp.compared : 0;
+  hyp.agreement = hyp.score - options_.conflict_penalty * hyp.conflicts;
   return hyp;
 }
 
@@ -109,7 +110,7 @@ ScanSearchResult ScanSearch::search(const PlanGrid& local, const Eigen::Vector2d
   int best = 0;
   const auto threshold = [&] {
     return std::max(min_score,
-                    static_cast<int>(std::ceil(best * (1.0 - options_.hypothesis_margin))));
+                    static_cast<int>(std::ceil(best * (1.0 - options_.candidate_margin))));
   };
   std::vector<Leaf> leaves;
 
@@ -184,6 +185,7 @@ ScanSearchResult ScanSearch::search(const PlanGrid& local, const Eigen::Vector2d
     return std::tie(b.score, a.yaw_index, a.ox, a.oy) < std::tie(a.score, b.yaw_index, b.ox, b.oy);
   });
   const double sep_yaw = options_.place_separation_deg * M_PI / 180.0;
+  int left_out_score = -1;  // the highest obstacle score of a place not listed
   for (const Leaf& l : leaves) {
     if (l.score < keep) break;
     PlanAlignment a;
@@ -197,13 +199,30 @@ ScanSearchResult ScanSearch::search(const PlanGrid& local, const Eigen::Vector2d
         });
     if (known) continue;
     if (static_cast<int>(out.candidates.size()) >= options_.max_hypotheses) {
-      out.truncated = true;
+      left_out_score = l.score;
       break;
     }
     out.candidates.push_back(evaluate(local, a));
   }
   for (const PlanHypothesis& h : out.candidates)
-    if (h.conflict_fraction <= options_.max_conflict_fraction) out.places.push_back(h);
+    if (h.conflict_fraction <= options_.max_conflict_fraction && h.agreement > 0.0)
+      out.places.push_back(h);
+  std::stable_sort(
+      out.places.begin(), out.places.end(),
+      [](const PlanHypothesis& a, const PlanHypothesis& b) { return a.agreement > b.agreement; });
+  // Only the places within the margin of the best agreement remain.
+  if (!out.places.empty()) {
+    const double floor = (1.0 - options_.hypothesis_margin) * out.places.front().agreement;
+    out.places.erase(std::remove_if(out.places.begin(), out.places.end(),
+                                    [&](const PlanHypothesis& h) { return h.agreement < floor; }),
+                     out.places.end());
+  }
+  // A place left out has an agreement of at most its obstacle score: it cannot matter when
+  // that is below the margin of the best agreement.
+  if (left_out_score >= 0 &&
+      (out.places.empty() ||
+       left_out_score >= (1.0 - options_.hypothesis_margin) * out.places.front().agreement))
+    out.truncated = true;
   return out;
 }
 

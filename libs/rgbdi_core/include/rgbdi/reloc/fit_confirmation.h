@@ -3,8 +3,11 @@
 // the growing local plan), the last started at least confirm_distance_m of path after the
 // first, put the part at the same place (within confirm_max_disagreement_m / _deg where the
 // part is now). A fit that disagrees with the proposal replaces it (a wrong place, e.g. the
-// twin of two identical rooms that won one search, rarely holds still over several); ambiguous
-// or failed attempts leave it waiting.
+// twin of two identical rooms that won one search, rarely holds still over several). An
+// ambiguous attempt drops it too: the world still offers several places, so the proposal must
+// be earned again by fits that follow (in the twin rooms, single fits on one twin came between
+// long runs of ambiguous searches and were confirmed 7 s apart). Attempts that fail for other
+// reasons (too little structure, refused by ICP) leave it waiting.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -28,6 +31,7 @@ class FitConfirmation {
                                        AnchorPose anchorPose) {
     if (proposal_ && proposal_->segment != fit.segment) proposal_.reset();
     last_outcome_ = fit.outcome;
+    if (fit.outcome == FitOutcome::kAmbiguous) proposal_.reset();
     if (fit.outcome != FitOutcome::kFit) return std::nullopt;
     const Eigen::Isometry3d A_new = alignmentNow(fit, anchorPose(fit.anchor_id));
     if (!proposal_) {

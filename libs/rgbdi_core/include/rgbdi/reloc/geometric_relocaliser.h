@@ -81,9 +81,11 @@ class GeometricRelocaliser {
     double horizontal_constraint = 0.0;
   };
   /// 4-DOF point-to-plane ICP of `local` onto `map` from T (yaw about z, translation):
-  /// nearest neighbours within max_distance_m, at most `iterations` Gauss-Newton steps.
+  /// nearest neighbours within max_distance_m, at most `iterations` Gauss-Newton steps, pairs
+  /// farther than huber_m down-weighted by huber_m / |r| (Huber).
   static Refinement refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
-                           const Eigen::Isometry3d& T, double max_distance_m, int iterations);
+                           const Eigen::Isometry3d& T, double max_distance_m, int iterations,
+                           double huber_m);
   /// Median of map floor height - local floor height over cells both saw as floor, with the
   /// local plan placed by `a`; false with fewer than min_cells such cells.
   static bool floorOffset(const PlanGrid& map, const PlanGrid& local, const PlanAlignment& a,

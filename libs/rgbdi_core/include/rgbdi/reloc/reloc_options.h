@@ -26,8 +26,16 @@ struct ScanSearchOptions {
   /// [count] levels of the branch-and-bound pyramid above the full resolution (a top-level
   /// node covers 2^levels cells per side).
   int pyramid_levels = 6;
-  /// Hypotheses whose score is within this fraction of the best one are kept: more than one
-  /// distinct place among them is an ambiguity.
+  /// Alignments whose obstacle score is within this fraction of the best one are candidates:
+  /// each distinct place among them is then judged by its agreement (score minus the
+  /// free-space conflicts): a wrong place can cover more obstacles than the true one when the
+  /// part sees the backs of things the map saw from the front, but it contradicts the map's
+  /// free space more.
+  double candidate_margin = 0.5;  ///< [fraction]
+  /// [points] agreement lost per compared cell in conflict (an obstacle on an obstacle: 2).
+  double conflict_penalty = 1.0;
+  /// Places whose agreement is within this fraction of the best one's are kept: more than one
+  /// is an ambiguity.
   double hypothesis_margin = 0.1;  ///< [fraction]
   /// Two hypotheses are distinct places when their alignments put the local plan's centre this
   /// far apart, or turn it by this much.
@@ -35,11 +43,13 @@ struct ScanSearchOptions {
   double place_separation_deg = 20.0;  ///< [deg]
   /// [fraction] of the local occupied cells that must land on the map's occupied cells (or next
   /// to them: half credit) for a hypothesis to count.
-  double min_overlap_fraction = 0.3;
+  double min_overlap_fraction = 0.25;
   /// [fraction] of the compared cells whose free space conflicts (local obstacles in the map's
   /// free space, local free space on the map's obstacles) above which a hypothesis is refused.
   double max_conflict_fraction = 0.05;
-  int max_hypotheses = 16;  ///< [count] distinct places kept (reported) at most
+  /// [count] candidate places evaluated at most; when more were found, those left out (lower
+  /// obstacle scores) must lie outside the margin of the best agreement, or it is ambiguous.
+  int max_hypotheses = 256;
 };
 
 struct RelocOptions {
@@ -64,6 +74,11 @@ struct RelocOptions {
   /// distance, these many iterations).
   double refine_max_distance_m = 0.15;  ///< [m]
   int refine_iterations = 15;           ///< [count] 0 = off
+  /// [m] pairs farther apart than this weigh this / their distance (Huber): what the map saw
+  /// differently (the backs of things; the odometry's height drifting a few centimetres within
+  /// the submap on ramps, which a ramp's surface turns into a sideways push) must not drag the
+  /// fit. 1e9 or more: plain least squares.
+  double refine_huber_m = 0.01;
   /// After the refinement at least this fraction of the local samples (thinned) must have a map
   /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
   double refine_min_pair_fraction = 0.5;  ///< [fraction]

@@ -2,9 +2,11 @@
 // (branch-and-bound on max-pooled grids, as Cartographer's global localisation does): every
 // rotation in yaw_step_deg steps, every translation at the map's cell size, scored by how
 // many local obstacle cells land on the map's obstacles (2 points) or next to them (1 point).
-// Not the best alignment alone: every alignment within hypothesis_margin of the best is kept
-// and grouped into distinct places; places whose free space conflicts with the map are
-// dropped. More than one place left is an ambiguity (identical rooms, a uniform corridor).
+// Not the best alignment alone: every alignment within candidate_margin of the best score is
+// grouped into distinct candidate places; places whose free space conflicts with the map too
+// much are dropped, the others ranked by agreement (score less conflict_penalty per conflict).
+// More than one place within hypothesis_margin of the best agreement is an ambiguity
+// (identical rooms, a uniform corridor).
 #pragma once
 
 #include <Eigen/Core>
@@ -32,17 +34,23 @@ struct PlanHypothesis {
   int compared = 0;      ///< [count] local cells that met known map cells
   int conflicts = 0;     ///< [count] of those, free-space conflicts
   double conflict_fraction = 0.0;
+  /// [points] score - conflict_penalty x conflicts: what places are ranked by.
+  double agreement = 0.0;
 };
 
 struct ScanSearchResult {
   int local_obstacles = 0;  ///< [count] occupied cells of the local plan
-  /// Distinct places within the margin of the best score, best first, before the free-space
-  /// check (at most max_hypotheses).
+  /// Distinct places within candidate_margin of the best obstacle score, highest score first,
+  /// before the free-space check (at most max_hypotheses).
   std::vector<PlanHypothesis> candidates;
-  /// Those of them whose free space agrees with the map (conflict fraction within bounds).
+  /// Those of them whose free space agrees with the map (conflict fraction within bounds) and
+  /// whose agreement is within hypothesis_margin of the best one, best agreement first (ties:
+  /// in candidate order). More than one is an ambiguity.
   std::vector<PlanHypothesis> places;
   std::uint64_t nodes_scored = 0;  ///< branch-and-bound nodes evaluated (cost)
-  bool truncated = false;          ///< too many near-best alignments were found to list them
+  /// Too many near-best alignments or places were found to list them, and those left out may
+  /// be within hypothesis_margin of the best agreement.
+  bool truncated = false;
 };
 
 /// The map's plan prepared for searching (score grid and its max-pooled pyramid); immutable.
