@@ -14,6 +14,8 @@
 #   handheld41 (handheld seed 41 variant 1 30 s: must not join elsewhere).
 # Default: every profile with seeds 1 2 3 and every negative case. 15 Hz throughout; maps:
 # wheeled_circle --speed fast (one 26 s lap), the other profiles' default durations.
+# To save disk, a mapping sequence's images and rawlog may be deleted once its map is built:
+# touch OUT/NAME.mapped then keeps it from being generated again (its ground truth stays).
 # Environment: RUN_CONFIG=FILE runs the second runs with --config FILE, into run directories
 # suffixed with TAG=... (so that one set of sequences and maps serves several configurations).
 set -euo pipefail
