@@ -31,9 +31,11 @@ struct ScanSearchOptions {
   /// free-space conflicts): a wrong place can cover more obstacles than the true one when the
   /// part sees the backs of things the map saw from the front, but it contradicts the map's
   /// free space more.
-  double candidate_margin = 0.5;  ///< [fraction]
+  double candidate_margin = 0.1;  ///< [fraction]
   /// [points] agreement lost per compared cell in conflict (an obstacle on an obstacle: 2).
-  double conflict_penalty = 1.0;
+  /// 0 (default): places ranked by score. 1 with candidate_margin 0.5 joined the slow profiles'
+  /// reversed runs sooner and closer, but also twin rooms 4 m off (doc/maps.md).
+  double conflict_penalty = 0.0;
   /// Places whose agreement is within this fraction of the best one's are kept: more than one
   /// is an ambiguity.
   double hypothesis_margin = 0.1;  ///< [fraction]
@@ -43,13 +45,13 @@ struct ScanSearchOptions {
   double place_separation_deg = 20.0;  ///< [deg]
   /// [fraction] of the local occupied cells that must land on the map's occupied cells (or next
   /// to them: half credit) for a hypothesis to count.
-  double min_overlap_fraction = 0.25;
+  double min_overlap_fraction = 0.3;
   /// [fraction] of the compared cells whose free space conflicts (local obstacles in the map's
   /// free space, local free space on the map's obstacles) above which a hypothesis is refused.
   double max_conflict_fraction = 0.05;
   /// [count] candidate places evaluated at most; when more were found, those left out (lower
   /// obstacle scores) must lie outside the margin of the best agreement, or it is ambiguous.
-  int max_hypotheses = 256;
+  int max_hypotheses = 16;
 };
 
 struct RelocOptions {
