@@ -14,7 +14,7 @@ PACKAGES=(
   librosbag-storage-dev libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
   pluginlib-dev librcpputils-dev libament-index-cpp-dev libroslz4-dev
   libbz2-dev zlib1g-dev libdeflate-dev nlohmann-json3-dev
-  clang-format time python3
+  clang-format time python3 python3-numpy python3-h5py
 )
 
 missing=()
