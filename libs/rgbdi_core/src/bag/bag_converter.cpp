@@ -18,13 +18,14 @@
 #include "rgbdi/bag/rgbd_pairer.h"
 #include "rgbdi/bag/ros_calibration.h"
 #include "rgbdi/bag/ros_image.h"
+#include "rgbdi/bag/ros_odometry.h"
 #include "rgbdi/bag/ros_wire.h"
 #include "rgbdi/common/sensor_options.h"
 
 namespace rgbdi::bag {
 namespace {
 
-enum class Role { Color, Depth, Imu, Accel, Gyro, GroundTruth };
+enum class Role { Color, Depth, Imu, Accel, Gyro, GroundTruth, Odometry };
 
 /// A calibration that does not fit the images: ends the conversion (the output would be wrong).
 class CalibrationMismatch : public BagError {
@@ -90,6 +91,7 @@ struct BagConverter::Impl {
   double depth_unit = 1e-3;
   Eigen::Isometry3d T_color_depth = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> T_body_wheel;
   std::vector<std::string> calibration_lines, notes;
   bool ran = false;
 
@@ -98,6 +100,7 @@ struct BagConverter::Impl {
   std::uint64_t frame_index = 0;
   bool checked_color_size = false, checked_depth_size = false;
   std::string color_source, depth_source;
+  std::optional<double> last_odometry_t;  ///< stamp of the last odometry reading delivered
 
   template <typename M>
   bool firstMessage(const std::string& topic, M& msg) const {
@@ -198,6 +201,81 @@ struct BagConverter::Impl {
                                                : std::string()) +
                                   ")");
     }
+  }
+
+  /// The header frame of the first message of `topic` ("" when it has none or is unreadable).
+  template <typename M>
+  std::string frameOfFirst(const std::string& topic) const {
+    M msg;
+    try {
+      if (!firstMessage(topic, msg)) return std::string();
+    } catch (const CalibrationError&) {
+      return std::string();  // the stream's own decoding reports the message
+    }
+    return msg.header.frame_id;
+  }
+
+  /// T_body_wheel from /tf_static: the wheel frame is the odometry's child_frame_id, the body
+  /// frame rgbdi's IMU frame (the IMU messages' frame_id). Without it the configuration's
+  /// [wheel] R_body_wheel / t_body_wheel_m stay as they are.
+  void readWheelExtrinsic() {
+    if (layout.odometry.empty()) return;
+    std::string wheel_frame;
+    {
+      std::vector<std::uint8_t> bytes;
+      if (reader->firstMessage(layout.odometry, bytes)) {
+        try {
+          wheel_frame = deserializeOdometry(bytes.data(), static_cast<std::uint32_t>(bytes.size()),
+                                            path + " " + layout.odometry)
+                            .child_frame_id;
+        } catch (const MessageDecodeError&) {
+          // Reported when the stream reaches it.
+        }
+      }
+    }
+    const std::string imu_topic = !layout.imu.empty() ? layout.imu : layout.gyro;
+    const std::string body_frame =
+        imu_topic.empty() ? std::string() : frameOfFirst<sensor_msgs::Imu>(imu_topic);
+    const std::string keep = "; the configuration's [wheel] R_body_wheel / t_body_wheel_m are used";
+    if (wheel_frame.empty() || body_frame.empty()) {
+      calibration_lines.push_back("wheel frame in the body frame: unknown (" +
+                                  std::string(wheel_frame.empty()
+                                                  ? "the odometry has no child_frame_id"
+                                                  : "no IMU frame_id") +
+                                  ")" + keep);
+      return;
+    }
+    std::vector<geometry_msgs::TransformStamped> transforms;
+    if (!layout.tf_static.empty()) {
+      reader->select({layout.tf_static});
+      BagMessage m;
+      while (reader->next(m)) {
+        const std::string where = path + " " + *m.topic + " message " + std::to_string(m.ordinal);
+        try {
+          const auto t = deserializeTfMessage(m.data, m.size, where);
+          transforms.insert(transforms.end(), t.begin(), t.end());
+        } catch (const std::exception& e) {
+          throw CalibrationError(std::string(e.what()));
+        }
+      }
+    }
+    const std::string frames = "'" + wheel_frame + "' in '" + body_frame + "'";
+    if (transforms.empty()) {
+      calibration_lines.push_back("wheel frame " + frames + ": no /tf_static in the bag" + keep);
+      return;
+    }
+    try {
+      T_body_wheel =
+          lookupStaticTransform(transforms, body_frame, wheel_frame, path + " " + layout.tf_static);
+    } catch (const MessageDecodeError& e) {
+      throw CalibrationError(e.what());
+    }
+    if (T_body_wheel)
+      calibration_lines.push_back("wheel frame in the body frame (T_body_wheel, " + frames + "): " +
+                                  describePose(*T_body_wheel) + " (" + layout.tf_static + ")");
+    else
+      calibration_lines.push_back("wheel frame " + frames + ": not connected in " +
+                                  layout.tf_static + keep);
   }
 
   std::string label(const BagMessage& m, double stamp) const {
@@ -315,6 +393,25 @@ struct BagConverter::Impl {
           deliverImu(merger, sink);
           break;
         }
+        case Role::Odometry: {
+          const nav_msgs::Odometry msg = deserializeOdometry(m.data, m.size, where);
+          const double t = stampOf(msg.header);
+          where = label(m, t);
+          const WheelOdometrySample w = wheelFromOdometry(msg, t, where);
+          // The readings are cumulative: one out of order cannot be placed; refuse it, named.
+          if (last_odometry_t && !(t > *last_odometry_t)) {
+            ++report.unreadable;
+            report.addIssue("unreadable",
+                            where + ": odometry stamp not after the previous reading's (" +
+                                fixed(*last_odometry_t, 6) + " s); skipped",
+                            options.max_listed_issues);
+            break;
+          }
+          last_odometry_t = t;
+          ++report.odometry_messages;
+          sink.wheel(w);
+          break;
+        }
         case Role::GroundTruth: {
           geometry_msgs::PoseStamped msg;
           deserialize(m.data, m.size, msg);
@@ -337,6 +434,9 @@ struct BagConverter::Impl {
         }
       }
     } catch (const ImageDecodeError& e) {
+      ++report.unreadable;
+      report.addIssue("unreadable", e.what(), options.max_listed_issues);
+    } catch (const MessageDecodeError& e) {
       ++report.unreadable;
       report.addIssue("unreadable", e.what(), options.max_listed_issues);
     } catch (const ros::Exception& e) {
@@ -374,10 +474,12 @@ BagConverter::BagConverter(const std::string& path, const ConvertOptions& option
   d.roles[d.layout.accel] = Role::Accel;
   d.roles[d.layout.gyro] = Role::Gyro;
   d.roles[d.layout.groundtruth] = Role::GroundTruth;
+  d.roles[d.layout.odometry] = Role::Odometry;
   d.roles.erase("");
   if (d.roles.size() != d.layout.streamedTopics().size())
     throw BagLayoutError(path + ": one topic is given for two different streams");
   d.readCalibration(fallback);
+  d.readWheelExtrinsic();
 }
 
 BagConverter::~BagConverter() = default;
@@ -392,6 +494,9 @@ const std::vector<std::string>& BagConverter::calibration() const {
   return impl_->calibration_lines;
 }
 const BagReader& BagConverter::reader() const { return *impl_->reader; }
+const std::optional<Eigen::Isometry3d>& BagConverter::T_body_wheel() const {
+  return impl_->T_body_wheel;
+}
 
 ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback& progress,
                                    const std::atomic<bool>* stop) {
@@ -408,8 +513,8 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
   for (const BagTopic& t : d.reader->topics()) {
     const auto it = d.roles.find(t.topic);
     if (it == d.roles.end()) continue;
-    static const char* names[] = {"colour",        "depth",     "IMU",
-                                  "accelerometer", "gyroscope", "ground truth"};
+    static const char* names[] = {"colour",    "depth",        "IMU",           "accelerometer",
+                                  "gyroscope", "ground truth", "wheel odometry"};
     r.streams.push_back(std::string(names[static_cast<int>(it->second)]) + ": " + t.topic + " (" +
                         t.datatype + ", " + std::to_string(t.messages) + " messages)");
   }
