@@ -257,9 +257,9 @@ TEST(RosOdometry, BadMessagesAreNamed) {
   }
   std::vector<std::uint8_t> long_name = bytes;
   long_name[20] = 0xff;  // child_frame_id length far beyond the message
-  EXPECT_THROW(deserializeOdometry(long_name.data(), static_cast<std::uint32_t>(long_name.size()),
-                                   "b"),
-               MessageDecodeError);
+  EXPECT_THROW(
+      deserializeOdometry(long_name.data(), static_cast<std::uint32_t>(long_name.size()), "b"),
+      MessageDecodeError);
 
   nav_msgs::Odometry m = odometry(1.0, 0, 0, 0);
   m.twist.twist.angular.z = std::numeric_limits<double>::infinity();
@@ -316,7 +316,8 @@ TEST(RosOdometry, StaticTransformsComposeEitherWay) {
   EXPECT_NEAR(T->translation().x(), 0.0, 1e-12);
   EXPECT_NEAR(T->translation().y(), 0.1, 1e-12);
   EXPECT_NEAR(T->translation().z(), -0.2, 1e-12);
-  EXPECT_TRUE(lookupStaticTransform(tfs, "imu", "imu", "l")->isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(
+      lookupStaticTransform(tfs, "imu", "imu", "l")->isApprox(Eigen::Isometry3d::Identity()));
   EXPECT_FALSE(lookupStaticTransform(tfs, "imu", "elsewhere", "l").has_value());
   tfs[1].transform.rotation.w = std::nan("");
   EXPECT_THROW(lookupStaticTransform(tfs, "imu", "base_link", "l"), MessageDecodeError);
@@ -357,11 +358,12 @@ TEST(BagOdometryConversion, ReadingsDeliveredAndBadOnesNamed) {
   EXPECT_NEAR(conv.T_body_wheel()->translation().z(), -0.2, 1e-12);
   bool line = false;
   for (const std::string& c : conv.calibration())
-    line |= c.rfind("wheel frame in the body frame (T_body_wheel, 'base_link' in "
-                    "'camera_imu_frame'): translation (",
-                    0) == 0 &&
-            c.find("0.0000, 0.1000, -0.2000) m, rotation 90.000 deg (/tf_static)") !=
-                std::string::npos;
+    line |=
+        c.rfind(
+            "wheel frame in the body frame (T_body_wheel, 'base_link' in "
+            "'camera_imu_frame'): translation (",
+            0) == 0 &&
+        c.find("0.0000, 0.1000, -0.2000) m, rotation 90.000 deg (/tf_static)") != std::string::npos;
   EXPECT_TRUE(line) << ::testing::PrintToString(conv.calibration());
 
   // --odom-topic none: no readings, no wheel extrinsic.
@@ -382,8 +384,9 @@ TEST(BagOdometryConversion, WithoutTfStaticTheConfigurationsExtrinsicStays) {
   EXPECT_FALSE(conv.T_body_wheel().has_value());
   bool line = false;
   for (const std::string& c : conv.calibration())
-    line |= c == "wheel frame 'base_link' in 'camera_imu_frame': no /tf_static in the bag; the "
-                 "configuration's [wheel] R_body_wheel / t_body_wheel_m are used";
+    line |= c ==
+            "wheel frame 'base_link' in 'camera_imu_frame': no /tf_static in the bag; the "
+            "configuration's [wheel] R_body_wheel / t_body_wheel_m are used";
   EXPECT_TRUE(line) << ::testing::PrintToString(conv.calibration());
   test::RecordingSink sink;
   EXPECT_TRUE(conv.run(sink).ok());
@@ -429,14 +432,13 @@ TEST(BagOdometryConversion, TruncatedMessagesAndStampsGoingBackAreSkipped) {
   EXPECT_EQ(r.unreadable, 2u);
   // Bag order: depth and odometry alternate, so /odom's messages are 1, 3, 5, 7, 9 of the stream.
   const std::string text = r.text();
-  EXPECT_NE(text.find(path +
-                      " /odom message 5: corrupt message: pose (PoseWithCovariance) needs 344 "
-                      "bytes at offset 33, the message has 67 left (of 100)"),
-            std::string::npos)
+  EXPECT_NE(
+      text.find(path + " /odom message 5: corrupt message: pose (PoseWithCovariance) needs 344 "
+                       "bytes at offset 33, the message has 67 left (of 100)"),
+      std::string::npos)
       << text;
-  EXPECT_NE(text.find(path +
-                      " /odom message 7 (stamp 10.050000 s): odometry stamp not after the "
-                      "previous reading's (10.100000 s); skipped"),
+  EXPECT_NE(text.find(path + " /odom message 7 (stamp 10.050000 s): odometry stamp not after the "
+                             "previous reading's (10.100000 s); skipped"),
             std::string::npos)
       << text;
 

@@ -82,8 +82,8 @@ WheelOdometrySample wheelFromOdometry(const nav_msgs::Odometry& msg, double t,
   s.x_m = p.x;
   s.y_m = p.y;
   // Yaw of the (normalised) rotation, ZYX convention: the planar heading of the child frame.
-  s.yaw_rad = std::atan2(2.0 * (q.w * q.z + q.x * q.y) / n2,
-                         1.0 - 2.0 * (q.y * q.y + q.z * q.z) / n2);
+  s.yaw_rad =
+      std::atan2(2.0 * (q.w * q.z + q.x * q.y) / n2, 1.0 - 2.0 * (q.y * q.y + q.z * q.z) / n2);
   s.has_velocities = true;
   s.v_forward_m_s = v.x;
   s.v_lateral_m_s = v.y;
@@ -98,11 +98,10 @@ std::vector<geometry_msgs::TransformStamped> deserializeTfMessage(const std::uin
   const std::uint32_t n = w.u32("transforms (count)");
   // ROS resizes the vector to the count before reading: refuse a count the bytes cannot hold.
   if (static_cast<std::uint64_t>(n) * kMinTransformStampedBytes > w.left())
-    throw MessageDecodeError(label + ": corrupt message: " + std::to_string(n) +
-                             " transforms need at least " +
-                             std::to_string(static_cast<std::uint64_t>(n) *
-                                            kMinTransformStampedBytes) +
-                             " bytes, the message has " + std::to_string(w.left()) + " left");
+    throw MessageDecodeError(
+        label + ": corrupt message: " + std::to_string(n) + " transforms need at least " +
+        std::to_string(static_cast<std::uint64_t>(n) * kMinTransformStampedBytes) +
+        " bytes, the message has " + std::to_string(w.left()) + " left");
   for (std::uint32_t i = 0; i < n; ++i) {
     w.header();
     w.sized("child_frame_id");
@@ -150,8 +149,7 @@ std::optional<Eigen::Isometry3d> lookupStaticTransform(
       Eigen::Isometry3d T_parent_child = Eigen::Isometry3d::Identity();
       T_parent_child.linear() = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized().matrix();
       T_parent_child.translation() = Eigen::Vector3d(tr.x, tr.y, tr.z);
-      T_target[e.to] =
-          T_target.at(f) * (e.forward ? T_parent_child : T_parent_child.inverse());
+      T_target[e.to] = T_target.at(f) * (e.forward ? T_parent_child : T_parent_child.inverse());
       open.push_back(e.to);
     }
   }
