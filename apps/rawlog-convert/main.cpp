@@ -204,8 +204,13 @@ int runInfo(const Args& a) {
   }
   if (format == rgbdi::io::InputFormat::Rawlog) return infoRawlog(a, path);
   rgbdi::convert::ConversionSettings settings;
+  rgbdi::io::StreamConfig stream;
   try {
     settings = rgbdi::convert::loadConversionSettings(a.config, a.camera_yaml);
+    if (!a.config.empty()) {
+      rgbdi::IniReader ini = rgbdi::IniReader::fromFile(a.config);
+      stream = rgbdi::io::StreamConfig::load(ini);
+    }
   } catch (const rgbdi::ConfigError& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";
     return kUsageError;
@@ -213,7 +218,7 @@ int runInfo(const Args& a) {
   rgbdi::convert::InputDescription d;
   try {
     d = format == rgbdi::io::InputFormat::Ros1Bag
-            ? rgbdi::convert::describeBag(path, settings, a.topics)
+            ? rgbdi::convert::describeBag(path, settings, a.topics, stream)
             : rgbdi::convert::describeTumFolder(path);
   } catch (const std::exception& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";

@@ -46,8 +46,7 @@ TEST(RawlogConvertOdometry, SimulatorWheelsSurviveTheBagAndAreFused) {
                        &out),
             0)
       << out;
-  EXPECT_NE(out.find("wheel odometry: /odom (nav_msgs/Odometry, 501 messages)"),
-            std::string::npos)
+  EXPECT_NE(out.find("wheel odometry: /odom (nav_msgs/Odometry, 501 messages)"), std::string::npos)
       << out;
   EXPECT_NE(out.find("501 wheel odometry observations"), std::string::npos) << out;
 

@@ -94,6 +94,7 @@ struct BagConverter::Impl {
   std::optional<Eigen::Isometry3d> T_body_wheel;
   std::vector<std::string> calibration_lines, notes;
   bool ran = false;
+  bool motion_only = false;
 
   // Per-run state.
   ConversionReport report;
@@ -454,6 +455,7 @@ BagConverter::BagConverter(const std::string& path, const ConvertOptions& option
   Impl& d = *impl_;
   d.path = path;
   d.options = options;
+  d.motion_only = input.motion_only;
   d.reader = std::make_unique<BagReader>(path);
   try {
     d.layout = resolveBagLayout(d.reader->topics(), input.topics, input.depth_aligned, path);
@@ -523,11 +525,21 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
 
   RgbdPairer pairer(d.options.pair_tolerance_s, d.options.max_wait_s);
   AccelGyroMerger merger(d.options.max_accel_gap_s, d.options.max_wait_s);
-  d.reader->select(d.layout.streamedTopics());
+  std::vector<std::string> topics = d.layout.streamedTopics();
+  if (d.motion_only) {
+    topics.clear();
+    for (const std::string* t :
+         {&d.layout.imu, &d.layout.accel, &d.layout.gyro, &d.layout.odometry})
+      if (!t->empty()) topics.push_back(*t);
+  }
+  // Nothing selected would select everything: a motion-only run of a bag without motion
+  // streams reads nothing.
+  const bool nothing_to_read = topics.empty();
+  d.reader->select(topics);
   BagMessage m;
   bool calibration_failed = false;
   try {
-    while (!(stop && stop->load())) {
+    while (!nothing_to_read && !(stop && stop->load())) {
       if (!d.reader->next(m)) break;
       d.handle(m, d.roles.at(*m.topic), pairer, merger, sink);
       if (progress) progress(d.reader->fraction());

@@ -19,6 +19,11 @@ std::size_t ConversionReport::issueCount(const std::string& kind) const {
   return it == issues_.end() ? 0 : it->second.count;
 }
 
+std::vector<std::string> ConversionReport::listedIssues(const std::string& kind) const {
+  const auto it = issues_.find(kind);
+  return it == issues_.end() ? std::vector<std::string>() : it->second.listed;
+}
+
 void ConversionReport::absorbWriter(const ConversionReport& w, int max_listed) {
   frames_written += w.frames_written;
   imu_written += w.imu_written;

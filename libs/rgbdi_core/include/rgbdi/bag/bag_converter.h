@@ -45,6 +45,9 @@ struct FallbackCalibration {
 struct BagInputOptions {
   TopicOverrides topics;
   std::optional<bool> depth_aligned;  ///< default: the layout's
+  /// run() reads the IMU and odometry topics only (no images, no ground truth): the motion
+  /// streams, for checks such as rawlog-convert --info's wheel checks.
+  bool motion_only = false;
 };
 
 class BagConverter {

@@ -47,6 +47,8 @@ struct ConversionReport {
   /// per kind, the rest only counted.
   void addIssue(const std::string& kind, const std::string& message, int max_listed);
   std::size_t issueCount(const std::string& kind) const;
+  /// The messages kept of a kind (at most `max_listed`).
+  std::vector<std::string> listedIssues(const std::string& kind) const;
   /// Adds the writer's counts, outputs and issues collected in `writer` to this report.
   void absorbWriter(const ConversionReport& writer, int max_listed);
 
