@@ -20,6 +20,7 @@
 #include "rgbdi/bag/ros_image.h"
 #include "rgbdi/bag/ros_odometry.h"
 #include "rgbdi/bag/ros_wire.h"
+#include "rgbdi/bag/wheel_extrinsic.h"
 #include "rgbdi/common/sensor_options.h"
 
 namespace rgbdi::bag {
@@ -52,15 +53,6 @@ std::string describeCamera(const PinholeCamera& c) {
   if (c.hasDistortion())
     os << ", distortion " << c.dist[0] << " " << c.dist[1] << " " << c.dist[2] << " " << c.dist[3]
        << " " << c.dist[4];
-  return os.str();
-}
-
-std::string describePose(const Eigen::Isometry3d& T) {
-  const Eigen::AngleAxisd aa(T.rotation());
-  std::ostringstream os;
-  os << "translation (" << fixed(T.translation().x(), 4) << ", " << fixed(T.translation().y(), 4)
-     << ", " << fixed(T.translation().z(), 4) << ") m, rotation "
-     << fixed(aa.angle() * 180.0 / M_PI, 3) << " deg";
   return os.str();
 }
 
@@ -202,81 +194,6 @@ struct BagConverter::Impl {
                                                : std::string()) +
                                   ")");
     }
-  }
-
-  /// The header frame of the first message of `topic` ("" when it has none or is unreadable).
-  template <typename M>
-  std::string frameOfFirst(const std::string& topic) const {
-    M msg;
-    try {
-      if (!firstMessage(topic, msg)) return std::string();
-    } catch (const CalibrationError&) {
-      return std::string();  // the stream's own decoding reports the message
-    }
-    return msg.header.frame_id;
-  }
-
-  /// T_body_wheel from /tf_static: the wheel frame is the odometry's child_frame_id, the body
-  /// frame rgbdi's IMU frame (the IMU messages' frame_id). Without it the configuration's
-  /// [wheel] R_body_wheel / t_body_wheel_m stay as they are.
-  void readWheelExtrinsic() {
-    if (layout.odometry.empty()) return;
-    std::string wheel_frame;
-    {
-      std::vector<std::uint8_t> bytes;
-      if (reader->firstMessage(layout.odometry, bytes)) {
-        try {
-          wheel_frame = deserializeOdometry(bytes.data(), static_cast<std::uint32_t>(bytes.size()),
-                                            path + " " + layout.odometry)
-                            .child_frame_id;
-        } catch (const MessageDecodeError&) {
-          // Reported when the stream reaches it.
-        }
-      }
-    }
-    const std::string imu_topic = !layout.imu.empty() ? layout.imu : layout.gyro;
-    const std::string body_frame =
-        imu_topic.empty() ? std::string() : frameOfFirst<sensor_msgs::Imu>(imu_topic);
-    const std::string keep = "; the configuration's [wheel] R_body_wheel / t_body_wheel_m are used";
-    if (wheel_frame.empty() || body_frame.empty()) {
-      calibration_lines.push_back("wheel frame in the body frame: unknown (" +
-                                  std::string(wheel_frame.empty()
-                                                  ? "the odometry has no child_frame_id"
-                                                  : "no IMU frame_id") +
-                                  ")" + keep);
-      return;
-    }
-    std::vector<geometry_msgs::TransformStamped> transforms;
-    if (!layout.tf_static.empty()) {
-      reader->select({layout.tf_static});
-      BagMessage m;
-      while (reader->next(m)) {
-        const std::string where = path + " " + *m.topic + " message " + std::to_string(m.ordinal);
-        try {
-          const auto t = deserializeTfMessage(m.data, m.size, where);
-          transforms.insert(transforms.end(), t.begin(), t.end());
-        } catch (const std::exception& e) {
-          throw CalibrationError(std::string(e.what()));
-        }
-      }
-    }
-    const std::string frames = "'" + wheel_frame + "' in '" + body_frame + "'";
-    if (transforms.empty()) {
-      calibration_lines.push_back("wheel frame " + frames + ": no /tf_static in the bag" + keep);
-      return;
-    }
-    try {
-      T_body_wheel =
-          lookupStaticTransform(transforms, body_frame, wheel_frame, path + " " + layout.tf_static);
-    } catch (const MessageDecodeError& e) {
-      throw CalibrationError(e.what());
-    }
-    if (T_body_wheel)
-      calibration_lines.push_back("wheel frame in the body frame (T_body_wheel, " + frames + "): " +
-                                  describePose(*T_body_wheel) + " (" + layout.tf_static + ")");
-    else
-      calibration_lines.push_back("wheel frame " + frames + ": not connected in " +
-                                  layout.tf_static + keep);
   }
 
   std::string label(const BagMessage& m, double stamp) const {
@@ -481,7 +398,9 @@ BagConverter::BagConverter(const std::string& path, const ConvertOptions& option
   if (d.roles.size() != d.layout.streamedTopics().size())
     throw BagLayoutError(path + ": one topic is given for two different streams");
   d.readCalibration(fallback);
-  d.readWheelExtrinsic();
+  BagWheelExtrinsic wheel = readWheelExtrinsic(*d.reader, d.layout, path);
+  d.T_body_wheel = wheel.T_body_wheel;
+  d.calibration_lines.insert(d.calibration_lines.end(), wheel.lines.begin(), wheel.lines.end());
 }
 
 BagConverter::~BagConverter() = default;

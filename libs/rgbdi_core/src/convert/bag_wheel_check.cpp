@@ -15,9 +15,7 @@ class CheckingSink : public bag::ConversionSink {
         checker_(source, config) {}
 
   void imu(const ImuSample& s) override { offer(s, io::MeasurementKind::Imu, s.t); }
-  void wheel(const WheelOdometrySample& w) override {
-    offer(w, io::MeasurementKind::Wheel, w.t);
-  }
+  void wheel(const WheelOdometrySample& w) override { offer(w, io::MeasurementKind::Wheel, w.t); }
   void accelerometer(double, const Eigen::Vector3d&) override {}  // no gyroscope: not an IMU
   void frame(const RgbdFrame&) override {}
   void groundTruth(const StampedPose&) override {}
