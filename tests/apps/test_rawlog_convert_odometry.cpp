@@ -2,7 +2,8 @@
 // rgbdi-sim --bag writes its encoders' odometry as /odom (nav_msgs/Odometry) and the wheel frame
 // on /tf_static; rawlog-convert turns them back into the simulator's CObservationOdometry
 // readings (same count, stamps, poses, velocities; the bag has no encoder ticks) and the
-// extrinsic into OUT.ini [wheel]; rgbdi-slam fuses the converted wheels.
+// extrinsic into OUT.ini [wheel]; --info reports the wheel stream, --odom-topic chooses or
+// leaves it out; rgbdi-slam fuses the converted wheels.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -80,6 +81,37 @@ TEST(RawlogConvertOdometry, SimulatorWheelsSurviveTheBagAndAreFused) {
   const Eigen::VectorXd t = ini.getVector("wheel", "t_body_wheel_m", Eigen::VectorXd::Ones(3));
   EXPECT_EQ(R, (Eigen::VectorXd(9) << 1, 0, 0, 0, 1, 0, 0, 0, 1).finished());
   EXPECT_EQ(t, Eigen::VectorXd::Zero(3));
+
+  // --info on the bag: the wheel stream and its verdicts (a clean drive: no finding).
+  ASSERT_EQ(runCommand(app("rawlog-convert") + " --info " + seq + "/sequence.bag", &out), 0) << out;
+  EXPECT_NE(out.find("  odometry      /odom\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("Wheel odometry /odom checked against the IMU /camera/imu:\nWheel: 501 "
+                     "readings, 10.000 s, 50.00 Hz\n"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("moving while the IMU is at rest: 0 times (0.000 s); standing while the IMU "
+                     "moves: 0 times (0.000 s)"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("Wheel warnings: 0\n"), std::string::npos) << out;
+
+  // --odom-topic none: no readings and no wheel extrinsic (no OUT.ini without --camera-yaml).
+  ASSERT_EQ(runCommand(app("rawlog-convert") + " " + seq + "/sequence.bag -o " + dir +
+                           "/nowheels.rawlog --odom-topic none --external-images --quiet",
+                       &out),
+            0)
+      << out;
+  EXPECT_EQ(out.find("wheel odometry"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/nowheels.ini"));
+  // A topic that is not odometry: the error names it and its type.
+  EXPECT_EQ(runCommand(app("rawlog-convert") + " " + seq + "/sequence.bag -o " + dir +
+                           "/bad.rawlog --odom-topic /camera/imu --quiet",
+                       &out),
+            1);
+  EXPECT_NE(out.find("odometry topic '/camera/imu' has type sensor_msgs/Imu, expected "
+                     "nav_msgs/Odometry"),
+            std::string::npos)
+      << out;
 
   // rgbdi-slam on the converted bag with the configuration written, wheels on.
   {
