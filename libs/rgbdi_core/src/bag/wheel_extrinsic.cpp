@@ -47,10 +47,10 @@ BagWheelExtrinsic readWheelExtrinsic(BagReader& reader, const BagLayout& layout,
   const std::string body_frame = imuFrame(reader, !layout.imu.empty() ? layout.imu : layout.gyro);
   const std::string keep = "; the configuration's [wheel] R_body_wheel / t_body_wheel_m are used";
   if (wheel_frame.empty() || body_frame.empty()) {
-    out.lines.push_back(
-        "wheel frame in the body frame: unknown (" +
-        std::string(wheel_frame.empty() ? "the odometry has no child_frame_id" : "no IMU frame_id") +
-        ")" + keep);
+    out.lines.push_back("wheel frame in the body frame: unknown (" +
+                        std::string(wheel_frame.empty() ? "the odometry has no child_frame_id"
+                                                        : "no IMU frame_id") +
+                        ")" + keep);
     return out;
   }
   std::vector<geometry_msgs::TransformStamped> transforms;

@@ -21,9 +21,9 @@ struct BagWheelExtrinsic {
 };
 
 /// Reads the extrinsic for `layout.odometry` (nothing without odometry). Leaves `reader`
-/// selecting /tf_static: select() again before streaming. Throws CalibrationError (ros_calibration.h)
-/// naming the message for an unreadable /tf_static message or a transform with invalid values;
-/// damage in the bag ends the reading of /tf_static (noted in the lines).
+/// selecting /tf_static: select() again before streaming. Throws CalibrationError
+/// (ros_calibration.h) naming the message for an unreadable /tf_static message or a transform with
+/// invalid values; damage in the bag ends the reading of /tf_static (noted in the lines).
 BagWheelExtrinsic readWheelExtrinsic(BagReader& reader, const BagLayout& layout,
                                      const std::string& path);
 
