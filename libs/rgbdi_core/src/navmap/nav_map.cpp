@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "navmap/cell_points.h"
+#include "navmap/nav_map_stages.h"
 #include "navmap/path_cells.h"
 
 namespace rgbdi::navmap {
@@ -217,9 +218,26 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   return buildNavMap(points, path, o, gridAroundPath(path, o));
 }
 
-NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
-                   const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
-                   const GridGeometry& grid) {
+namespace detail {
+
+CellSurface cellSurface(const float* first, const float* last, const NavMapOptions& o) {
+  CellSurface c;
+  float h = 0, s = 0;
+  if (!lowestSurface(first, last, o.min_points_per_cell, static_cast<float>(o.ground_band_m), &h,
+                     &s))
+    return c;
+  c.ground_z_m = h;
+  c.sigma_m = s;
+  const float lo = static_cast<float>(h + o.max_step_m);
+  const float hi = static_cast<float>(h + o.clearance_height_m);
+  const std::size_t obstacle_points = static_cast<std::size_t>(std::upper_bound(first, last, hi) -
+                                                               std::upper_bound(first, last, lo));
+  c.obstacle = obstacle_points >= static_cast<std::size_t>(o.min_obstacle_points);
+  return c;
+}
+
+NavMap startNavMap(const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
+                   const GridGeometry& grid, NearestPose* near) {
   o.validate();
   if (path.empty()) throw std::invalid_argument("navmap: empty path");
   NavMap m;
@@ -232,20 +250,38 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   m.roughness_m.assign(n, kNaN);
   m.traversability.assign(n, kNaN);
   m.state.assign(n, CellState::kUnknown);
-  m.driven = detail::footprintCells(path, grid, o.footprint_radius_m, o.range_m);
-  const detail::NearestPose near = detail::nearestPoses(path, grid);
-  const detail::CellPoints cells(points, grid);
-  const float band = static_cast<float>(o.ground_band_m);
+  m.driven = footprintCells(path, grid, o.footprint_radius_m, o.range_m);
+  *near = nearestPoses(path, grid);
+  return m;
+}
 
+}  // namespace detail
+
+NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
+                   const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
+                   const GridGeometry& grid) {
+  detail::NearestPose near;
+  NavMap m = detail::startNavMap(path, o, grid, &near);
+  const detail::CellPoints cells(points, grid);
+  std::vector<std::uint8_t> obstacle(grid.cellCount(), 0);
   // Lowest surface of every cell within range.
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < grid.cellCount(); ++i) {
     if (!(near.distance_m[i] <= o.range_m)) continue;
-    float h = 0, s = 0;
-    if (detail::lowestSurface(cells.begin(i), cells.end(i), o.min_points_per_cell, band, &h, &s)) {
-      m.ground_z_m[i] = h;
-      m.ground_sigma_m[i] = s;
-    }
+    const detail::CellSurface c = detail::cellSurface(cells.begin(i), cells.end(i), o);
+    m.ground_z_m[i] = c.ground_z_m;
+    m.ground_sigma_m[i] = c.sigma_m;
+    obstacle[i] = c.obstacle ? 1 : 0;
   }
+  detail::finishNavMap(m, near, obstacle, path, o);
+  return m;
+}
+
+namespace detail {
+
+void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uint8_t>& obstacle,
+                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o) {
+  const GridGeometry& grid = m.grid;
+  const std::size_t n = grid.cellCount();
   // The ground under the path, its height above it, and each cell's reference ground: that
   // under its nearest path position, measured, else the position less the path's height (a
   // hand-held camera moves up and down; a robot's ground is where it drives).
@@ -270,14 +306,8 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
 
   // Obstacles first: the ground of an obstacle cell is the foot of a wall or object, which the
   // plane fits of the ground beside it leave out.
-  for (std::size_t i = 0; i < n; ++i) {
-    const float h = m.ground_z_m[i];
-    if (!std::isfinite(h)) continue;
-    const std::size_t obstacle_points = cells.countIn(i, static_cast<float>(h + o.max_step_m),
-                                                      static_cast<float>(h + o.clearance_height_m));
-    if (obstacle_points >= static_cast<std::size_t>(o.min_obstacle_points))
-      m.state[i] = CellState::kObstacle;
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(m.ground_z_m[i]) && obstacle[i]) m.state[i] = CellState::kObstacle;
   std::vector<float> plane_ground = m.ground_z_m;
   for (std::size_t i = 0; i < n; ++i)
     if (m.state[i] == CellState::kObstacle) plane_ground[i] = kNaN;
@@ -337,7 +367,7 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
         }
       m.traversability[i] = t;
     }
-  return m;
 }
 
+}  // namespace detail
 }  // namespace rgbdi::navmap
