@@ -27,8 +27,8 @@ std::vector<Eigen::Vector3f> scene(std::uint32_t seed) {
   for (int k = 0; k < 60000; ++k) {
     const float x = ux(rng), y = uy(rng);
     float z = 0.0f;
-    if (x > 2.0f && y > 0.8f) z = 0.2f;                     // step up
-    if (x > -3.0f && x < -2.5f && y < -1.0f) z = -0.3f;     // hole
+    if (x > 2.0f && y > 0.8f) z = 0.2f;                              // step up
+    if (x > -3.0f && x < -2.5f && y < -1.0f) z = -0.3f;              // hole
     if (x > 0.5f && x < 1.5f && y < -0.8f) z = (x - 0.5f) * 0.268f;  // ramp
     p.emplace_back(x, y, z + noise(rng));
   }
@@ -122,6 +122,7 @@ TEST(NavMapUpdater, ClearForgetsThePoints) {
   const NavMapOptions o;
   NavMapUpdater up(o);
   up.addPoints(scene(6));
+  up.build(path(161));  // its layers must not leak into the next build
   up.clear();
   EXPECT_EQ(up.pointCount(), 0u);
   EXPECT_EQ(up.occupiedCells(), 0u);
@@ -129,4 +130,18 @@ TEST(NavMapUpdater, ClearForgetsThePoints) {
   up.addPoints(other);
   expectSame(up.build(path(161)), buildNavMap(other, path(161), o));
   EXPECT_THROW(up.build({}), std::invalid_argument);
+}
+
+TEST(NavMapUpdater, ABuildAfterThePathMovedOrShrankEqualsTheFullBuild) {
+  // A loop correction moves the path (and the grid with it); a shorter path shrinks the grid.
+  const std::vector<Eigen::Vector3f> pts = scene(8);
+  const NavMapOptions o;
+  NavMapUpdater up(o);
+  up.addPoints(pts);
+  std::vector<Eigen::Vector3d> p = path(161);
+  expectSame(up.build(p), buildNavMap(pts, p, o));
+  for (Eigen::Vector3d& q : p) q += Eigen::Vector3d(0.37, -0.21, 0.02);
+  expectSame(up.build(p), buildNavMap(pts, p, o));
+  p.resize(60);
+  expectSame(up.build(p), buildNavMap(pts, p, o));
 }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "navmap/cell_points.h"
+#include "navmap/layer_reuse.h"
 #include "navmap/nav_map_stages.h"
 #include "navmap/path_cells.h"
 
@@ -279,9 +280,12 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
 namespace detail {
 
 void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uint8_t>& obstacle,
-                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o) {
+                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
+                  LayerCache* cache) {
   const GridGeometry& grid = m.grid;
   const std::size_t n = grid.cellCount();
+  LatticeShift shift;
+  const bool reuse = cache != nullptr && cache->valid && latticeShift(grid, cache->grid, &shift);
   // The ground under the path, its height above it, and each cell's reference ground: that
   // under its nearest path position, measured, else the position less the path's height (a
   // hand-held camera moves up and down; a robot's ground is where it drives).
@@ -315,6 +319,9 @@ void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uin
   const int plane_r =
       std::max(1, static_cast<int>(std::floor(o.footprint_radius_m / grid.cell_size_m)));
   const double plane_r2 = std::max(2.0, std::pow(o.footprint_radius_m / grid.cell_size_m, 2));
+  const std::vector<std::uint8_t> refit =
+      reuse ? cellsToRecompute(grid, plane_ground, shift, cache->plane_ground, plane_r)
+            : std::vector<std::uint8_t>();
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
       const std::size_t i = grid.index(ix, iy);
@@ -331,8 +338,14 @@ void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uin
       }
       m.step_m[i] = step;
       if (m.state[i] == CellState::kObstacle) continue;
-      fitLocalPlane(grid, plane_ground, ix, iy, plane_r, plane_r2, o.max_step_m, &m.slope_deg[i],
-                    &m.roughness_m[i]);
+      if (reuse && !refit[i]) {  // same ground around it: the same plane (finite: in the old grid)
+        const std::size_t j = static_cast<std::size_t>(shift.oldIndex(ix, iy));
+        m.slope_deg[i] = cache->slope_deg[j];
+        m.roughness_m[i] = cache->roughness_m[j];
+      } else {
+        fitLocalPlane(grid, plane_ground, ix, iy, plane_r, plane_r2, o.max_step_m, &m.slope_deg[i],
+                      &m.roughness_m[i]);
+      }
       if (m.slope_deg[i] > o.max_slope_deg)
         m.state[i] = CellState::kTooSteep;
       else if (upper_edge)
@@ -354,10 +367,17 @@ void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uin
     }
   const int r = static_cast<int>(std::floor(o.footprint_radius_m / grid.cell_size_m));
   const double r2 = std::pow(o.footprint_radius_m / grid.cell_size_m, 2);
+  const std::vector<std::uint8_t> rescore =
+      reuse ? cellsToRecompute(grid, score, shift, cache->score, r) : std::vector<std::uint8_t>();
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
       const std::size_t i = grid.index(ix, iy);
       if (m.state[i] == CellState::kUnknown) continue;
+      if (reuse && !rescore[i]) {  // same scores around it (its own finite: in the old grid)
+        m.traversability[i] =
+            cache->traversability[static_cast<std::size_t>(shift.oldIndex(ix, iy))];
+        continue;
+      }
       float t = score[i];
       for (int dy = -r; dy <= r && t > 0.0f; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
@@ -367,6 +387,14 @@ void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uin
         }
       m.traversability[i] = t;
     }
+  if (cache == nullptr) return;
+  cache->valid = true;
+  cache->grid = grid;
+  cache->plane_ground = std::move(plane_ground);
+  cache->slope_deg = m.slope_deg;
+  cache->roughness_m = m.roughness_m;
+  cache->score = std::move(score);
+  cache->traversability = m.traversability;
 }
 
 }  // namespace detail

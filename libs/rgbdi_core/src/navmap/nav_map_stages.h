@@ -12,6 +12,7 @@
 #include <limits>
 #include <vector>
 
+#include "navmap/layer_reuse.h"
 #include "navmap/path_cells.h"
 #include "rgbdi/navmap/nav_map.h"
 
@@ -36,8 +37,11 @@ NavMap startNavMap(const std::vector<Eigen::Vector3d>& path, const NavMapOptions
 
 /// Stage 2: `m` as startNavMap left it with ground_z_m and ground_sigma_m set (stage 1) for the
 /// cells within range_m of the path (near.distance_m) and `obstacle` (1 per cell whose stage 1
-/// found an obstacle); derives every other layer.
+/// found an obstacle); derives every other layer. With a cache (NavMapUpdater), the plane fits
+/// and traversability of the cells whose inputs did not change since the cache was filled are
+/// taken from it (the same values), and the cache is filled for the next build.
 void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uint8_t>& obstacle,
-                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& options);
+                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& options,
+                  LayerCache* cache = nullptr);
 
 }  // namespace rgbdi::navmap::detail

@@ -23,9 +23,13 @@ std::int64_t tileY(std::uint64_t key) {
 
 }  // namespace
 
-NavMapUpdater::NavMapUpdater(const NavMapOptions& options) : options_(options) {
+NavMapUpdater::NavMapUpdater(const NavMapOptions& options)
+    : options_(options), cache_(std::make_unique<detail::LayerCache>()) {
   options_.validate();
 }
+NavMapUpdater::~NavMapUpdater() = default;
+NavMapUpdater::NavMapUpdater(NavMapUpdater&&) noexcept = default;
+NavMapUpdater& NavMapUpdater::operator=(NavMapUpdater&&) noexcept = default;
 
 void NavMapUpdater::clear() {
   tiles_.clear();
@@ -72,7 +76,7 @@ void NavMapUpdater::addPoints(const std::vector<Eigen::Vector3f>& points) {
   }
 }
 
-NavMap NavMapUpdater::build(const std::vector<Eigen::Vector3d>& path) const {
+NavMap NavMapUpdater::build(const std::vector<Eigen::Vector3d>& path) {
   if (path.empty()) throw std::invalid_argument("navmap: empty path");
   const GridGeometry grid = gridAroundPath(path, options_);
   std::int64_t kx0 = 0, ky0 = 0;
@@ -100,7 +104,7 @@ NavMap NavMapUpdater::build(const std::vector<Eigen::Vector3d>& path) const {
       }
     }
   }
-  detail::finishNavMap(m, near, obstacle, path, options_);
+  detail::finishNavMap(m, near, obstacle, path, options_, cache_.get());
   return m;
 }
 

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -19,11 +20,17 @@
 #include "rgbdi/navmap/navmap_options.h"
 
 namespace rgbdi::navmap {
+namespace detail {
+struct LayerCache;
+}
 
 class NavMapUpdater {
  public:
   /// Throws ConfigError naming the key for invalid options.
   explicit NavMapUpdater(const NavMapOptions& options);
+  ~NavMapUpdater();
+  NavMapUpdater(NavMapUpdater&&) noexcept;
+  NavMapUpdater& operator=(NavMapUpdater&&) noexcept;
 
   /// Adds map points (map frame, z up); points with a non-finite coordinate are ignored.
   void addPoints(const std::vector<Eigen::Vector3f>& points);
@@ -36,7 +43,7 @@ class NavMapUpdater {
 
   /// The layers for this path: buildNavMap(every point added, path, options). Throws
   /// std::invalid_argument for an empty path.
-  NavMap build(const std::vector<Eigen::Vector3d>& path) const;
+  NavMap build(const std::vector<Eigen::Vector3d>& path);
 
  private:
   struct Cell {
@@ -56,6 +63,7 @@ class NavMapUpdater {
   std::unordered_map<std::uint64_t, Tile> tiles_;  ///< by packed tile coordinates
   std::size_t points_ = 0;
   std::size_t cells_ = 0;
+  std::unique_ptr<detail::LayerCache> cache_;  ///< the previous build's window layers
 };
 
 }  // namespace rgbdi::navmap
