@@ -19,8 +19,8 @@ bool latticeShift(const GridGeometry& grid, const GridGeometry& old_grid, Lattic
 }
 
 std::vector<std::uint8_t> cellsToRecompute(const GridGeometry& grid, const std::vector<float>& now,
-                                           const LatticeShift& shift,
-                                           const std::vector<float>& old, int r) {
+                                           const LatticeShift& shift, const std::vector<float>& old,
+                                           int r) {
   std::vector<std::uint8_t> out(grid.cellCount(), 0);
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
@@ -28,8 +28,8 @@ std::vector<std::uint8_t> cellsToRecompute(const GridGeometry& grid, const std::
       if (ix < r || iy < r || ix >= grid.width - r || iy >= grid.height - r) out[i] = 1;
       const std::int64_t j = shift.oldIndex(ix, iy);
       const float was = j >= 0 ? old[static_cast<std::size_t>(j)] : NAN;
-      const bool same = std::isnan(was) ? std::isnan(now[i])
-                                        : std::memcmp(&was, &now[i], sizeof(float)) == 0;
+      const bool same =
+          std::isnan(was) ? std::isnan(now[i]) : std::memcmp(&was, &now[i], sizeof(float)) == 0;
       if (same) continue;
       for (int y = std::max(0, iy - r); y <= std::min(grid.height - 1, iy + r); ++y)
         std::fill_n(out.begin() + static_cast<std::ptrdiff_t>(grid.index(std::max(0, ix - r), y)),

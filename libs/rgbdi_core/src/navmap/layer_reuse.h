@@ -39,7 +39,7 @@ bool latticeShift(const GridGeometry& grid, const GridGeometry& old_grid, Lattic
 /// value in `now` differs from `old` at the same lattice cell (NaN outside the old grid), and
 /// those within r of the grid's border (their window reaches beyond it).
 std::vector<std::uint8_t> cellsToRecompute(const GridGeometry& grid, const std::vector<float>& now,
-                                           const LatticeShift& shift,
-                                           const std::vector<float>& old, int r);
+                                           const LatticeShift& shift, const std::vector<float>& old,
+                                           int r);
 
 }  // namespace rgbdi::navmap::detail
