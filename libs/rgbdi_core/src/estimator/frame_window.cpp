@@ -28,6 +28,8 @@ std::vector<std::pair<std::uint64_t, TrackObservation>> FrameWindow::toObservati
     o.depth_m = f.depth_m;
     o.xn_row = f.xn;
     o.row_time_s = rolling_shutter_.rowTime(f.uv.y());
+    o.meas.row_fraction = rolling_shutter_.rowFraction(f.uv.y());
+    o.meas.readout_at_stamp_s = rolling_shutter_.readout_s;
     if (at_reference_time)
       o.xn_row += o.row_time_s * f.velocity_xn;
     else

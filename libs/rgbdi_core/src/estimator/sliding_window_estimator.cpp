@@ -96,7 +96,11 @@ double SlidingWindowEstimator::timeOffset() const { return parts_->window.time_o
 
 void SlidingWindowEstimator::setRollingShutter(const RollingShutter& rs) {
   parts_->window.frames.setRollingShutter(rs);
+  parts_->window.readout[0] = rs.readout_s;
+  parts_->window.readout_prior_mean_s = rs.readout_s;
 }
+
+double SlidingWindowEstimator::rollingShutterReadout() const { return parts_->window.readout[0]; }
 
 Eigen::Vector3d SlidingWindowEstimator::gyroBias() const {
   const FrameWindow& window = parts_->window.frames;
@@ -204,6 +208,7 @@ void SlidingWindowEstimator::propagateWithImu(double t, FrameEstimate& out) {
   out.bias_acc = s.ba();
   out.bias_gyr = s.bg();
   out.time_offset_s = parts_->window.time_offset[0];
+  out.rolling_shutter_readout_s = parts_->window.readout[0];
   out.ms_preintegration = msSince(t0);
   stats_.sum_ms_preintegration += out.ms_preintegration;
 }
@@ -333,6 +338,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   out.bias_acc = s.ba();
   out.bias_gyr = s.bg();
   out.time_offset_s = parts_->window.time_offset[0];
+  out.rolling_shutter_readout_s = parts_->window.readout[0];
   out.t_imu = s.t;
   prev_newest_p_ = s.p();
   prev_newest_t_ = s.t;
@@ -347,6 +353,12 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
 void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   const double t0 = threadCpuSeconds();
   const WindowUpdate update = parts_->optimisation.run(parts_->window, single_step);
+  if (opt_.estimate_rolling_shutter_readout) {
+    // The observations to come are moved to their stamps with the new estimate.
+    RollingShutter rs = parts_->window.frames.rollingShutter();
+    rs.readout_s = parts_->window.readout[0];
+    parts_->window.frames.setRollingShutter(rs);
+  }
   if (update.single_step) ++stats_.single_step_updates;
   ++stats_.optimisations;
   stats_.solver_iterations += update.summary.successful_steps + update.summary.unsuccessful_steps;

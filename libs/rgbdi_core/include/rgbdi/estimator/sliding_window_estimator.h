@@ -37,6 +37,7 @@ struct FrameEstimate {
   Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();
   Eigen::Vector3d bias_gyr = Eigen::Vector3d::Zero();
   double time_offset_s = 0.0;
+  double rolling_shutter_readout_s = 0.0;  ///< [s] configured or estimated readout
   EstimatorStatus status = EstimatorStatus::kInitializing;
   bool just_initialised = false;
   bool reset = false;  ///< a failure was detected and the estimator restarted
@@ -117,6 +118,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   /// The colour images' row timing (CameraOptions::rollingShutter()); default global shutter:
   /// every observation is moved to its image's reference time along its image velocity.
   void setRollingShutter(const RollingShutter& rs);
+  /// [s] current readout: the configured one, or its estimate with
+  /// [estimator] estimate_rolling_shutter_readout.
+  double rollingShutterReadout() const;
   /// Gyroscope bias of the newest window slot [rad/s] (zero before the first slot).
   Eigen::Vector3d gyroBias() const;
   /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().
