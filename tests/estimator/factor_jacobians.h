@@ -47,8 +47,7 @@ inline Eigen::MatrixXd numericJacobian(const ceres::CostFunction& f, const Param
 }
 
 /// The cost function's own Jacobian of block b (the tangent columns of a pose block).
-inline Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f, const Params& params,
-                                        int b) {
+inline Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f, const Params& params, int b) {
   std::vector<const double*> ptrs;
   std::vector<std::vector<double>> jac;
   std::vector<double*> jptrs;

@@ -19,7 +19,7 @@ using rgbdi::test::Params;
 
 namespace {
 
-constexpr double kReadout = 0.033;  // [s] the true readout
+constexpr double kReadout = 0.033;       // [s] the true readout
 constexpr double kEntryReadout = 0.010;  // [s] the estimate the observations entered with
 constexpr double kTd = 0.004;            // [s] the time offset (equal to the stamping one)
 
@@ -63,8 +63,8 @@ Scene makeScene(std::mt19937_64& rng) {
   s.oj = observed(p_cj, vj, fj);
   auto pose = [](const Eigen::Isometry3d& T) {
     const Eigen::Quaterniond q(T.rotation());
-    return std::vector<double>{T.translation().x(), T.translation().y(), T.translation().z(),
-                               q.x(), q.y(), q.z(), q.w()};
+    return std::vector<double>{
+        T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
   };
   s.params = {pose(Ti), pose(Tj), {1.0 / p_ci.z()}, {kTd}, {kReadout}};
   return s;

@@ -150,9 +150,15 @@ SlotPoses FrameWindow::poses() const {
   return poses;
 }
 
-std::vector<KeyframeState> FrameWindow::keyframeStates(int segment) const {
+std::vector<KeyframeState> FrameWindow::keyframeStates(int segment,
+                                                       const imu::ImuBuffer* imu) const {
   std::vector<KeyframeState> out;
-  for (const auto& s : slots_) out.push_back({s.t, s.T(), s.frame_index, segment, s.bridged_s});
+  for (const auto& s : slots_) {
+    out.push_back({s.t, s.T(), s.frame_index, segment, s.bridged_s});
+    out.back().v_world = s.v();
+    if (imu && imu->covers(s.t, s.t)) out.back().omega_body = imu->interpolate(s.t).gyr - s.bg();
+    out.back().rolling_shutter_readout_s = rolling_shutter_.readout_s;
+  }
   return out;
 }
 

@@ -58,7 +58,8 @@ class FrameWindow {
 
   SlotPoses poses() const;
   /// Every slot as a keyframe state of odometry segment `segment`.
-  std::vector<KeyframeState> keyframeStates(int segment) const;
+  /// With `imu`, each state's rate (gyro minus bias at its time) too.
+  std::vector<KeyframeState> keyframeStates(int segment, const imu::ImuBuffer* imu = nullptr) const;
 
   std::size_t size() const { return slots_.size(); }
   bool empty() const { return slots_.empty(); }

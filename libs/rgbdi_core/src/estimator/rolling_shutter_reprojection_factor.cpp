@@ -21,8 +21,8 @@ void RollingShutterReprojectionFactor::reset(const FeatureMeasurement& obs_i,
   sqrt_info_ = sqrt_info;
 }
 
-bool RollingShutterReprojectionFactor::Evaluate(double const* const* parameters,
-                                                double* residuals, double** jacobians) const {
+bool RollingShutterReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
+                                                double** jacobians) const {
   const Eigen::Vector3d Pi(parameters[0][0], parameters[0][1], parameters[0][2]);
   const Eigen::Quaterniond Qi(parameters[0][6], parameters[0][3], parameters[0][4],
                               parameters[0][5]);

@@ -345,7 +345,7 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   have_anchor_ = true;
   anchor_p_ = s.p();
   anchor_yaw_ = yawOf(s.T().rotation());
-  last_good_window_ = window.keyframeStates(segment_);
+  last_good_window_ = window.keyframeStates(segment_, &parts_->imu);
   if (stats_.first_pose_t_image < 0.0) stats_.first_pose_t_image = frame.t;
   return out;
 }
@@ -375,9 +375,15 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
 void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe,
                                                  FrameEstimate* out) {
   const double t0 = threadCpuSeconds();
-  if (newest_but_one_is_keyframe)
-    finished_keyframes_.push_back(marginaliseOldestSlot(parts_->window, parts_->model, segment_));
-  else
+  if (newest_but_one_is_keyframe) {
+    // The leaving keyframe's motion, while its slot and the IMU at its time are still there.
+    const KeyframeState motion = parts_->window.frames.keyframeStates(segment_, &parts_->imu)[0];
+    KeyframeState leaving = marginaliseOldestSlot(parts_->window, parts_->model, segment_);
+    leaving.v_world = motion.v_world;
+    leaving.omega_body = motion.omega_body;
+    leaving.rolling_shutter_readout_s = motion.rolling_shutter_readout_s;
+    finished_keyframes_.push_back(leaving);
+  } else
     dropSecondNewestSlot(parts_->window, parts_->model);
   out->ms_marginalisation = msSince(t0);
   stats_.sum_ms_marginalisation += out->ms_marginalisation;
@@ -425,7 +431,7 @@ std::vector<KeyframeState> SlidingWindowEstimator::takeFinishedKeyframes() {
 
 std::vector<KeyframeState> SlidingWindowEstimator::windowKeyframes() const {
   if (status_ != EstimatorStatus::kTracking) return {};
-  return parts_->window.frames.keyframeStates(segment_);
+  return parts_->window.frames.keyframeStates(segment_, &parts_->imu);
 }
 
 }  // namespace rgbdi::estimator

@@ -62,6 +62,12 @@ struct KeyframeState {
   /// [s] of the interval since the previous keyframe carried by the IMU alone (blind frames:
   /// a blackout, a bare wall, motion blur), which the pose graph trusts less than tracking.
   double bridged_s = 0.0;
+  /// Motion at the stamp and the rolling-shutter readout then (loop keypoints are moved to the
+  /// stamp with them): velocity [m/s] in the world, rate [rad/s] (gyro minus bias) in the body
+  /// frame, readout [s] (0 = global shutter).
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();
+  double rolling_shutter_readout_s = 0.0;
 };
 
 struct EstimatorStats {
