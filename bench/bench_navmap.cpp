@@ -1,10 +1,14 @@
 // Cost and size of the navigation maps (doc/navigation-maps.md "Speed and size"): builds them
 // from synthetic maps of 1 and 5 million points (a square room, 12 m by default: floor, ceiling,
 // walls, 16 boxes, 1 cm height noise) and a circle of path poses of a third of the room's side
-// in radius, the same full build a run does at its end and a live run at each refresh (after a
-// loop correction, every [navmap] refresh_interval_s), and writes every file to measure its size.
+// in radius, the same full build a run does at its end and a live run after a loop correction,
+// and writes every file to measure its size. Then the incremental update of a live run
+// (NavMapUpdater) in the same map: adding one keyframe's points (--keyframe-points, a D435-like
+// keyframe: floor and a box in a 3 m x 2.5 m patch ahead of a path pose) and deriving the
+// layers for the path, averaged over --keyframes keyframes along the path.
 //
 //   bench_navmap [--points N,N,...] [--poses N] [--room-m SIDE] [--repeat N] [--out DIR]
+//                [--keyframe-points N] [--keyframes N]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +21,7 @@
 #include <vector>
 
 #include "rgbdi/navmap/nav_map.h"
+#include "rgbdi/navmap/nav_map_updater.h"
 #include "rgbdi/navmap/navmap_files.h"
 
 namespace {
@@ -56,6 +61,26 @@ std::vector<Eigen::Vector3f> syntheticMap(std::size_t n, std::uint32_t seed, flo
   return p;
 }
 
+/// A keyframe's points: floor (80 %) and a 0.4 m box (20 %) in a 3 m x 2.5 m patch ahead of
+/// (x, y) in the direction a, 1 cm height noise.
+std::vector<Eigen::Vector3f> keyframePoints(std::size_t n, std::uint32_t seed, double x, double y,
+                                            double a) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> fwd(0.3f, 3.3f), side(-1.25f, 1.25f), unit(0.0f, 1.0f);
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  const float c = static_cast<float>(std::cos(a)), s = static_cast<float>(std::sin(a));
+  std::vector<Eigen::Vector3f> p;
+  p.reserve(n);
+  while (p.size() < n) {
+    const bool box = unit(rng) < 0.2f;
+    const float f = box ? 2.0f + 0.4f * unit(rng) : fwd(rng);
+    const float l = box ? 0.4f * unit(rng) : side(rng);
+    const float z = box ? 0.4f * unit(rng) : noise(rng);
+    p.emplace_back(static_cast<float>(x) + c * f - s * l, static_cast<float>(y) + s * f + c * l, z);
+  }
+  return p;
+}
+
 std::vector<std::size_t> parseCounts(const std::string& text) {
   std::vector<std::size_t> out;
   std::stringstream ss(text);
@@ -71,6 +96,8 @@ int main(int argc, char** argv) {
   int repeat = 3;
   double room = 12.0;
   std::string out = "/tmp/bench_navmap";
+  std::size_t keyframe_points = 15000;
+  int keyframes = 20;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--points")
@@ -83,10 +110,14 @@ int main(int argc, char** argv) {
       room = std::max(2.0, std::stod(v));
     else if (a == "--out")
       out = v;
+    else if (a == "--keyframe-points")
+      keyframe_points = std::stoul(v);
+    else if (a == "--keyframes")
+      keyframes = std::max(1, std::stoi(v));
     else {
       std::cerr
           << "usage: bench_navmap [--points N,N,...] [--poses N] [--room-m SIDE] [--repeat N] "
-             "[--out DIR]\n";
+             "[--out DIR] [--keyframe-points N] [--keyframes N]\n";
       return 2;
     }
   }
@@ -121,6 +152,47 @@ int main(int argc, char** argv) {
               << map.grid.cellCount() - free - unknown << bytes << "\n";
     for (const auto& f : files)
       std::cout << "  " << f.second << " " << std::filesystem::file_size(f.second) << " bytes\n";
+  }
+  // Incremental: the updater holds the map; each keyframe adds its points and the layers are
+  // derived for the path (a live refresh between loop corrections).
+  std::cout << "\nincremental, keyframes of " << keyframe_points << " points (mean of " << keyframes
+            << "):\npoints     fill_ms   add_ms  derive_ms  update_ms  full_ms\n";
+  for (std::size_t n : counts) {
+    const std::vector<Eigen::Vector3f> points = syntheticMap(n, 7, static_cast<float>(room));
+    rgbdi::navmap::NavMapUpdater updater(options);
+    const auto f0 = Clock::now();
+    updater.addPoints(points);
+    const double fill_ms = ms(f0, Clock::now());
+    double add = 0.0, derive = 0.0, full = 0.0;
+    std::vector<Eigen::Vector3f> all = points;
+    for (int k = 0; k < keyframes; ++k) {
+      const std::size_t at =
+          static_cast<std::size_t>(k) * poses / static_cast<std::size_t>(keyframes);
+      const double a = 2.0 * M_PI * static_cast<double>(at) / static_cast<double>(poses);
+      const std::vector<Eigen::Vector3f> kf =
+          keyframePoints(keyframe_points, 100 + static_cast<std::uint32_t>(k), path[at].x(),
+                         path[at].y(), a + 0.5 * M_PI);
+      const auto t0 = Clock::now();
+      updater.addPoints(kf);
+      const auto t1 = Clock::now();
+      const rgbdi::navmap::NavMap inc = updater.build(path);
+      const auto t2 = Clock::now();
+      add += ms(t0, t1);
+      derive += ms(t1, t2);
+      all.insert(all.end(), kf.begin(), kf.end());
+      if (k == 0) {  // one full build for comparison (and to check the two agree)
+        const auto t3 = Clock::now();
+        const rgbdi::navmap::NavMap f = rgbdi::navmap::buildNavMap(all, path, options);
+        full = ms(t3, Clock::now());
+        if (f.state != inc.state || f.traversability.size() != inc.traversability.size()) {
+          std::cerr << "incremental and full build differ\n";
+          return 1;
+        }
+      }
+    }
+    std::cout << std::left << std::setw(11) << n << std::setw(10) << fill_ms << std::setw(8)
+              << add / keyframes << std::setw(11) << derive / keyframes << std::setw(11)
+              << (add + derive) / keyframes << full << "\n";
   }
   return 0;
 }

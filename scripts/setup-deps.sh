@@ -12,9 +12,10 @@ PACKAGES=(
   libmrpt-hwdrivers-dev libmrpt-tclap-dev
   mrpt-apps
   librosbag-storage-dev libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
+  libnav-msgs-dev libtf2-msgs-dev
   pluginlib-dev librcpputils-dev libament-index-cpp-dev libroslz4-dev
   libbz2-dev zlib1g-dev libdeflate-dev nlohmann-json3-dev
-  clang-format time python3
+  clang-format time python3 python3-numpy python3-h5py
 )
 
 missing=()

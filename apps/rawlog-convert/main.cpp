@@ -37,8 +37,8 @@ const char* const kUsage =
     "/vrpn_client_node/<name>/pose), RealSense SDK recordings (/device_0/sensor_N/..., detected\n"
     "automatically) or any topics named below; TUM RGB-D folders (rgb.txt, depth.txt,\n"
     "accelerometer.txt, groundtruth.txt). Output: OUT.rawlog (CObservation3DRangeScan +\n"
-    "CObservationIMU), OUT_groundtruth.tum when the input has ground truth, OUT.ini with "
-    "--camera-yaml.\n"
+    "CObservationIMU [+ CObservationOdometry]), OUT_groundtruth.tum when the input has ground\n"
+    "truth, OUT.ini with --camera-yaml or a wheel extrinsic from the bag's /tf_static.\n"
     "\n"
     "Conversion options:\n"
     "  -o, --out FILE        output rawlog (*.rawlog; *.rawlog.gz is gzip-compressed)\n"
@@ -66,6 +66,10 @@ const char* const kUsage =
     "  --groundtruth-topic T  --color-info-topic T  --depth-info-topic T\n"
     "                        topic names for bags in other layouts; 'none' disables a stream\n"
     "                        (--accel-topic with --gyro-topic: merged on the gyro stamps)\n"
+    "  --odom-topic T        wheel odometry (nav_msgs/Odometry -> CObservationOdometry); default:\n"
+    "                        the bag's only topic of that type; 'none' leaves it out. A\n"
+    "                        /tf_static transform from the IMU's frame to the odometry's\n"
+    "                        child frame is written to OUT.ini [wheel]\n"
     "  --tum-camera NAME     TUM intrinsics: fr1, fr2, fr3, ros or config (default: from the "
     "folder\n"
     "                        name)\n"
@@ -143,6 +147,7 @@ rgbdi::CommandLine::Outcome parse(int argc, char** argv, Args& a) {
   cl.value("--groundtruth-topic", &a.topics.groundtruth);
   cl.value("--color-info-topic,--colour-info-topic", &a.topics.color_info);
   cl.value("--depth-info-topic", &a.topics.depth_info);
+  cl.value("--odom-topic", &a.topics.odometry);
   cl.value("--tum-camera", &a.tum_camera);
   cl.flag("--quiet", &a.quiet);
   const auto outcome = cl.parse(argc, argv);
@@ -199,8 +204,13 @@ int runInfo(const Args& a) {
   }
   if (format == rgbdi::io::InputFormat::Rawlog) return infoRawlog(a, path);
   rgbdi::convert::ConversionSettings settings;
+  rgbdi::io::StreamConfig stream;
   try {
     settings = rgbdi::convert::loadConversionSettings(a.config, a.camera_yaml);
+    if (!a.config.empty()) {
+      rgbdi::IniReader ini = rgbdi::IniReader::fromFile(a.config);
+      stream = rgbdi::io::StreamConfig::load(ini);
+    }
   } catch (const rgbdi::ConfigError& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";
     return kUsageError;
@@ -208,7 +218,7 @@ int runInfo(const Args& a) {
   rgbdi::convert::InputDescription d;
   try {
     d = format == rgbdi::io::InputFormat::Ros1Bag
-            ? rgbdi::convert::describeBag(path, settings, a.topics)
+            ? rgbdi::convert::describeBag(path, settings, a.topics, stream)
             : rgbdi::convert::describeTumFolder(path);
   } catch (const std::exception& e) {
     std::cerr << "rawlog-convert: " << e.what() << "\n";

@@ -70,16 +70,26 @@ struct SyntheticWorld {
       }
     }
   }
-  /// Observations at time t: every landmark in front of the camera within the image.
+  /// Observations at time t: every landmark in front of the camera within the image. With a
+  /// rolling shutter (readout_s > 0: 480 rows read top to bottom, t at the middle row) each
+  /// landmark is seen at its row's time (the row found by fixed-point iteration).
   frontend::FeatureFrame observe(double t, std::uint64_t index, double depth_noise_sigma,
-                                 std::mt19937_64& rng, double pixel_sigma = 0.0) const {
+                                 std::mt19937_64& rng, double pixel_sigma = 0.0,
+                                 double readout_s = 0.0) const {
     frontend::FeatureFrame f;
     f.t = t;
     f.frame_index = index;
     const Eigen::Isometry3d T_cw = (pose(t) * T_bc).inverse();
     std::normal_distribution<double> n(0.0, 1.0);
     for (std::size_t i = 0; i < landmarks.size(); ++i) {
-      const Eigen::Vector3d p = T_cw * landmarks[i];
+      Eigen::Vector3d p = T_cw * landmarks[i];
+      if (readout_s > 0.0 && p.z() > 0.0) {
+        for (int k = 0; k < 4; ++k) {
+          const double row = 600 * p.y() / p.z() + 240;
+          const double t_row = t + (row - 239.5) * readout_s / 480.0;
+          p = (pose(t_row) * T_bc).inverse() * landmarks[i];
+        }
+      }
       if (p.z() < 0.3 || p.z() > 8.0) continue;
       Eigen::Vector2d xn = p.head<2>() / p.z();
       xn += Eigen::Vector2d(n(rng), n(rng)) * (pixel_sigma / 600.0);
@@ -89,7 +99,9 @@ struct SyntheticWorld {
       o.id = i;
       o.uv = uv;
       o.xn = xn;
-      o.depth_m = p.z() <= 3.0 ? p.z() + depth_noise_sigma * p.z() * p.z() * n(rng) : 0.0;
+      // The depth image is a global-shutter image at t.
+      const double z = (T_cw * landmarks[i]).z();
+      o.depth_m = z <= 3.0 ? z + depth_noise_sigma * z * z * n(rng) : 0.0;
       f.features.push_back(o);
     }
     return f;

@@ -107,3 +107,33 @@ TEST(RollingShutterCompensation, RecoversThePositionAtTheStampUnderAYaw) {
   moveToReferenceTime(f, rs);
   EXPECT_LT(fx * (f[0].xn - at_stamp).norm(), 0.05);  // [px]
 }
+
+TEST(RollingShutterCompensation, MovesAKeypointToItsPixelAtTheStamp) {
+  // Loop closing's keypoints have no tracked velocity: pixelAtReferenceTime takes the motion
+  // field of the camera's rate. A camera yawing at 1 rad/s about its y axis sees the point in
+  // row ~420, 5 px from where it is at the stamp; moved back it lands there (second-order residue).
+  PinholeCamera cam;
+  cam.width = 640;
+  cam.height = 480;
+  cam.fx = cam.fy = 600.0;
+  cam.cx = 320.0;
+  cam.cy = 240.0;
+  const RollingShutter rs = d435iLike();
+  const double yaw_rate = 1.0;
+  const Eigen::Vector3d p_w(0.3, 0.4, 2.0);
+  auto pixel = [&](double t) {
+    const Eigen::Vector2d xn = projectYawing(t, yaw_rate, p_w);
+    return Eigen::Vector2d(cam.fx * xn.x() + cam.cx, cam.fy * xn.y() + cam.cy);
+  };
+  // The row the point is seen in and the time it is seen at (fixed point).
+  Eigen::Vector2d seen = pixel(0.0);
+  for (int k = 0; k < 5; ++k) seen = pixel(rs.rowTime(seen.y()));
+  const Eigen::Vector2d at_stamp = pixel(0.0);
+  const Eigen::Vector3d omega(0.0, yaw_rate, 0.0), v(0.0, 0.0, 0.0);
+  EXPECT_GT((seen - at_stamp).norm(), 4.0);  // [px] the skew to compensate
+  EXPECT_LT((pixelAtReferenceTime(seen, cam, rs, omega, v, 0.0) - at_stamp).norm(), 0.1);
+  // A global shutter leaves it where it is.
+  RollingShutter global = rs;
+  global.readout_s = 0.0;
+  EXPECT_EQ(pixelAtReferenceTime(seen, cam, global, omega, v, 2.0), seen);
+}

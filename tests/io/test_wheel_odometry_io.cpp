@@ -1,6 +1,6 @@
 // Wheel odometry through the io stage: MRPT CObservationOdometry <-> WheelOdometrySample, rawlog
 // round trip in both layouts, time order across the three kinds, bad readings, and the stream
-// checks (rate, gaps, wheels moving while the IMU is at rest).
+// checks (rate, gaps, wheels moving while the IMU is at rest, wheels standing while it moves).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -218,6 +218,13 @@ TEST(WheelOdometryIo, GapIsReported) {
   EXPECT_EQ(r.diag.wheel.gaps, 1u);
   EXPECT_NEAR(r.diag.wheel.max_gap_s, 0.2, 1e-6);
   EXPECT_NEAR(r.diag.wheel.gap_limit_s, 0.05, 1e-6);
+  EXPECT_NEAR(r.diag.wheel_max_gap_t, kT0 + 1.001, 1e-6);  // the reading before the gap
+  EXPECT_NE(r.diag.wheelReport().find("gaps 1 (limit 0.0500 s, largest dt 0.2000 s after t = "
+                                      "1700000001.001000 s)"),
+            std::string::npos)
+      << r.diag.wheelReport();
+  ASSERT_EQ(r.diag.wheel_warnings.size(), 1u);
+  EXPECT_NE(r.diag.wheel_warnings[0].find("wheel-odometry gap of 0.2000 s"), std::string::npos);
   bool named = false;
   for (const auto& w : r.diag.warnings)
     named |= w.find("wheel-odometry gap of 0.2000 s between t = 1700000001.001000 s") !=
@@ -252,6 +259,75 @@ TEST(WheelOdometryIo, WheelsMovingWhileImuRestsAreFoundOnce) {
     turning.push_back(isImu(m) ? Measurement(imuAt(measurementTime(m), {0.0, 0.0, 0.1})) : m);
   const ReadBack t = roundTrip(dir + "/t.rawlog", turning);
   EXPECT_EQ(t.diag.wheel_moving_at_rest, 0u);
+}
+
+TEST(WheelOdometryIo, WheelsStandingWhileTheImuMovesAreFoundOnce) {
+  // 4 s: the wheels stand throughout; the IMU rests, turns at 0.3 rad/s from 1.5 s to 2.5 s (a
+  // robot turned by hand with its wheels blocked), then rests again.
+  const std::string dir = rgbdi::test::makeTempDir("rgbdi_wheel_still");
+  std::vector<Measurement> seq;
+  for (int i = 0; i <= 800; ++i) {
+    const double t = kT0 + i * kImuDt;
+    const double since = i * kImuDt;
+    const bool turning = since > 1.5 && since <= 2.5;
+    seq.emplace_back(imuAt(t, {0.0, 0.0, turning ? 0.3 : 0.0}));
+    if (i % 4 == 0) seq.emplace_back(wheelAt(t + 0.001, 0.0));
+  }
+  const ReadBack r = roundTrip(dir + "/s.rawlog", seq);
+  EXPECT_EQ(r.diag.wheel_moving_at_rest, 0u);
+  EXPECT_EQ(r.diag.wheel_still_imu_moving, 1u);
+  // Windows of 1 s whose mean rate exceeds 0.1 rad/s overlap the turn by more than 1/3 s: they
+  // end from t0 + 1.833 s to t0 + 3.167 s; the episode spans from the first one's start.
+  EXPECT_NEAR(r.diag.wheel_still_imu_moving_s, 3.167 - 0.833, 0.05);
+  ASSERT_EQ(r.diag.wheel_warnings.size(), 1u);
+  EXPECT_NE(r.diag.wheel_warnings[0].find(": wheel odometry stands while the IMU moves (mean "
+                                          "angular rate up to 0.300 rad/s"),
+            std::string::npos)
+      << r.diag.wheel_warnings[0];
+  EXPECT_NE(r.diag.wheelReport().find("moving while the IMU is at rest: 0 times (0.000 s); "
+                                      "standing while the IMU moves: 1 times"),
+            std::string::npos)
+      << r.diag.wheelReport();
+
+  // Wheels driving at 0.4 m/s while the IMU turns at 0.3 rad/s throughout: neither verdict.
+  std::vector<Measurement> driving;
+  for (const auto& m : seq) {
+    if (isImu(m)) {
+      driving.emplace_back(imuAt(measurementTime(m), {0.0, 0.0, 0.3}));
+    } else {
+      const double t = measurementTime(m);
+      driving.emplace_back(wheelAt(t, 0.4 * (t - kT0)));
+    }
+  }
+  const ReadBack d = roundTrip(dir + "/d.rawlog", driving);
+  EXPECT_EQ(d.diag.wheel_still_imu_moving, 0u);
+  EXPECT_EQ(d.diag.wheel_moving_at_rest, 0u);
+
+  // Pushed back and forth without turning (x acceleration +/- 0.8 m/s^2, switching every
+  // 0.25 s): the block means spread by about 0.8 m/s^2 > wheel_still_acc_m_s2, moving as well.
+  // Sample-to-sample noise of the same size averages out in the blocks: no finding.
+  std::vector<Measurement> pushed, noisy;
+  int k = 0;
+  for (const auto& m : seq) {
+    if (!isImu(m)) {
+      pushed.push_back(m);
+      noisy.push_back(m);
+      continue;
+    }
+    const double t = measurementTime(m);
+    ImuSample a = imuAt(t), b = imuAt(t);
+    a.acc.x() = std::fmod(t - kT0, 0.5) < 0.25 ? 0.8 : -0.8;
+    b.acc.x() = (k++ % 2) ? 0.8 : -0.8;
+    pushed.emplace_back(a);
+    noisy.emplace_back(b);
+  }
+  const ReadBack p = roundTrip(dir + "/p.rawlog", pushed);
+  EXPECT_EQ(p.diag.wheel_still_imu_moving, 1u);
+  // From the first reading (t0 + 0.001 s, the start of the first window with half a window of
+  // data) to the last (t0 + 4.001 s).
+  EXPECT_NEAR(p.diag.wheel_still_imu_moving_s, 4.0, 1e-6);
+  const ReadBack n = roundTrip(dir + "/n.rawlog", noisy);
+  EXPECT_EQ(n.diag.wheel_still_imu_moving, 0u);
 }
 
 }  // namespace

@@ -75,6 +75,7 @@ inline std::string writeFile(const std::string& path, const std::string& text) {
 struct CollectingSink : MeasurementSink {
   std::vector<ImuSample> imu;
   std::vector<RgbdFrame> frames;
+  std::vector<WheelOdometrySample> wheel;
   std::vector<double> stamps;  ///< every stamp in delivery order
   bool ended = false;
   std::chrono::milliseconds frame_sleep{0};
@@ -87,6 +88,10 @@ struct CollectingSink : MeasurementSink {
     frames.push_back(f);
     stamps.push_back(f.t);
     if (frame_sleep.count() > 0) std::this_thread::sleep_for(frame_sleep);
+  }
+  void feedWheel(const WheelOdometrySample& w) override {
+    wheel.push_back(w);
+    stamps.push_back(w.t);
   }
   void endOfStream() override { ended = true; }
 };

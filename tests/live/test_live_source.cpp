@@ -489,7 +489,8 @@ TEST_F(LiveSourceTest, BagReplayTakesRawlogConvertsConfigFile) {
 
 TEST_F(LiveSourceTest, BagReplayOnOtherTopicsTakesTheTopicsAndAVinsYaml) {
   // A bag on topics no layout knows, without camera_info: rawlog-convert needs --color-topic
-  // ... and --camera-yaml for it; the replay the equivalent keys.
+  // ... and --camera-yaml for it; the replay the equivalent keys. Its wheel odometry (found by
+  // type, as rawlog-convert finds it) is replayed too.
   bag::BagTopics topics;
   topics.color = "/cam/rgb";
   topics.depth = "/cam/depth";
@@ -499,6 +500,13 @@ TEST_F(LiveSourceTest, BagReplayOnOtherTopicsTakesTheTopicsAndAVinsYaml) {
     for (std::size_t k = 0, i = 0; k < 100; ++k) {  // 0.5 s of IMU, 15 frames
       w.writeImu(test::liveImu(k));
       if (i < 15 && test::liveFrame(i).t <= test::liveImu(k).t) w.writeRgbd(test::liveFrame(i++));
+      if (k % 10 == 0) {  // 10 readings at 20 Hz
+        WheelOdometrySample odo;
+        odo.t = test::liveImu(k).t;
+        odo.x_m = 0.01 * static_cast<double>(k);
+        odo.yaw_rad = 0.002 * static_cast<double>(k);
+        w.writeOdometry(odo);
+      }
     }
     w.close();
   }
@@ -520,6 +528,9 @@ TEST_F(LiveSourceTest, BagReplayOnOtherTopicsTakesTheTopicsAndAVinsYaml) {
   test::CollectingSink sink;
   src.pump(sink);
   EXPECT_EQ(sink.imu.size(), 100u);
+  ASSERT_EQ(sink.wheel.size(), 10u);
+  EXPECT_NEAR(sink.wheel[9].x_m, 0.9, 1e-12);
+  EXPECT_NEAR(sink.wheel[9].yaw_rad, 0.18, 1e-12);
   ASSERT_EQ(sink.frames.size(), 15u);
   for (const RgbdFrame& f : sink.frames) {
     EXPECT_DOUBLE_EQ(f.cam_color.fx, 31.5);

@@ -159,6 +159,34 @@ TEST(LoopFeatures, PointsEqualTheDepthOfATiltedPlaneAtTheKeypoint) {
   }
 }
 
+TEST(LoopFeatures, KeypointsMovedToTheStampTakeTheirDepthThere) {
+  // Rolling shutter: to_stamp maps each keypoint to its pixel at the stamp (here 3 px left and
+  // 2 px up); keypoints_uv and the points are taken there, where the global-shutter depth is.
+  const PinholeCamera cam = rgbdi::test::simpleCamera();
+  RgbdFrame frame = texturedFrame(cam, 5);
+  const Eigen::Vector3d n(0.25, -0.15, 1.0);
+  const auto zOf = [&](double u, double v) {
+    const Eigen::Vector2d xn = cam.pixelToNormalized({u, v});
+    return 2.0 / n.dot(Eigen::Vector3d(xn.x(), xn.y(), 1.0));
+  };
+  setDepth(frame, cam.width, cam.height, [&](int u, int v) { return zOf(u, v); });
+  const Eigen::Vector2d shift(-3.0, -2.0);
+  LoopFeatureExtractor plain(LoopFeatureOptions{}), moved(LoopFeatureOptions{});
+  const DescriptorSet a = plain.extract(frame, cam);
+  const DescriptorSet b =
+      moved.extract(frame, cam, [&](const Eigen::Vector2d& uv) { return uv + shift; });
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GT(b.size(), 300u);
+  EXPECT_EQ(a.data, b.data);  // the same keypoints and descriptors
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const Eigen::Vector2d uv = a.keypoints_uv[k].cast<double>() + shift;
+    EXPECT_LT((b.keypoints_uv[k].cast<double>() - uv).norm(), 1e-4) << "keypoint " << k;
+    if (!b.hasPoint(k)) continue;
+    const Eigen::Vector3d expected = cam.backProject(uv, zOf(uv.x(), uv.y()));
+    EXPECT_LT((b.keypoints_p_cam[k].cast<double>() - expected).norm(), 1e-3) << "keypoint " << k;
+  }
+}
+
 TEST(LoopFeatures, HolesAndDepthEdgesGiveNoPoint) {
   const PinholeCamera cam = rgbdi::test::simpleCamera();
   RgbdFrame frame = texturedFrame(cam, 9);

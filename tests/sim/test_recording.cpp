@@ -147,6 +147,116 @@ TEST(RecordingEuroc, ErrorsNameTheFileTheLineAndTheFault) {
   }
 }
 
+/// An ASL-layout recording (the dataset's own folders) with the given sensor files ("" = none).
+std::string aslRecording(const std::string& imu_yaml, const std::string& cam_yaml) {
+  const std::string dir = test::makeTempDir("recording_yaml");
+  const fs::path mav = fs::path(dir) / "mav0";
+  writeFile(mav / "imu0" / "data.csv", std::string(kImuHeader) + kImuRows);
+  writeFile(mav / "state_groundtruth_estimate0" / "data.csv", kGtRows);
+  if (!imu_yaml.empty()) writeFile(mav / "imu0" / "sensor.yaml", imu_yaml);
+  if (!cam_yaml.empty()) writeFile(mav / "cam0" / "sensor.yaml", cam_yaml);
+  return dir;
+}
+
+// The EuRoC dataset's own imu0/sensor.yaml and cam0/sensor.yaml, abridged (T_BS as written there,
+// its data list over several lines; the camera's intrinsics are a list that is not read).
+const char* const kImuYaml =
+    "#Default imu sensor yaml file\n"
+    "sensor_type: imu\n"
+    "comment: VI-Sensor IMU (ADIS16448)\n"
+    "\n"
+    "# Sensor extrinsics wrt. the body-frame.\n"
+    "T_BS:\n"
+    "  cols: 4\n"
+    "  rows: 4\n"
+    "  data: [1.0, 0.0, 0.0, 0.0,\n"
+    "         0.0, 1.0, 0.0, 0.0,\n"
+    "         0.0, 0.0, 1.0, 0.0,\n"
+    "         0.0, 0.0, 0.0, 1.0]\n"
+    "rate_hz: 285.5\n"
+    "\n"
+    "# inertial sensor noise model parameters (static)\n"
+    "gyroscope_noise_density: 1.5e-04     # [ rad / s / sqrt(Hz) ]   ( gyro \"white noise\" )\n"
+    "gyroscope_random_walk: 2.5e-05       # [ rad / s^2 / sqrt(Hz) ] ( gyro bias diffusion )\n"
+    "accelerometer_noise_density: 3.5e-03  # [ m / s^2 / sqrt(Hz) ]   ( accel \"white noise\" )\n"
+    "accelerometer_random_walk: 4.5e-03    # [ m / s^3 / sqrt(Hz) ].  ( accel bias diffusion )\n";
+const char* const kCamYaml =
+    "sensor_type: camera\n"
+    "T_BS:\n"
+    "  cols: 4\n"
+    "  rows: 4\n"
+    "  data: [0.0, 0.0, 1.0, 0.1, -1.0, 0.0, 0.0, 0.2, 0.0, -1.0, 0.0, 0.3, 0.0, 0.0, 0.0, 1.0]\n"
+    "rate_hz: 20\n"
+    "resolution: [752, 480]\n"
+    "camera_model: pinhole\n"
+    "intrinsics: [458.654, 457.296, 367.215, 248.375] #fu, fv, cu, cv\n";
+
+TEST(RecordingEuroc, SensorFilesOfTheAslLayoutGiveTheNoiseAndTheCamera) {
+  const Recording r = readEurocRecording(aslRecording(kImuYaml, kCamYaml));
+  EXPECT_NE(r.sensor.name.find("VI-Sensor IMU (ADIS16448) ("), std::string::npos) << r.sensor.name;
+  EXPECT_EQ(r.sensor.rate_hz, 285.5);
+  EXPECT_EQ(r.sensor.gyr_noise_density, 1.5e-4);
+  EXPECT_EQ(r.sensor.gyr_random_walk, 2.5e-5);
+  EXPECT_EQ(r.sensor.acc_noise_density, 3.5e-3);
+  EXPECT_EQ(r.sensor.acc_random_walk, 4.5e-3);
+  Eigen::Matrix4d expected;
+  expected << 0, 0, 1, 0.1, -1, 0, 0, 0.2, 0, -1, 0, 0.3, 0, 0, 0, 1;
+  EXPECT_EQ(r.T_body_cam.matrix(), expected);
+
+  // Without them (or in the flat layout): the EuRoC MAV's sensor and camera.
+  const Recording plain = readEurocRecording(aslRecording("", ""));
+  const Recording flat =
+      readEurocRecording(flatRecording(std::string(kImuHeader) + kImuRows, kGtRows));
+  for (const Recording* x : {&plain, &flat}) {
+    EXPECT_EQ(x->sensor.name, "ADIS16448 (EuRoC MAV imu0/sensor.yaml)");
+    EXPECT_EQ(x->sensor.gyr_noise_density, 1.6968e-4);
+    EXPECT_NEAR(x->T_body_cam.translation().x(), -0.0216401454975, 1e-12);
+  }
+}
+
+TEST(RecordingEuroc, SensorFileErrorsNameTheFileAndTheFault) {
+  struct Case {
+    std::string imu, cam, file, expected;
+  };
+  const std::string imu_ok = kImuYaml;
+  auto without = [](std::string text, const std::string& line_start) {
+    const auto a = text.find(line_start);
+    return text.erase(a, text.find('\n', a) - a + 1);
+  };
+  const std::vector<Case> cases = {
+      {without(imu_ok, "gyroscope_random_walk"), "", "imu0/sensor.yaml",
+       ": no 'gyroscope_random_walk'"},
+      {imu_ok + "rate_hz_x: 1\n", "", "imu0/sensor.yaml", ""},
+      {without(imu_ok, "rate_hz") + "rate_hz: fast\n", "", "imu0/sensor.yaml",
+       ": 'rate_hz' value 'fast' is not a finite number"},
+      {without(imu_ok, "accelerometer_noise_density") + "accelerometer_noise_density: 0\n", "",
+       "imu0/sensor.yaml", ": rate and noise values must be positive"},
+      {"sensor_type: imu\nT_BS:\n  data: [1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n" +
+           without(without(imu_ok, "sensor_type"), "T_BS"),
+       "", "imu0/sensor.yaml",
+       ": T_BS is not the identity; the ground truth must be of the IMU's own frame (body = IMU)"},
+      {imu_ok, "T_BS:\n  data: [1, 0, 0, 0,\n  0, 1, 0, 0\n", "cam0/sensor.yaml",
+       " line 2: T_BS data list not closed with ']'"},
+      {imu_ok, "T_BS:\n  data: [1, 0, 0, 0, 0, 1, 0, 0]\n", "cam0/sensor.yaml",
+       " line 2: T_BS data has 8 values, expected 16"},
+      {imu_ok, "T_BS:\n  data: [2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n",
+       "cam0/sensor.yaml", " line 2: T_BS's rotation is not a rotation (R R^T != I or det < 0)"},
+      {imu_ok, "T_BS:\n  data: [1, 0, 0, x, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n",
+       "cam0/sensor.yaml", " line 2: T_BS value 'x' is not a finite number"},
+      {imu_ok, "sensor_type: camera\n", "cam0/sensor.yaml", ": no T_BS"},
+      {imu_ok, "just words\n", "cam0/sensor.yaml", " line 1: expected 'key: value'"},
+  };
+  for (const Case& c : cases) {
+    const std::string dir = aslRecording(c.imu, c.cam);
+    const std::string message = errorOf(dir);
+    if (c.expected.empty()) {
+      EXPECT_EQ(message, "") << "an unknown key is ignored";
+      continue;
+    }
+    EXPECT_EQ(message, (fs::path(dir) / "mav0" / c.file).string() + c.expected);
+  }
+}
+
 TEST(RecordingEuroc, MissingFilesAndUnknownFormat) {
   const std::string dir = test::makeTempDir("recording_empty");
   const std::string message = errorOf(dir);

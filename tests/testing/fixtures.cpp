@@ -79,6 +79,23 @@ std::string configFileContent(const std::string& args) {
   if (!in) throw std::runtime_error("cachedSimSequence: cannot read --config " + path);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
+
+/// `args` without the path of its --config file (tests write their configs into fresh temporary
+/// directories: the content names the sequence, the path must not).
+std::string argsWithoutConfigPath(const std::string& args) {
+  std::istringstream words(args);
+  std::string word, out;
+  while (words >> word) {
+    if (word == "--config") {
+      words >> word;
+      word = "--config <file>";
+    } else if (word.rfind("--config=", 0) == 0) {
+      word = "--config=<file>";
+    }
+    out += word + " ";
+  }
+  return out;
+}
 }  // namespace
 
 std::string cachedSimSequence(const std::string& args) {
@@ -86,12 +103,13 @@ std::string cachedSimSequence(const std::string& args) {
   const std::string sim = binDir() + "/rgbdi-sim";
   struct stat st {};
   if (::stat(sim.c_str(), &st) != 0) throw std::runtime_error("rgbdi-sim not built: " + sim);
-  // The key names the arguments (with the content of their --config file) and the simulator
-  // build, so neither an edited config nor a rebuilt simulator ever serves an old sequence.
-  const std::string key =
-      std::to_string(std::hash<std::string>{}(args + "\n" + configFileContent(args))) + "_" +
-      std::to_string(static_cast<long long>(st.st_mtime)) + "_" +
-      std::to_string(static_cast<long long>(st.st_size));
+  // The key names the arguments (with the content of their --config file, not its path) and the
+  // simulator build, so neither an edited config nor a rebuilt simulator ever serves an old
+  // sequence.
+  const std::string key = std::to_string(std::hash<std::string>{}(argsWithoutConfigPath(args) +
+                                                                  "\n" + configFileContent(args))) +
+                          "_" + std::to_string(static_cast<long long>(st.st_mtime)) + "_" +
+                          std::to_string(static_cast<long long>(st.st_size));
   const fs::path root = fs::path(binDir()).parent_path() / "test-cache";
   fs::create_directories(root);
   const fs::path dir = root / key;

@@ -20,6 +20,7 @@ struct RecordingSink : bag::ConversionSink {
   std::vector<std::pair<double, Eigen::Vector3d>> accel;
   std::vector<RgbdFrame> frames;
   std::vector<StampedPose> poses;
+  std::vector<WheelOdometrySample> wheels;
 
   void imu(const ImuSample& s) override {
     if (kind_ != ImuKind::kCombined) ADD_FAILURE() << "combined IMU sample from a gyro-less source";
@@ -31,6 +32,7 @@ struct RecordingSink : bag::ConversionSink {
   }
   void frame(const RgbdFrame& f) override { frames.push_back(f); }
   void groundTruth(const StampedPose& p) override { poses.push_back(p); }
+  void wheel(const WheelOdometrySample& w) override { wheels.push_back(w); }
 
  private:
   ImuKind kind_;

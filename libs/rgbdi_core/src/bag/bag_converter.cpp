@@ -18,13 +18,15 @@
 #include "rgbdi/bag/rgbd_pairer.h"
 #include "rgbdi/bag/ros_calibration.h"
 #include "rgbdi/bag/ros_image.h"
+#include "rgbdi/bag/ros_odometry.h"
 #include "rgbdi/bag/ros_wire.h"
+#include "rgbdi/bag/wheel_extrinsic.h"
 #include "rgbdi/common/sensor_options.h"
 
 namespace rgbdi::bag {
 namespace {
 
-enum class Role { Color, Depth, Imu, Accel, Gyro, GroundTruth };
+enum class Role { Color, Depth, Imu, Accel, Gyro, GroundTruth, Odometry };
 
 /// A calibration that does not fit the images: ends the conversion (the output would be wrong).
 class CalibrationMismatch : public BagError {
@@ -51,15 +53,6 @@ std::string describeCamera(const PinholeCamera& c) {
   if (c.hasDistortion())
     os << ", distortion " << c.dist[0] << " " << c.dist[1] << " " << c.dist[2] << " " << c.dist[3]
        << " " << c.dist[4];
-  return os.str();
-}
-
-std::string describePose(const Eigen::Isometry3d& T) {
-  const Eigen::AngleAxisd aa(T.rotation());
-  std::ostringstream os;
-  os << "translation (" << fixed(T.translation().x(), 4) << ", " << fixed(T.translation().y(), 4)
-     << ", " << fixed(T.translation().z(), 4) << ") m, rotation "
-     << fixed(aa.angle() * 180.0 / M_PI, 3) << " deg";
   return os.str();
 }
 
@@ -90,14 +83,17 @@ struct BagConverter::Impl {
   double depth_unit = 1e-3;
   Eigen::Isometry3d T_color_depth = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> T_body_wheel;
   std::vector<std::string> calibration_lines, notes;
   bool ran = false;
+  bool motion_only = false;
 
   // Per-run state.
   ConversionReport report;
   std::uint64_t frame_index = 0;
   bool checked_color_size = false, checked_depth_size = false;
   std::string color_source, depth_source;
+  std::optional<double> last_odometry_t;  ///< stamp of the last odometry reading delivered
 
   template <typename M>
   bool firstMessage(const std::string& topic, M& msg) const {
@@ -315,6 +311,25 @@ struct BagConverter::Impl {
           deliverImu(merger, sink);
           break;
         }
+        case Role::Odometry: {
+          const nav_msgs::Odometry msg = deserializeOdometry(m.data, m.size, where);
+          const double t = stampOf(msg.header);
+          where = label(m, t);
+          const WheelOdometrySample w = wheelFromOdometry(msg, t, where);
+          // The readings are cumulative: one out of order cannot be placed; refuse it, named.
+          if (last_odometry_t && !(t > *last_odometry_t)) {
+            ++report.unreadable;
+            report.addIssue("unreadable",
+                            where + ": odometry stamp not after the previous reading's (" +
+                                fixed(*last_odometry_t, 6) + " s); skipped",
+                            options.max_listed_issues);
+            break;
+          }
+          last_odometry_t = t;
+          ++report.odometry_messages;
+          sink.wheel(w);
+          break;
+        }
         case Role::GroundTruth: {
           geometry_msgs::PoseStamped msg;
           deserialize(m.data, m.size, msg);
@@ -339,6 +354,9 @@ struct BagConverter::Impl {
     } catch (const ImageDecodeError& e) {
       ++report.unreadable;
       report.addIssue("unreadable", e.what(), options.max_listed_issues);
+    } catch (const MessageDecodeError& e) {
+      ++report.unreadable;
+      report.addIssue("unreadable", e.what(), options.max_listed_issues);
     } catch (const ros::Exception& e) {
       // Message bytes that do not deserialise (e.g. a damaged record in an uncompressed chunk).
       ++report.unreadable;
@@ -354,6 +372,7 @@ BagConverter::BagConverter(const std::string& path, const ConvertOptions& option
   Impl& d = *impl_;
   d.path = path;
   d.options = options;
+  d.motion_only = input.motion_only;
   d.reader = std::make_unique<BagReader>(path);
   try {
     d.layout = resolveBagLayout(d.reader->topics(), input.topics, input.depth_aligned, path);
@@ -374,10 +393,14 @@ BagConverter::BagConverter(const std::string& path, const ConvertOptions& option
   d.roles[d.layout.accel] = Role::Accel;
   d.roles[d.layout.gyro] = Role::Gyro;
   d.roles[d.layout.groundtruth] = Role::GroundTruth;
+  d.roles[d.layout.odometry] = Role::Odometry;
   d.roles.erase("");
   if (d.roles.size() != d.layout.streamedTopics().size())
     throw BagLayoutError(path + ": one topic is given for two different streams");
   d.readCalibration(fallback);
+  BagWheelExtrinsic wheel = readWheelExtrinsic(*d.reader, d.layout, path);
+  d.T_body_wheel = wheel.T_body_wheel;
+  d.calibration_lines.insert(d.calibration_lines.end(), wheel.lines.begin(), wheel.lines.end());
 }
 
 BagConverter::~BagConverter() = default;
@@ -392,6 +415,9 @@ const std::vector<std::string>& BagConverter::calibration() const {
   return impl_->calibration_lines;
 }
 const BagReader& BagConverter::reader() const { return *impl_->reader; }
+const std::optional<Eigen::Isometry3d>& BagConverter::T_body_wheel() const {
+  return impl_->T_body_wheel;
+}
 
 ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback& progress,
                                    const std::atomic<bool>* stop) {
@@ -408,8 +434,8 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
   for (const BagTopic& t : d.reader->topics()) {
     const auto it = d.roles.find(t.topic);
     if (it == d.roles.end()) continue;
-    static const char* names[] = {"colour",        "depth",     "IMU",
-                                  "accelerometer", "gyroscope", "ground truth"};
+    static const char* names[] = {"colour",    "depth",        "IMU",           "accelerometer",
+                                  "gyroscope", "ground truth", "wheel odometry"};
     r.streams.push_back(std::string(names[static_cast<int>(it->second)]) + ": " + t.topic + " (" +
                         t.datatype + ", " + std::to_string(t.messages) + " messages)");
   }
@@ -418,11 +444,21 @@ ConversionReport BagConverter::run(ConversionSink& sink, const ProgressCallback&
 
   RgbdPairer pairer(d.options.pair_tolerance_s, d.options.max_wait_s);
   AccelGyroMerger merger(d.options.max_accel_gap_s, d.options.max_wait_s);
-  d.reader->select(d.layout.streamedTopics());
+  std::vector<std::string> topics = d.layout.streamedTopics();
+  if (d.motion_only) {
+    topics.clear();
+    for (const std::string* t :
+         {&d.layout.imu, &d.layout.accel, &d.layout.gyro, &d.layout.odometry})
+      if (!t->empty()) topics.push_back(*t);
+  }
+  // Nothing selected would select everything: a motion-only run of a bag without motion
+  // streams reads nothing.
+  const bool nothing_to_read = topics.empty();
+  d.reader->select(topics);
   BagMessage m;
   bool calibration_failed = false;
   try {
-    while (!(stop && stop->load())) {
+    while (!nothing_to_read && !(stop && stop->load())) {
       if (!d.reader->next(m)) break;
       d.handle(m, d.roles.at(*m.topic), pairer, merger, sink);
       if (progress) progress(d.reader->fraction());

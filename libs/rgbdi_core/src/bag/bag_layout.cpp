@@ -1,5 +1,7 @@
 #include "rgbdi/bag/bag_layout.h"
 
+#include <nav_msgs/Odometry.h>
+
 #include <algorithm>
 #include <iomanip>
 #include <map>
@@ -16,6 +18,8 @@ const char* const kPose = "geometry_msgs/PoseStamped";
 const char* const kCameraInfo = "sensor_msgs/CameraInfo";
 const char* const kFloat32 = "std_msgs/Float32";
 const char* const kTransform = "geometry_msgs/Transform";
+const char* const kOdometry = "nav_msgs/Odometry";
+const char* const kTfMessage = "tf2_msgs/TFMessage";
 
 class Topics {
  public:
@@ -141,6 +145,38 @@ void checkType(const Topics& topics, const std::string& topic,
                        ", expected " + expected);
 }
 
+/// The wheel odometry: the named topic (checked), none, or the only nav_msgs/Odometry topic.
+std::string resolveOdometry(const Topics& topics, const std::string& override_topic,
+                            const std::vector<BagTopic>& list, const std::string& path) {
+  std::string topic;
+  if (override_topic == "none") return topic;
+  if (!override_topic.empty()) {
+    checkType(topics, override_topic, {kOdometry}, "odometry", list, path);
+    topic = override_topic;
+  } else {
+    std::vector<std::string> found;
+    for (const auto& [name, t] : topics.all())
+      if (t->datatype == kOdometry) found.push_back(name);
+    if (found.empty()) return topic;
+    if (found.size() > 1) {
+      std::string names;
+      for (const std::string& n : found) names += (names.empty() ? "" : ", ") + n;
+      throw BagLayoutError(path + ": several nav_msgs/Odometry topics (" + names +
+                           "): name the wheel odometry with --odom-topic TOPIC, or leave it out "
+                           "with --odom-topic none");
+    }
+    topic = found.front();
+  }
+  // Another definition under the same name would be decoded as garbage: refuse it.
+  const std::string expected = ros::message_traits::MD5Sum<nav_msgs::Odometry>::value();
+  const BagTopic* t = topics.find(topic);
+  if (!t->md5sum.empty() && t->md5sum != "*" && t->md5sum != expected)
+    throw BagLayoutError(path + ": odometry topic '" + topic + "' has message definition md5sum " +
+                         t->md5sum + ", expected " + expected +
+                         " (nav_msgs/Odometry of ROS1); leave it out with --odom-topic none");
+  return topic;
+}
+
 /// Applies one override: "" keeps the detected topic, "none" disables it, a name replaces it.
 bool apply(const std::string& override_topic, std::string& slot) {
   if (override_topic.empty()) return false;
@@ -164,7 +200,7 @@ std::string toString(BagLayoutKind k) {
 
 std::vector<std::string> BagLayout::streamedTopics() const {
   std::vector<std::string> t;
-  for (const std::string* s : {&color, &depth, &imu, &accel, &gyro, &groundtruth})
+  for (const std::string* s : {&color, &depth, &imu, &accel, &gyro, &groundtruth, &odometry})
     if (!s->empty() && std::find(t.begin(), t.end(), *s) == t.end()) t.push_back(*s);
   return t;
 }
@@ -249,6 +285,8 @@ BagLayout resolveBagLayout(const std::vector<BagTopic>& list, const TopicOverrid
     checkType(topics, l.color_info, {kCameraInfo}, "colour camera_info", list, path);
   if (!l.depth_info.empty())
     checkType(topics, l.depth_info, {kCameraInfo}, "depth camera_info", list, path);
+  l.odometry = resolveOdometry(topics, o.odometry, list, path);
+  if (topics.has("/tf_static", kTfMessage)) l.tf_static = "/tf_static";
   l.color_compressed = !l.color.empty() && topics.find(l.color)->datatype == kCompressed;
   l.depth_compressed = !l.depth.empty() && topics.find(l.depth)->datatype == kCompressed;
   if (depth_aligned) l.depth_aligned = *depth_aligned;

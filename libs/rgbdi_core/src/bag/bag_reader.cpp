@@ -48,6 +48,7 @@ class BagReader::Indexed {
       BagTopic& t = by_topic[c->topic];
       t.topic = c->topic;
       if (t.datatype.empty()) t.datatype = c->datatype;
+      if (t.md5sum.empty()) t.md5sum = c->md5sum;
     }
     for (auto& [name, t] : by_topic) {
       rosbag::View v(bag_, rosbag::TopicQuery(name));
@@ -175,6 +176,7 @@ class BagReader::Recovering {
       BagTopic& t = by_topic[c.topic];
       t.topic = c.topic;
       if (t.datatype.empty()) t.datatype = c.datatype;
+      if (t.md5sum.empty()) t.md5sum = c.md5sum;
       t.messages += counts[id];
     }
     for (auto& [name, t] : by_topic) topics_.push_back(t);

@@ -1,10 +1,12 @@
 #include "rgbdi/bag/bag_writer.h"
 
 #include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <tf2_msgs/TFMessage.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,7 +23,7 @@ struct BagWriter::Impl {
   rosbag::Bag bag;
   // Reused message buffers: a frame is ~1.5 MB, so avoid reallocating per frame.
   sensor_msgs::Image color, depth;
-  std::uint32_t seq_color = 0, seq_imu = 0, seq_pose = 0;
+  std::uint32_t seq_color = 0, seq_imu = 0, seq_pose = 0, seq_odom = 0;
 };
 
 std::string toString(Compression c) {
@@ -176,6 +178,55 @@ void BagWriter::writePose(double t, const Eigen::Isometry3d& T_world_body) {
     impl_->bag.write(topics_.pose, m.header.stamp, m);
   } catch (const rosbag::BagException& e) {
     throw BagError(path_ + ": cannot write pose message: " + e.what());
+  }
+  ++messages_;
+}
+
+void BagWriter::writeOdometry(const WheelOdometrySample& w) {
+  if (!impl_) throw BagError(path_ + ": write after close()");
+  nav_msgs::Odometry m;
+  m.header.seq = impl_->seq_odom++;
+  m.header.stamp = rosTime(w.t, path_ + " odometry");
+  m.header.frame_id = topics_.odom_frame_id;
+  m.child_frame_id = topics_.wheel_frame_id;
+  m.pose.pose.position.x = w.x_m;
+  m.pose.pose.position.y = w.y_m;
+  m.pose.pose.orientation.z = std::sin(0.5 * w.yaw_rad);
+  m.pose.pose.orientation.w = std::cos(0.5 * w.yaw_rad);
+  if (w.has_velocities) {
+    m.twist.twist.linear.x = w.v_forward_m_s;
+    m.twist.twist.linear.y = w.v_lateral_m_s;
+    m.twist.twist.angular.z = w.yaw_rate_rad_s;
+  }
+  try {
+    impl_->bag.write(topics_.odometry, m.header.stamp, m);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path_ + ": cannot write odometry message: " + e.what());
+  }
+  ++messages_;
+}
+
+void BagWriter::writeStaticTransform(double t, const std::string& parent, const std::string& child,
+                                     const Eigen::Isometry3d& T_parent_child) {
+  if (!impl_) throw BagError(path_ + ": write after close()");
+  geometry_msgs::TransformStamped tf;
+  tf.header.stamp = rosTime(t, path_ + " static transform");
+  tf.header.frame_id = parent;
+  tf.child_frame_id = child;
+  const Eigen::Quaterniond q(T_parent_child.rotation());
+  tf.transform.translation.x = T_parent_child.translation().x();
+  tf.transform.translation.y = T_parent_child.translation().y();
+  tf.transform.translation.z = T_parent_child.translation().z();
+  tf.transform.rotation.x = q.x();
+  tf.transform.rotation.y = q.y();
+  tf.transform.rotation.z = q.z();
+  tf.transform.rotation.w = q.w();
+  tf2_msgs::TFMessage m;
+  m.transforms.push_back(tf);
+  try {
+    impl_->bag.write(topics_.tf_static, tf.header.stamp, m);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(path_ + ": cannot write static transform: " + e.what());
   }
   ++messages_;
 }

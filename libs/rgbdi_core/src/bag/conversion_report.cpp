@@ -19,10 +19,16 @@ std::size_t ConversionReport::issueCount(const std::string& kind) const {
   return it == issues_.end() ? 0 : it->second.count;
 }
 
+std::vector<std::string> ConversionReport::listedIssues(const std::string& kind) const {
+  const auto it = issues_.find(kind);
+  return it == issues_.end() ? std::vector<std::string>() : it->second.listed;
+}
+
 void ConversionReport::absorbWriter(const ConversionReport& w, int max_listed) {
   frames_written += w.frames_written;
   imu_written += w.imu_written;
   groundtruth_written += w.groundtruth_written;
+  wheel_written += w.wheel_written;
   dropped_by_ordering += w.dropped_by_ordering;
   outputs.insert(outputs.end(), w.outputs.begin(), w.outputs.end());
   for (const auto& [kind, l] : w.issues_) {
@@ -50,7 +56,11 @@ std::string ConversionReport::text() const {
   const std::size_t depth_only = pairing.depth_alone - depth_alone_dropped;
   os << "Written: " << frames_written << " RGB-D observations (" << pairing.pairs
      << " colour+depth, " << depth_only << " depth-only), " << imu_written << " IMU observations, "
-     << groundtruth_written << " ground-truth poses\n";
+     << groundtruth_written << " ground-truth poses";
+  // Only inputs with wheel odometry mention it: the line of every other input stays as it was.
+  if (odometry_messages > 0 || wheel_written > 0)
+    os << ", " << wheel_written << " wheel odometry observations";
+  os << "\n";
 
   std::vector<std::string> dropped;
   std::ostringstream d;

@@ -1,6 +1,7 @@
 #include "rgbdi/bag/ros_calibration.h"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace rgbdi::bag {
@@ -49,6 +50,15 @@ Eigen::Isometry3d isometryFromTransform(const geometry_msgs::Transform& tf,
   T.linear() = q.normalized().toRotationMatrix();
   T.translation() = t;
   return T;
+}
+
+std::string describePose(const Eigen::Isometry3d& T) {
+  const Eigen::AngleAxisd aa(T.rotation());
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(4) << "translation (" << T.translation().x() << ", "
+     << T.translation().y() << ", " << T.translation().z() << ") m, rotation "
+     << std::setprecision(3) << aa.angle() * 180.0 / M_PI << " deg";
+  return os.str();
 }
 
 }  // namespace rgbdi::bag

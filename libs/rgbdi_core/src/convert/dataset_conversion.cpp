@@ -7,6 +7,7 @@
 
 #include "rgbdi/common/atomic_file.h"
 #include "rgbdi/common/ini_reader.h"
+#include "rgbdi/common/ini_text.h"
 #include "rgbdi/common/sensor_options.h"
 #include "rgbdi/convert/progress_meter.h"
 #include "rgbdi/convert/rawlog_output.h"
@@ -33,6 +34,20 @@ bool hasAny(const IniReader& ini, const std::string& section,
 
 /// The IMU rate written into OUT.ini: the measured rate rounded to 0.1 Hz.
 double roundedRate(double hz) { return std::round(hz * 10.0) / 10.0; }
+
+/// The [wheel] extrinsic keys for a T_body_wheel read from the input.
+std::string wheelExtrinsicSection(const Eigen::Isometry3d& T_body_wheel, const std::string& from) {
+  std::ostringstream os;
+  Eigen::VectorXd r(9);
+  const Eigen::Matrix3d R = T_body_wheel.rotation();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r[3 * i + j] = R(i, j);
+  os << "[wheel]\n";
+  iniLine(os, "R_body_wheel", iniNumbers(r),
+          "row-major [unitless]: wheel frame in the IMU/body frame (" + from + ")");
+  iniLine(os, "t_body_wheel_m", iniNumbers(T_body_wheel.translation()), "[m]");
+  return os.str();
+}
 
 }  // namespace
 
@@ -130,6 +145,15 @@ bag::ConversionReport convertDataset(const ConversionRequest& q) {
   out.finish();
   report.absorbWriter(written, o.max_listed_issues);
 
+  // The configuration written next to the rawlog: the VINS calibration (--camera-yaml) and the
+  // wheel extrinsic of the bag's /tf_static; absent when the input gives neither.
+  std::string config_text, config_what;
+  if (bag_conv && bag_conv->T_body_wheel()) {
+    const std::string from =
+        bag_conv->layout().tf_static + " of " + fs::path(q.input).filename().string();
+    config_text = wheelExtrinsicSection(*bag_conv->T_body_wheel(), from);
+    config_what = "wheel extrinsic from " + from;
+  }
   if (q.settings.vins) {
     const double measured = out.imuRateHz();
     const double rate = measured > 0.0 ? roundedRate(measured) : 200.0;
@@ -139,11 +163,16 @@ bag::ConversionReport convertDataset(const ConversionRequest& q) {
            << std::setprecision(2) << measured << " Hz";
     else
       note << "no IMU data in the input; the VINS-RGBD dataset's 200 Hz assumed";
+    const std::string what =
+        "rgbdi configuration from " + q.settings.vins->path + ", IMU rate " + note.str();
+    config_text = rgbdiConfigFromVins(*q.settings.vins, rate, note.str()) +
+                  (config_text.empty() ? std::string() : "\n" + config_text);
+    config_what = what + (config_what.empty() ? std::string() : "; " + config_what);
+  }
+  if (!config_text.empty()) {
     const std::string ini_path = outputStem(q.output) + ".ini";
-    const std::string text = rgbdiConfigFromVins(*q.settings.vins, rate, note.str());
-    writeFileAtomically(ini_path, [&](std::ostream& os) { os << text; });
-    report.outputs.push_back(ini_path + " (rgbdi configuration from " + q.settings.vins->path +
-                             ", IMU rate " + note.str() + ")");
+    writeFileAtomically(ini_path, [&](std::ostream& os) { os << config_text; });
+    report.outputs.push_back(ini_path + " (" + config_what + ")");
   }
   return report;
 }

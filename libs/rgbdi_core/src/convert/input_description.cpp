@@ -9,6 +9,7 @@
 #include "rgbdi/bag/bag_reader.h"
 #include "rgbdi/bag/ros_calibration.h"
 #include "rgbdi/common/atomic_file.h"
+#include "rgbdi/convert/bag_wheel_check.h"
 #include "rgbdi/convert/tum_rgbd.h"
 
 namespace rgbdi::convert {
@@ -36,10 +37,34 @@ std::vector<double> listStamps(const std::string& path) {
   return t;
 }
 
+/// The wheel stream's checks (bag_wheel_check.h): the "Wheel:" block of a rawlog's --info and
+/// the wheel checks' warnings.
+void describeWheels(const std::string& path, const ConversionSettings& settings,
+                    const bag::TopicOverrides& topics, const io::StreamConfig& stream,
+                    const bag::BagLayout& l, std::ostream& os, json& j) {
+  const io::StreamDiagnostics w = checkBagWheels(path, settings, topics, stream);
+  const std::string imu = !l.imu.empty() ? l.imu : l.gyro;
+  os << "Wheel odometry " << l.odometry << " checked against the IMU "
+     << (imu.empty() ? "(none: no rest checks)" : imu) << ":\n";
+  os << "Wheel: " << w.wheel.delivered << " readings, " << fixed(w.wheel.duration_s, 3) << " s, "
+     << fixed(w.wheel.rate_hz, 2) << " Hz\n"
+     << w.wheelReport();
+  json jw = json::parse(w.toJson());
+  j["wheel"] = jw.contains("wheel") ? jw["wheel"] : json::object();
+  j["wheel"]["warnings"] = w.wheel_warnings;
+  std::vector<std::string> lines = w.wheel_warnings;
+  // Unreadable odometry or IMU messages are listed too (they are not in wheel_warnings).
+  for (const std::string& m : w.warnings)
+    if (m.find(" message ") != std::string::npos && m.find(path + " ") == 0) lines.push_back(m);
+  if (!w.error.empty()) lines.push_back("error: " + w.error);
+  os << "Wheel warnings: " << lines.size() << "\n";
+  for (const std::string& m : lines) os << "  " << m << "\n";
+}
+
 }  // namespace
 
 InputDescription describeBag(const std::string& path, const ConversionSettings& settings,
-                             const bag::TopicOverrides& topics) {
+                             const bag::TopicOverrides& topics, const io::StreamConfig& stream) {
   InputDescription d;
   json j;
   std::ostringstream os;
@@ -102,6 +127,7 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
       show("IMU", l.imu);
     }
     show("ground truth", l.groundtruth);
+    show("odometry", l.odometry);
     os << "  depth " << (l.depth_aligned ? "aligned to colour" : "not aligned to colour") << "\n";
     os << "Calibration a conversion would use:\n";
     for (const std::string& c : conv->calibration()) os << "  " << c << "\n";
@@ -114,9 +140,11 @@ InputDescription describeBag(const std::string& path, const ConversionSettings& 
                    {"accel", l.accel},
                    {"gyro", l.gyro},
                    {"groundtruth", l.groundtruth},
+                   {"odometry", l.odometry},
                    {"depth_aligned", l.depth_aligned}};
     j["calibration"] = conv->calibration();
     j["notes"] = l.notes;
+    if (!l.odometry.empty()) describeWheels(path, settings, topics, stream, l, os, j);
   } else {
     os << "Layout: cannot convert without options: " << layout_error << "\n";
     j["layout_error"] = layout_error;

@@ -91,6 +91,9 @@ void RawlogOutput::write(const Item& item) {
     obs->set(mrpt::obs::IMU_Z_ACC, a->acc.z());
     writer_->writeObservation(obs);
     ++report_.imu_written;
+  } else if (const auto* w = std::get_if<WheelOdometrySample>(&item)) {
+    writer_->write(*w);
+    ++report_.wheel_written;
   } else {
     writer_->write(std::get<RgbdFrame>(item));
     ++report_.frames_written;
@@ -103,7 +106,11 @@ void RawlogOutput::accelerometer(double t, const Eigen::Vector3d& acc) {
   push(t, 0, Accel{t, acc}, "accelerometer sample");
 }
 
-void RawlogOutput::frame(const RgbdFrame& frame) { push(frame.t, 1, frame, frame.source_label); }
+void RawlogOutput::wheel(const WheelOdometrySample& reading) {
+  push(reading.t, 1, reading, "wheel odometry reading");
+}
+
+void RawlogOutput::frame(const RgbdFrame& frame) { push(frame.t, 2, frame, frame.source_label); }
 
 void RawlogOutput::groundTruth(const StampedPose& pose) { groundtruth_.push_back(pose); }
 

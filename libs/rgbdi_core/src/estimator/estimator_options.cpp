@@ -65,6 +65,13 @@ EstimatorOptions EstimatorOptions::load(IniReader& ini) {
       ini.getEnum(s, "time_offset_velocity", o.time_offset_velocity, {"motion_field", "tracked"});
   o.time_offset_prior_sigma_s =
       ini.getDouble(s, "time_offset_prior_sigma_s", o.time_offset_prior_sigma_s, 1e-5, 1.0);
+  o.estimate_rolling_shutter_readout =
+      ini.getBool(s, "estimate_rolling_shutter_readout", o.estimate_rolling_shutter_readout);
+  o.rolling_shutter_readout_prior_sigma_s =
+      ini.getDouble(s, "rolling_shutter_readout_prior_sigma_s",
+                    o.rolling_shutter_readout_prior_sigma_s, 1e-5, 1.0);
+  o.rolling_shutter_readout_max_s =
+      ini.getDouble(s, "rolling_shutter_readout_max_s", o.rolling_shutter_readout_max_s, 1e-3, 1.0);
   o.update_rate_hz = ini.getDouble(s, "update_rate_hz", o.update_rate_hz, 0.0, 1000.0);
   o.fail_max_acc_bias_m_s2 =
       ini.getDouble(s, "fail_max_acc_bias_m_s2", o.fail_max_acc_bias_m_s2, 0.01, 100);

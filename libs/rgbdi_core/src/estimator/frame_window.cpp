@@ -28,6 +28,8 @@ std::vector<std::pair<std::uint64_t, TrackObservation>> FrameWindow::toObservati
     o.depth_m = f.depth_m;
     o.xn_row = f.xn;
     o.row_time_s = rolling_shutter_.rowTime(f.uv.y());
+    o.meas.row_fraction = rolling_shutter_.rowFraction(f.uv.y());
+    o.meas.readout_at_stamp_s = rolling_shutter_.readout_s;
     if (at_reference_time)
       o.xn_row += o.row_time_s * f.velocity_xn;
     else
@@ -148,9 +150,15 @@ SlotPoses FrameWindow::poses() const {
   return poses;
 }
 
-std::vector<KeyframeState> FrameWindow::keyframeStates(int segment) const {
+std::vector<KeyframeState> FrameWindow::keyframeStates(int segment,
+                                                       const imu::ImuBuffer* imu) const {
   std::vector<KeyframeState> out;
-  for (const auto& s : slots_) out.push_back({s.t, s.T(), s.frame_index, segment, s.bridged_s});
+  for (const auto& s : slots_) {
+    out.push_back({s.t, s.T(), s.frame_index, segment, s.bridged_s});
+    out.back().v_world = s.v();
+    if (imu && imu->covers(s.t, s.t)) out.back().omega_body = imu->interpolate(s.t).gyr - s.bg();
+    out.back().rolling_shutter_readout_s = rolling_shutter_.readout_s;
+  }
   return out;
 }
 

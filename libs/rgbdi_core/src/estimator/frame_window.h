@@ -46,8 +46,11 @@ class FrameWindow {
   /// Keeps only the newest slot, as the first of a new chain (a moving start whose PnP failed).
   void restartFromNewest(double td);
   void clear();
-  /// The row timing of the images to come (rolling shutter; default global).
+  /// The row timing of the images to come (rolling shutter; default global). With the readout
+  /// estimated, set again with each new estimate: observations are moved to the stamp with the
+  /// estimate of their entry time (FeatureMeasurement::readout_at_stamp_s).
   void setRollingShutter(const RollingShutter& rs) { rolling_shutter_ = rs; }
+  const RollingShutter& rollingShutter() const { return rolling_shutter_; }
 
   /// Marks and removes the usable tracks whose mean reprojection error over their observations
   /// exceeds `threshold_norm` (normalised-plane units).
@@ -55,7 +58,8 @@ class FrameWindow {
 
   SlotPoses poses() const;
   /// Every slot as a keyframe state of odometry segment `segment`.
-  std::vector<KeyframeState> keyframeStates(int segment) const;
+  /// With `imu`, each state's rate (gyro minus bias at its time) too.
+  std::vector<KeyframeState> keyframeStates(int segment, const imu::ImuBuffer* imu = nullptr) const;
 
   std::size_t size() const { return slots_.size(); }
   bool empty() const { return slots_.empty(); }

@@ -96,7 +96,11 @@ double SlidingWindowEstimator::timeOffset() const { return parts_->window.time_o
 
 void SlidingWindowEstimator::setRollingShutter(const RollingShutter& rs) {
   parts_->window.frames.setRollingShutter(rs);
+  parts_->window.readout[0] = rs.readout_s;
+  parts_->window.readout_prior_mean_s = rs.readout_s;
 }
+
+double SlidingWindowEstimator::rollingShutterReadout() const { return parts_->window.readout[0]; }
 
 Eigen::Vector3d SlidingWindowEstimator::gyroBias() const {
   const FrameWindow& window = parts_->window.frames;
@@ -204,6 +208,7 @@ void SlidingWindowEstimator::propagateWithImu(double t, FrameEstimate& out) {
   out.bias_acc = s.ba();
   out.bias_gyr = s.bg();
   out.time_offset_s = parts_->window.time_offset[0];
+  out.rolling_shutter_readout_s = parts_->window.readout[0];
   out.ms_preintegration = msSince(t0);
   stats_.sum_ms_preintegration += out.ms_preintegration;
 }
@@ -333,13 +338,14 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
   out.bias_acc = s.ba();
   out.bias_gyr = s.bg();
   out.time_offset_s = parts_->window.time_offset[0];
+  out.rolling_shutter_readout_s = parts_->window.readout[0];
   out.t_imu = s.t;
   prev_newest_p_ = s.p();
   prev_newest_t_ = s.t;
   have_anchor_ = true;
   anchor_p_ = s.p();
   anchor_yaw_ = yawOf(s.T().rotation());
-  last_good_window_ = window.keyframeStates(segment_);
+  last_good_window_ = window.keyframeStates(segment_, &parts_->imu);
   if (stats_.first_pose_t_image < 0.0) stats_.first_pose_t_image = frame.t;
   return out;
 }
@@ -347,6 +353,12 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
 void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   const double t0 = threadCpuSeconds();
   const WindowUpdate update = parts_->optimisation.run(parts_->window, single_step);
+  if (opt_.estimate_rolling_shutter_readout) {
+    // The observations to come are moved to their stamps with the new estimate.
+    RollingShutter rs = parts_->window.frames.rollingShutter();
+    rs.readout_s = parts_->window.readout[0];
+    parts_->window.frames.setRollingShutter(rs);
+  }
   if (update.single_step) ++stats_.single_step_updates;
   ++stats_.optimisations;
   stats_.solver_iterations += update.summary.successful_steps + update.summary.unsuccessful_steps;
@@ -363,9 +375,15 @@ void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
 void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe,
                                                  FrameEstimate* out) {
   const double t0 = threadCpuSeconds();
-  if (newest_but_one_is_keyframe)
-    finished_keyframes_.push_back(marginaliseOldestSlot(parts_->window, parts_->model, segment_));
-  else
+  if (newest_but_one_is_keyframe) {
+    // The leaving keyframe's motion, while its slot and the IMU at its time are still there.
+    const KeyframeState motion = parts_->window.frames.keyframeStates(segment_, &parts_->imu)[0];
+    KeyframeState leaving = marginaliseOldestSlot(parts_->window, parts_->model, segment_);
+    leaving.v_world = motion.v_world;
+    leaving.omega_body = motion.omega_body;
+    leaving.rolling_shutter_readout_s = motion.rolling_shutter_readout_s;
+    finished_keyframes_.push_back(leaving);
+  } else
     dropSecondNewestSlot(parts_->window, parts_->model);
   out->ms_marginalisation = msSince(t0);
   stats_.sum_ms_marginalisation += out->ms_marginalisation;
@@ -413,7 +431,7 @@ std::vector<KeyframeState> SlidingWindowEstimator::takeFinishedKeyframes() {
 
 std::vector<KeyframeState> SlidingWindowEstimator::windowKeyframes() const {
   if (status_ != EstimatorStatus::kTracking) return {};
-  return parts_->window.frames.keyframeStates(segment_);
+  return parts_->window.frames.keyframeStates(segment_, &parts_->imu);
 }
 
 }  // namespace rgbdi::estimator

@@ -23,6 +23,9 @@ struct WindowCostModel {
         estimate_time_offset(opt.estimate_time_offset),
         time_offset_prior_mean_s(ext.time_offset_s),
         time_offset_prior_sigma_s(opt.time_offset_prior_sigma_s),
+        estimate_readout(opt.estimate_rolling_shutter_readout),
+        readout_prior_sigma_s(opt.rolling_shutter_readout_prior_sigma_s),
+        readout_max_s(opt.rolling_shutter_readout_max_s),
         hold_verified_depth_constant(opt.verified_depth == "constant"),
         depth_noise_coeff(opt.depth_noise_coeff),
         wheel(opt.wheel) {}
@@ -40,6 +43,13 @@ struct WindowCostModel {
   bool estimate_time_offset;         ///< false: the time offset is a constant
   double time_offset_prior_mean_s;   ///< [s] the configured offset
   double time_offset_prior_sigma_s;  ///< [s]
+  /// false: the rolling-shutter readout is the configured constant, applied to each observation
+  /// once at window entry (ReprojectionFactor); true: a parameter of the reprojections
+  /// (RollingShutterReprojectionFactor), with a prior around the configured value
+  /// (WindowState::readout_prior_mean_s)
+  bool estimate_readout;
+  double readout_prior_sigma_s;  ///< [s]
+  double readout_max_s;          ///< [s] the estimate is kept within [0, this]
   /// verified_depth = constant: a verified inverse depth is no variable of the solve nor of the
   /// marginalisation (else it is free, with a prior from the verified mean).
   bool hold_verified_depth_constant;

@@ -7,6 +7,7 @@
 
 #include "estimator/window_state.h"
 #include "rgbdi/estimator/reprojection_factor.h"
+#include "rgbdi/estimator/rolling_shutter_reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
 #include "rgbdi/estimator/wheel_factor.h"
@@ -57,6 +58,11 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
                                                model.time_offset_prior_sigma_s),
                  nullptr,
                  {state.time_offset}});
+    if (model.estimate_readout)
+      info->add(
+          {std::make_shared<ScalarPrior>(state.readout_prior_mean_s, model.readout_prior_sigma_s),
+           nullptr,
+           {state.readout}});
     state.start_prior.active = false;  // from now on it lives inside the marginalisation prior
   }
   info->add({std::make_shared<imu::ImuFactor>(window[1].preint.get(), model.g_world),
@@ -94,6 +100,14 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   for (auto& [id, f] : window.features().tracks()) {
     if (f.start_slot != 0 || !FeatureManager::usable(f, newest)) continue;
     for (size_t k = 1; k < f.obs.size(); ++k) {
+      if (model.estimate_readout) {
+        info->add(
+            {std::make_shared<RollingShutterReprojectionFactor>(
+                 f.obs.front().meas, f.obs[k].meas, model.T_body_cam, model.reprojection_sqrt_info),
+             loss,
+             {s0.pose, window[k].pose, &f.inv_depth, state.time_offset, state.readout}});
+        continue;
+      }
       info->add(
           {std::make_shared<ReprojectionFactor>(f.obs.front().meas, f.obs[k].meas, model.T_body_cam,
                                                 model.reprojection_sqrt_info),

@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
+
 #include "estimator/window_state.h"
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/scalar_prior.h"
@@ -53,6 +55,17 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
                                                   model_.reprojection_sqrt_info);
     return reprojection_factors_[reprojections++].get();
   };
+  std::size_t rs_reprojections = 0;
+  auto rsReprojection = [&](const FeatureMeasurement& i, const FeatureMeasurement& j) {
+    if (rs_reprojections == rs_reprojection_factors_.size())
+      rs_reprojection_factors_.push_back(std::make_unique<RollingShutterReprojectionFactor>(
+          i, j, model_.T_body_cam, model_.reprojection_sqrt_info));
+    else
+      rs_reprojection_factors_[rs_reprojections]->reset(i, j, model_.T_body_cam,
+                                                        model_.reprojection_sqrt_info);
+    return rs_reprojection_factors_[rs_reprojections++].get();
+  };
+  double* readout = state.readout;
   const ceres::CauchyLoss cauchy(model_.cauchy_loss_sigma);
 
   // The wheel intervals covered by readings (none unless [wheel] enable).
@@ -78,6 +91,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     solver.addFrameBlock(s.sb, 9);
   }
   if (model_.estimate_time_offset) solver.addFrameBlock(td, 1);
+  if (model_.estimate_readout) solver.addFrameBlock(readout, 1);
   if (wheel_scales) {
     solver.addFrameBlock(wheels.scale_v, 1);
     solver.addFrameBlock(wheels.scale_w, 1);
@@ -93,6 +107,10 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     if (model_.estimate_time_offset)
       add(new ScalarPrior(model_.time_offset_prior_mean_s, model_.time_offset_prior_sigma_s),
           nullptr, {td});
+    // The readout likewise (unobservable without rotation or motion towards the features).
+    if (model_.estimate_readout)
+      add(new ScalarPrior(state.readout_prior_mean_s, model_.readout_prior_sigma_s), nullptr,
+          {readout});
   }
   for (size_t k = 1; k < window.size(); ++k) {
     WindowSlot& a = window[k - 1];
@@ -131,9 +149,14 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     const int i = f.start_slot;
     for (size_t k = 1; k < f.obs.size(); ++k) {
       const int j = i + static_cast<int>(k);
-      addResidual(reprojection(f.obs.front().meas, f.obs[k].meas), &cauchy,
-                  {window[static_cast<size_t>(i)].pose, window[static_cast<size_t>(j)].pose,
-                   inv_depth, td});
+      if (model_.estimate_readout)
+        addResidual(rsReprojection(f.obs.front().meas, f.obs[k].meas), &cauchy,
+                    {window[static_cast<size_t>(i)].pose, window[static_cast<size_t>(j)].pose,
+                     inv_depth, td, readout});
+      else
+        addResidual(reprojection(f.obs.front().meas, f.obs[k].meas), &cauchy,
+                    {window[static_cast<size_t>(i)].pose, window[static_cast<size_t>(j)].pose,
+                     inv_depth, td});
     }
     if (f.depthVerified()) {
       ++update.n_depth_verified;
@@ -154,6 +177,8 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   update.summary = solver.solve(so);
   for (std::size_t n = 0; n < solved.size(); ++n) solved[n]->inv_depth = inv_depth_params_[n];
   for (auto& s : window) s.setPose(s.p(), s.q());  // keep quaternions exactly unit
+  // The readout's bounds: a weakly excited estimate (straight driving) cannot run away.
+  if (model_.estimate_readout) readout[0] = std::clamp(readout[0], 0.0, model_.readout_max_s);
   return update;
 }
 

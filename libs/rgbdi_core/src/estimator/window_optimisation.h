@@ -15,6 +15,7 @@
 #include "estimator/window_cost_model.h"
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/estimator/reprojection_factor.h"
+#include "rgbdi/estimator/rolling_shutter_reprojection_factor.h"
 #include "rgbdi/estimator/window_solver.h"
 
 namespace rgbdi::estimator {
@@ -34,7 +35,8 @@ class WindowOptimisation {
  public:
   WindowOptimisation(const EstimatorOptions& opt, const WindowCostModel& model);
 
-  /// Solves the window in place (states, time offset, inverse depths); `single_step`: the
+  /// Solves the window in place (states, time offset, readout when estimated, inverse depths);
+  /// `single_step`: the
   /// second-newest frame is no keyframe and leaves the window afterwards (one iteration, when
   /// the window holds depth-verified features).
   WindowUpdate run(WindowState& state, bool single_step);
@@ -45,6 +47,8 @@ class WindowOptimisation {
   WindowSolver solver_;
   /// The reprojection factors, reset (not reallocated) from update to update.
   std::vector<std::unique_ptr<ReprojectionFactor>> reprojection_factors_;
+  /// The same with the readout as a parameter (estimate_rolling_shutter_readout).
+  std::vector<std::unique_ptr<RollingShutterReprojectionFactor>> rs_reprojection_factors_;
   std::vector<double*> residual_blocks_;  ///< one residual's parameter blocks
   std::vector<double> inv_depth_params_;  ///< the solved inverse depths during run()
 };

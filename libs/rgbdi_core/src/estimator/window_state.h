@@ -23,13 +23,17 @@ struct StartPrior {
 
 struct WindowState {
   WindowState(const EstimatorOptions& opt, const ImuOptions& imu, double time_offset_s)
-      : frames(opt, imu), time_offset{time_offset_s} {}
+      : frames(opt, imu), time_offset{time_offset_s}, readout{0.0} {}
 
   FrameWindow frames;
   std::shared_ptr<MarginalizationInfo> prior;  ///< null until the first marginalisation
   /// [s] t_imu = t_image + time offset: a parameter block of the solve and the prior (its
   /// address is kept in the prior, so the state is not copied or moved).
   double time_offset[1];
+  /// [s] rolling-shutter readout time: a parameter block when it is estimated (address kept in
+  /// the prior like the time offset's); else the configured constant.
+  double readout[1];
+  double readout_prior_mean_s = 0.0;  ///< [s] [camera] rolling_shutter_readout_s
   StartPrior start_prior;
   WindowWheels wheels;  ///< used when [wheel] enable (the scale blocks' addresses are kept too)
 

@@ -1,9 +1,11 @@
-// StreamChecker's wheel-odometry part: counts, rate and gaps of the readings, and the check that
-// the wheels do not report motion while the IMU is at rest (slip, a lifted robot, a stream of
-// another robot or with the wrong stamps).
+// StreamChecker's wheel-odometry part: counts, rate and gaps of the readings, the check that the
+// wheels do not report motion while the IMU is at rest (slip, a lifted robot, a stream of another
+// robot or with the wrong stamps) and its converse, wheels standing while the IMU moves (a
+// blocked wheel, a robot pushed or carried).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "rgbdi/io/stream_checker.h"
 
@@ -23,6 +25,35 @@ std::string gnum(double v) {
 }
 
 double wrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
+
+/// Standard deviation (norm over the axes) of the means of the acceleration vector over
+/// consecutive blocks of `block_s` from the first sample: how much the specific force changed,
+/// with noise and vibration faster than the blocks averaged out. 0 with fewer than two blocks.
+double blockMeanSpread(const std::deque<ImuSample>& imu, double block_s) {
+  std::vector<Eigen::Vector3d> means;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  long block = 0;
+  for (const ImuSample& s : imu) {
+    const long b = static_cast<long>(std::floor((s.t - imu.front().t) / block_s));
+    if (b != block && count > 0) {
+      means.push_back(sum / count);
+      sum.setZero();
+      count = 0;
+    }
+    block = b;
+    sum += s.acc;
+    ++count;
+  }
+  if (count > 0) means.push_back(sum / count);
+  if (means.size() < 2) return 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& m : means) mean += m;
+  mean /= static_cast<double>(means.size());
+  double var = 0.0;
+  for (const Eigen::Vector3d& m : means) var += (m - mean).squaredNorm();
+  return std::sqrt(var / static_cast<double>(means.size()));
+}
 
 }  // namespace
 
@@ -52,6 +83,7 @@ void StreamChecker::onWheelDelivered(const WheelOdometrySample& w, std::size_t r
       dt >= 0.5 * W && rest_imu_.size() >= 5 && rest_imu_.back().t - rest_imu_.front().t >= 0.5 * W;
   if (!enough) {
     closeWheelMotionRun();
+    closeWheelStillRun();
     return;
   }
   Eigen::Vector3d gyr_sum = Eigen::Vector3d::Zero();
@@ -65,24 +97,46 @@ void StreamChecker::onWheelDelivered(const WheelOdometrySample& w, std::size_t r
   const double n = static_cast<double>(rest_imu_.size());
   const double acc_mean = acc_sum / n;
   const double acc_std = std::sqrt(std::max(0.0, acc_sq / n - acc_mean * acc_mean));
-  const bool imu_at_rest = (gyr_sum / n).norm() < cfg_.stream.wheel_rest_gyr_rad_s &&
-                           acc_std < cfg_.stream.wheel_rest_acc_std_m_s2;
+  const double gyr_mean = (gyr_sum / n).norm();
+  const StreamOptions& o = cfg_.stream;
+  const bool imu_at_rest = gyr_mean < o.wheel_rest_gyr_rad_s && acc_std < o.wheel_rest_acc_std_m_s2;
+  const double acc_change = blockMeanSpread(rest_imu_, o.wheel_still_block_s);
+  const bool imu_moves = gyr_mean > o.wheel_still_gyr_rad_s || acc_change > o.wheel_still_acc_m_s2;
   const double speed = std::hypot(w.x_m - w0.x_m, w.y_m - w0.y_m) / dt;
   const double yaw_rate = std::abs(wrapAngle(w.yaw_rad - w0.yaw_rad)) / dt;
-  const bool wheels_move =
-      speed > cfg_.stream.wheel_rest_speed_m_s || yaw_rate > cfg_.stream.wheel_rest_yaw_rate_rad_s;
-  if (!(imu_at_rest && wheels_move)) {
+  const bool wheels_move = speed > o.wheel_rest_speed_m_s || yaw_rate > o.wheel_rest_yaw_rate_rad_s;
+
+  if (imu_at_rest && wheels_move) {
+    extendRun(wheel_run_, w0.t, w.t, record);
+    wheel_run_.peak_a = std::max(wheel_run_.peak_a, speed);
+  } else {
     closeWheelMotionRun();
-    return;
   }
-  if (!wheel_run_.open) {
-    wheel_run_.open = true;
-    wheel_run_.first_record = record;
-    wheel_run_.first_t = w0.t;
-    wheel_run_.max_speed_m_s = 0.0;
+  if (imu_moves && !wheels_move) {
+    extendRun(still_run_, w0.t, w.t, record);
+    still_run_.peak_a = std::max(still_run_.peak_a, gyr_mean);
+    still_run_.peak_b = std::max(still_run_.peak_b, acc_change);
+  } else {
+    closeWheelStillRun();
   }
-  wheel_run_.last_t = w.t;
-  wheel_run_.max_speed_m_s = std::max(wheel_run_.max_speed_m_s, speed);
+}
+
+void StreamChecker::extendRun(WheelCheckRun& run, double first_t, double last_t,
+                              std::size_t record) {
+  if (!run.open) {
+    run = WheelCheckRun();
+    run.open = true;
+    run.first_record = record;
+    run.first_t = first_t;
+  }
+  run.last_t = last_t;
+}
+
+void StreamChecker::wheelIssue(const std::string& kind, std::size_t record,
+                               const std::string& message) {
+  const std::size_t listed = diag_.warnings.size();
+  issue(kind, record, message);
+  if (diag_.warnings.size() > listed) diag_.wheel_warnings.push_back(message);
 }
 
 void StreamChecker::closeWheelMotionRun() {
@@ -91,17 +145,34 @@ void StreamChecker::closeWheelMotionRun() {
   const double span = wheel_run_.last_t - wheel_run_.first_t;
   ++diag_.wheel_moving_at_rest;
   diag_.wheel_moving_at_rest_s += span;
-  issue("wheel moves at rest", wheel_run_.first_record,
-        at(wheel_run_.first_record) + ": wheel odometry moves (up to " +
-            num(wheel_run_.max_speed_m_s, 3) +
-            " m/s) while the IMU is at rest, t = " + num(wheel_run_.first_t, 6) + " .. " +
-            num(wheel_run_.last_t, 6) + " s (" + num(span, 3) +
-            " s; [stream] wheel_rest_*): slip, a lifted robot, or odometry "
-            "stamped on another clock?");
+  wheelIssue("wheel moves at rest", wheel_run_.first_record,
+             at(wheel_run_.first_record) + ": wheel odometry moves (up to " +
+                 num(wheel_run_.peak_a, 3) +
+                 " m/s) while the IMU is at rest, t = " + num(wheel_run_.first_t, 6) + " .. " +
+                 num(wheel_run_.last_t, 6) + " s (" + num(span, 3) +
+                 " s; [stream] wheel_rest_*): slip, a lifted robot, or odometry "
+                 "stamped on another clock?");
+}
+
+void StreamChecker::closeWheelStillRun() {
+  if (!still_run_.open) return;
+  still_run_.open = false;
+  const double span = still_run_.last_t - still_run_.first_t;
+  ++diag_.wheel_still_imu_moving;
+  diag_.wheel_still_imu_moving_s += span;
+  wheelIssue("wheel still while moving", still_run_.first_record,
+             at(still_run_.first_record) +
+                 ": wheel odometry stands while the IMU moves (mean angular rate up to " +
+                 num(still_run_.peak_a, 3) + " rad/s, spread of its acceleration up to " +
+                 num(still_run_.peak_b, 3) + " m/s^2), t = " + num(still_run_.first_t, 6) + " .. " +
+                 num(still_run_.last_t, 6) + " s (" + num(span, 3) +
+                 " s; [stream] wheel_still_*, wheel_rest_speed_m_s / yaw_rate): a blocked "
+                 "wheel, a robot pushed or carried, or odometry stamped on another clock?");
 }
 
 void StreamChecker::finishWheel() {
   closeWheelMotionRun();
+  closeWheelStillRun();
   SensorStreamStats& st = diag_.wheel;
   if (st.delivered == 0) return;  // wheel odometry is optional: its absence is no issue
   st.duration_s = st.last_t - st.first_t;
@@ -117,16 +188,19 @@ void StreamChecker::finishWheel() {
   st.median_period_s = *mid;
   st.gap_limit_s = cfg_.stream.wheel_gap_factor * st.median_period_s;
   for (std::size_t i = 0; i < dts.size(); ++i) {
-    st.max_gap_s = std::max(st.max_gap_s, dts[i]);
+    if (dts[i] > st.max_gap_s) {
+      st.max_gap_s = dts[i];
+      diag_.wheel_max_gap_t = wheel_stamps_[i].first;
+    }
     if (dts[i] <= st.gap_limit_s) continue;
     ++st.gaps;
     const std::size_t record = wheel_stamps_[i + 1].second;
-    issue("wheel gap", record,
-          at(record) + ": wheel-odometry gap of " + num(dts[i], 4) + " s between t = " +
-              num(wheel_stamps_[i].first, 6) + " s and t = " + num(wheel_stamps_[i + 1].first, 6) +
-              " s (limit " + num(st.gap_limit_s, 4) + " s = wheel_gap_factor " +
-              gnum(cfg_.stream.wheel_gap_factor) + " x median period " +
-              num(st.median_period_s, 4) + " s)");
+    wheelIssue("wheel gap", record,
+               at(record) + ": wheel-odometry gap of " + num(dts[i], 4) +
+                   " s between t = " + num(wheel_stamps_[i].first, 6) + " s and t = " +
+                   num(wheel_stamps_[i + 1].first, 6) + " s (limit " + num(st.gap_limit_s, 4) +
+                   " s = wheel_gap_factor " + gnum(cfg_.stream.wheel_gap_factor) +
+                   " x median period " + num(st.median_period_s, 4) + " s)");
   }
 }
 

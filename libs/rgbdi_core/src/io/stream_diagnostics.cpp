@@ -86,16 +86,7 @@ std::string StreamDiagnostics::report() const {
   os << "       order: " << ordering(images) << "\n";
   if (hasWheel()) {
     os << "Wheel: " << timing(wheel, "readings") << "\n";
-    if (wheel.delivered >= 2) {
-      os << "       median period " << num(wheel.median_period_s, 4) << " s, gaps " << wheel.gaps
-         << " (limit " << num(wheel.gap_limit_s, 4) << " s, largest dt " << num(wheel.max_gap_s, 4)
-         << " s)\n";
-    }
-    os << "       with velocities " << wheel_with_velocities << ", with encoder ticks "
-       << wheel_with_encoders << ", non-finite " << non_finite_wheel
-       << "; moving while the IMU is at rest: " << wheel_moving_at_rest << " times ("
-       << num(wheel_moving_at_rest_s, 3) << " s)\n";
-    os << "       order: " << ordering(wheel) << "\n";
+    os << wheelReport();
   }
   os << "Checks: size mismatches " << size_mismatches << ", missing intrinsics "
      << missing_intrinsics << ", depth unit suspects " << depth_unit_suspects
@@ -105,6 +96,23 @@ std::string StreamDiagnostics::report() const {
   os << "Warnings: " << warnings.size() << "\n";
   for (const auto& w : warnings) os << "  " << w << "\n";
   if (!error.empty()) os << "ERROR: " << error << "\n";
+  return os.str();
+}
+
+std::string StreamDiagnostics::wheelReport() const {
+  std::ostringstream os;
+  if (wheel.delivered >= 2) {
+    os << "       median period " << num(wheel.median_period_s, 4) << " s, gaps " << wheel.gaps
+       << " (limit " << num(wheel.gap_limit_s, 4) << " s, largest dt " << num(wheel.max_gap_s, 4)
+       << " s after t = " << num(wheel_max_gap_t, 6) << " s)\n";
+  }
+  os << "       with velocities " << wheel_with_velocities << ", with encoder ticks "
+     << wheel_with_encoders << ", non-finite " << non_finite_wheel << "\n";
+  os << "       moving while the IMU is at rest: " << wheel_moving_at_rest << " times ("
+     << num(wheel_moving_at_rest_s, 3)
+     << " s); standing while the IMU moves: " << wheel_still_imu_moving << " times ("
+     << num(wheel_still_imu_moving_s, 3) << " s)\n";
+  os << "       order: " << ordering(wheel) << "\n";
   return os.str();
 }
 
@@ -127,6 +135,9 @@ std::string StreamDiagnostics::toJson(int indent) const {
     j["wheel"]["non_finite"] = non_finite_wheel;
     j["wheel"]["moving_at_rest"] = wheel_moving_at_rest;
     j["wheel"]["moving_at_rest_s"] = wheel_moving_at_rest_s;
+    j["wheel"]["still_imu_moving"] = wheel_still_imu_moving;
+    j["wheel"]["still_imu_moving_s"] = wheel_still_imu_moving_s;
+    j["wheel"]["max_gap_t"] = wheel_max_gap_t;
   }
   j["frames_with_color"] = frames_with_color;
   j["frames_with_depth"] = frames_with_depth;

@@ -49,6 +49,12 @@ StreamOptions StreamOptions::load(IniReader& ini) {
       ini.getDouble(s, "wheel_rest_speed_m_s", o.wheel_rest_speed_m_s, 0.0, 100.0);
   o.wheel_rest_yaw_rate_rad_s =
       ini.getDouble(s, "wheel_rest_yaw_rate_rad_s", o.wheel_rest_yaw_rate_rad_s, 0.0, 100.0);
+  o.wheel_still_gyr_rad_s =
+      ini.getDouble(s, "wheel_still_gyr_rad_s", o.wheel_still_gyr_rad_s, 0.0, 10.0);
+  o.wheel_still_acc_m_s2 =
+      ini.getDouble(s, "wheel_still_acc_m_s2", o.wheel_still_acc_m_s2, 0.0, 100.0);
+  o.wheel_still_block_s = ini.getDouble(s, "wheel_still_block_s", o.wheel_still_block_s, 0.001,
+                                        o.wheel_rest_window_s / 2);
   return o;
 }
 

@@ -70,6 +70,9 @@ struct RgbdiRawlogReplay::Impl {
     void imu(const ImuSample& s) override { impl.push({io::Measurement(s), T_body_cam}); }
     void accelerometer(double, const Eigen::Vector3d&) override {}  // no gyro: not an IMU
     void frame(const RgbdFrame& f) override { impl.push({io::Measurement(f), T_body_cam}); }
+    void wheel(const WheelOdometrySample& w) override {
+      impl.push({io::Measurement(w), T_body_cam});
+    }
     void groundTruth(const StampedPose&) override {}
   };
 

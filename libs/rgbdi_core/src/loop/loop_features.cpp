@@ -93,8 +93,9 @@ LoopFeatureExtractor::LoopFeatureExtractor(const LoopFeatureOptions& options,
 
 LoopFeatureExtractor::~LoopFeatureExtractor() = default;
 
-mapping::DescriptorSet LoopFeatureExtractor::extract(const RgbdFrame& frame,
-                                                     const PinholeCamera& cam) {
+mapping::DescriptorSet LoopFeatureExtractor::extract(
+    const RgbdFrame& frame, const PinholeCamera& cam,
+    const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& to_stamp) {
   mapping::DescriptorSet set;
   set.type = kLoopDescriptorType;
   set.bytes_per_descriptor = kLoopDescriptorBytes;
@@ -123,6 +124,7 @@ mapping::DescriptorSet LoopFeatureExtractor::extract(const RgbdFrame& frame,
   set.data.resize(n * kLoopDescriptorBytes);
   for (std::size_t k = 0; k < n; ++k) {
     set.keypoints_uv[k] = Eigen::Vector2f(keypoints[k].pt.x, keypoints[k].pt.y);
+    if (to_stamp) set.keypoints_uv[k] = to_stamp(set.keypoints_uv[k].cast<double>()).cast<float>();
     std::copy_n(descriptors.ptr<std::uint8_t>(static_cast<int>(k)), kLoopDescriptorBytes,
                 set.data.begin() + static_cast<std::ptrdiff_t>(k * kLoopDescriptorBytes));
   }

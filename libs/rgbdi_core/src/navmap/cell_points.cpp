@@ -12,10 +12,16 @@ CellPoints::CellPoints(const std::vector<Eigen::Vector3f>& points, const GridGeo
   const std::size_t n_cells = grid.cellCount();
   std::vector<std::uint32_t> cell(points.size(), 0xffffffffu);
   start_.assign(n_cells + 1, 0);
+  std::int64_t kx0 = 0, ky0 = 0;
+  const bool lattice = grid.latticeOrigin(&kx0, &ky0);
   for (std::size_t p = 0; p < points.size(); ++p) {
     int ix = 0, iy = 0;
-    if (!std::isfinite(points[p].z()) || !grid.cellOf(points[p].x(), points[p].y(), &ix, &iy))
+    if (!std::isfinite(points[p].z())) continue;
+    if (lattice) {
+      if (!latticeCellOf(points[p], grid, kx0, ky0, &ix, &iy)) continue;
+    } else if (!grid.cellOf(points[p].x(), points[p].y(), &ix, &iy)) {
       continue;
+    }
     cell[p] = static_cast<std::uint32_t>(grid.index(ix, iy));
     ++start_[cell[p] + 1];
   }
@@ -29,10 +35,17 @@ CellPoints::CellPoints(const std::vector<Eigen::Vector3f>& points, const GridGeo
     std::sort(z_.begin() + start_[i], z_.begin() + start_[i + 1]);
 }
 
-std::size_t CellPoints::countIn(std::size_t i, float lo, float hi) const {
-  const float* a = std::upper_bound(begin(i), end(i), lo);
-  const float* b = std::upper_bound(begin(i), end(i), hi);
-  return static_cast<std::size_t>(b - a);
+bool latticeCellOf(const Eigen::Vector3f& p, const GridGeometry& grid, std::int64_t kx0,
+                   std::int64_t ky0, int* ix, int* iy) {
+  std::int64_t kx = 0, ky = 0;
+  if (!latticeCell(p.x(), grid.cell_size_m, &kx) || !latticeCell(p.y(), grid.cell_size_m, &ky))
+    return false;
+  kx -= kx0;
+  ky -= ky0;
+  if (kx < 0 || ky < 0 || kx >= grid.width || ky >= grid.height) return false;
+  *ix = static_cast<int>(kx);
+  *iy = static_cast<int>(ky);
+  return true;
 }
 
 bool lowestSurface(const float* first, const float* last, int k, float band, float* mean,

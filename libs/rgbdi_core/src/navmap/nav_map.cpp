@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "navmap/cell_points.h"
+#include "navmap/layer_reuse.h"
+#include "navmap/nav_map_stages.h"
 #include "navmap/path_cells.h"
 
 namespace rgbdi::navmap {
@@ -217,9 +219,26 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   return buildNavMap(points, path, o, gridAroundPath(path, o));
 }
 
-NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
-                   const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
-                   const GridGeometry& grid) {
+namespace detail {
+
+CellSurface cellSurface(const float* first, const float* last, const NavMapOptions& o) {
+  CellSurface c;
+  float h = 0, s = 0;
+  if (!lowestSurface(first, last, o.min_points_per_cell, static_cast<float>(o.ground_band_m), &h,
+                     &s))
+    return c;
+  c.ground_z_m = h;
+  c.sigma_m = s;
+  const float lo = static_cast<float>(h + o.max_step_m);
+  const float hi = static_cast<float>(h + o.clearance_height_m);
+  const std::size_t obstacle_points = static_cast<std::size_t>(std::upper_bound(first, last, hi) -
+                                                               std::upper_bound(first, last, lo));
+  c.obstacle = obstacle_points >= static_cast<std::size_t>(o.min_obstacle_points);
+  return c;
+}
+
+NavMap startNavMap(const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
+                   const GridGeometry& grid, NearestPose* near) {
   o.validate();
   if (path.empty()) throw std::invalid_argument("navmap: empty path");
   NavMap m;
@@ -232,20 +251,41 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   m.roughness_m.assign(n, kNaN);
   m.traversability.assign(n, kNaN);
   m.state.assign(n, CellState::kUnknown);
-  m.driven = detail::footprintCells(path, grid, o.footprint_radius_m, o.range_m);
-  const detail::NearestPose near = detail::nearestPoses(path, grid);
-  const detail::CellPoints cells(points, grid);
-  const float band = static_cast<float>(o.ground_band_m);
+  m.driven = footprintCells(path, grid, o.footprint_radius_m, o.range_m);
+  *near = nearestPoses(path, grid);
+  return m;
+}
 
+}  // namespace detail
+
+NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
+                   const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
+                   const GridGeometry& grid) {
+  detail::NearestPose near;
+  NavMap m = detail::startNavMap(path, o, grid, &near);
+  const detail::CellPoints cells(points, grid);
+  std::vector<std::uint8_t> obstacle(grid.cellCount(), 0);
   // Lowest surface of every cell within range.
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < grid.cellCount(); ++i) {
     if (!(near.distance_m[i] <= o.range_m)) continue;
-    float h = 0, s = 0;
-    if (detail::lowestSurface(cells.begin(i), cells.end(i), o.min_points_per_cell, band, &h, &s)) {
-      m.ground_z_m[i] = h;
-      m.ground_sigma_m[i] = s;
-    }
+    const detail::CellSurface c = detail::cellSurface(cells.begin(i), cells.end(i), o);
+    m.ground_z_m[i] = c.ground_z_m;
+    m.ground_sigma_m[i] = c.sigma_m;
+    obstacle[i] = c.obstacle ? 1 : 0;
   }
+  detail::finishNavMap(m, near, obstacle, path, o);
+  return m;
+}
+
+namespace detail {
+
+void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uint8_t>& obstacle,
+                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
+                  LayerCache* cache) {
+  const GridGeometry& grid = m.grid;
+  const std::size_t n = grid.cellCount();
+  LatticeShift shift;
+  const bool reuse = cache != nullptr && cache->valid && latticeShift(grid, cache->grid, &shift);
   // The ground under the path, its height above it, and each cell's reference ground: that
   // under its nearest path position, measured, else the position less the path's height (a
   // hand-held camera moves up and down; a robot's ground is where it drives).
@@ -270,14 +310,8 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
 
   // Obstacles first: the ground of an obstacle cell is the foot of a wall or object, which the
   // plane fits of the ground beside it leave out.
-  for (std::size_t i = 0; i < n; ++i) {
-    const float h = m.ground_z_m[i];
-    if (!std::isfinite(h)) continue;
-    const std::size_t obstacle_points = cells.countIn(i, static_cast<float>(h + o.max_step_m),
-                                                      static_cast<float>(h + o.clearance_height_m));
-    if (obstacle_points >= static_cast<std::size_t>(o.min_obstacle_points))
-      m.state[i] = CellState::kObstacle;
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(m.ground_z_m[i]) && obstacle[i]) m.state[i] = CellState::kObstacle;
   std::vector<float> plane_ground = m.ground_z_m;
   for (std::size_t i = 0; i < n; ++i)
     if (m.state[i] == CellState::kObstacle) plane_ground[i] = kNaN;
@@ -285,6 +319,9 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   const int plane_r =
       std::max(1, static_cast<int>(std::floor(o.footprint_radius_m / grid.cell_size_m)));
   const double plane_r2 = std::max(2.0, std::pow(o.footprint_radius_m / grid.cell_size_m, 2));
+  const std::vector<std::uint8_t> refit =
+      reuse ? cellsToRecompute(grid, plane_ground, shift, cache->plane_ground, plane_r)
+            : std::vector<std::uint8_t>();
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
       const std::size_t i = grid.index(ix, iy);
@@ -301,8 +338,14 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
       }
       m.step_m[i] = step;
       if (m.state[i] == CellState::kObstacle) continue;
-      fitLocalPlane(grid, plane_ground, ix, iy, plane_r, plane_r2, o.max_step_m, &m.slope_deg[i],
-                    &m.roughness_m[i]);
+      if (reuse && !refit[i]) {  // same ground around it: the same plane (finite: in the old grid)
+        const std::size_t j = static_cast<std::size_t>(shift.oldIndex(ix, iy));
+        m.slope_deg[i] = cache->slope_deg[j];
+        m.roughness_m[i] = cache->roughness_m[j];
+      } else {
+        fitLocalPlane(grid, plane_ground, ix, iy, plane_r, plane_r2, o.max_step_m, &m.slope_deg[i],
+                      &m.roughness_m[i]);
+      }
       if (m.slope_deg[i] > o.max_slope_deg)
         m.state[i] = CellState::kTooSteep;
       else if (upper_edge)
@@ -324,10 +367,17 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
     }
   const int r = static_cast<int>(std::floor(o.footprint_radius_m / grid.cell_size_m));
   const double r2 = std::pow(o.footprint_radius_m / grid.cell_size_m, 2);
+  const std::vector<std::uint8_t> rescore =
+      reuse ? cellsToRecompute(grid, score, shift, cache->score, r) : std::vector<std::uint8_t>();
   for (int iy = 0; iy < grid.height; ++iy)
     for (int ix = 0; ix < grid.width; ++ix) {
       const std::size_t i = grid.index(ix, iy);
       if (m.state[i] == CellState::kUnknown) continue;
+      if (reuse && !rescore[i]) {  // same scores around it (its own finite: in the old grid)
+        m.traversability[i] =
+            cache->traversability[static_cast<std::size_t>(shift.oldIndex(ix, iy))];
+        continue;
+      }
       float t = score[i];
       for (int dy = -r; dy <= r && t > 0.0f; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
@@ -337,7 +387,15 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
         }
       m.traversability[i] = t;
     }
-  return m;
+  if (cache == nullptr) return;
+  cache->valid = true;
+  cache->grid = grid;
+  cache->plane_ground = std::move(plane_ground);
+  cache->slope_deg = m.slope_deg;
+  cache->roughness_m = m.roughness_m;
+  cache->score = std::move(score);
+  cache->traversability = m.traversability;
 }
 
+}  // namespace detail
 }  // namespace rgbdi::navmap

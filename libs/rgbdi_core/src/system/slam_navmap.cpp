@@ -4,15 +4,18 @@
 
 namespace rgbdi::system {
 
+void appendNavMapPoints(const mapping::Keyframe& kf, const navmap::NavMapOptions& options,
+                        std::vector<Eigen::Vector3f>* out) {
+  const float max_depth = static_cast<float>(options.max_depth_m);
+  const Eigen::Isometry3f T_world_cam = kf.T_world_cam.cast<float>();
+  for (const mapping::MapPoint& p : kf.points)
+    if (p.p_cam.z() <= max_depth) out->push_back(T_world_cam * p.p_cam);
+}
+
 std::vector<Eigen::Vector3f> navMapPoints(const mapping::KeyframeStore& store,
                                           const navmap::NavMapOptions& options) {
   std::vector<Eigen::Vector3f> points;
-  const float max_depth = static_cast<float>(options.max_depth_m);
-  for (const mapping::Keyframe& kf : store.keyframes()) {
-    const Eigen::Isometry3f T_world_cam = kf.T_world_cam.cast<float>();
-    for (const mapping::MapPoint& p : kf.points)
-      if (p.p_cam.z() <= max_depth) points.push_back(T_world_cam * p.p_cam);
-  }
+  for (const mapping::Keyframe& kf : store.keyframes()) appendNavMapPoints(kf, options, &points);
   return points;
 }
 

@@ -244,6 +244,14 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
   s["moving_initialisations"] = st.moving_initialisations;
   s["initialisation_waits"] = st.init_waits;
   s["time_offset_s"] = vio.timeOffset();
+  if (cfg.estimator.estimate_rolling_shutter_readout) {  // absent when the readout is a constant
+    nlohmann::json history = nlohmann::json::array();
+    for (const auto& [t, readout] : vio.readoutHistory())
+      history.push_back({have_t ? t - run.stream_t0 : t, readout});
+    s["rolling_shutter_readout"] = {{"configured_s", cfg.camera.rolling_shutter_readout_s},
+                                    {"estimated_s", vio.rollingShutterReadout()},
+                                    {"history_s", history}};
+  }
   if (cfg.estimator.wheel.enable)  // doc/wheels.md; absent when the wheels are not fused
     s["wheel"] = {{"intervals_used", st.wheel_intervals_used},
                   {"intervals_left_out",

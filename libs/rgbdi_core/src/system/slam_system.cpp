@@ -6,7 +6,9 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "rgbdi/estimator/rolling_shutter_compensation.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/map/map_directory.h"
 
@@ -274,6 +276,33 @@ void SlamSystem::onKeyframe(const estimator::KeyframeState& kf, const RgbdFrame&
   loop_stage_->submit(std::move(packet));
 }
 
+std::function<Eigen::Vector2d(const Eigen::Vector2d&)> SlamSystem::keypointsToStamp(
+    const KeyframePacket& p) const {
+  if (!(p.state.rolling_shutter_readout_s > 0.0)) return {};
+  // Rolling shutter: the keypoints are moved to the stamp along the motion field of the
+  // keyframe's state (doc/estimator.md), with the median depth of its tracked features.
+  RollingShutter rs = cfg_.camera.rollingShutter();
+  rs.readout_s = p.state.rolling_shutter_readout_s;
+  rs.rows = loop_camera_.height;
+  const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
+  const Eigen::Matrix3d R_cb = T_bc.rotation().transpose();
+  const Eigen::Vector3d w_c = R_cb * p.state.omega_body;
+  const Eigen::Vector3d v_c =
+      R_cb * (p.state.T_world_body.rotation().transpose() * p.state.v_world +
+              p.state.omega_body.cross(T_bc.translation()));
+  std::vector<double> depths;
+  for (const auto& f : p.features.features)
+    if (f.depth_m > 0.0) depths.push_back(f.depth_m);
+  double typical = 0.0;
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    typical = depths[depths.size() / 2];
+  }
+  return [this, rs, w_c, v_c, typical](const Eigen::Vector2d& uv) {
+    return estimator::pixelAtReferenceTime(uv, loop_camera_, rs, w_c, v_c, typical);
+  };
+}
+
 void SlamSystem::handleKeyframe(KeyframePacket& p) {
   const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
   Eigen::Isometry3d T_world_body = p.state.T_world_body;
@@ -300,7 +329,7 @@ void SlamSystem::handleKeyframe(KeyframePacket& p) {
     lk.bridged_s = bridged_since_loop_keyframe_;
     bridged_since_loop_keyframe_ = 0.0;
     const auto t0 = std::chrono::steady_clock::now();
-    lk.descriptors = extractor_->extract(p.frame, loop_camera_);
+    lk.descriptors = extractor_->extract(p.frame, loop_camera_, keypointsToStamp(p));
     lk.depth_grid = extractor_->depthGrid(p.frame, loop_camera_);
     closer_->mutableStats().features_ms_total +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -60,6 +60,12 @@ void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepar
     tracker_ = std::make_unique<frontend::FeatureTracker>(cfg_.frontend, cameraFor(in));
     tracker_->setRollingShutter(cfg_.camera.rollingShutter());
   }
+  if (cfg_.estimator.estimate_rolling_shutter_readout) {
+    // The depth of each feature is read at its stamp position with the newest readout estimate.
+    RollingShutter rs = cfg_.camera.rollingShutter();
+    rs.readout_s = estimator_->rollingShutterReadout();
+    tracker_->setRollingShutter(rs);
+  }
   Pending p;
   p.frame = in;
   if (!use_depth_) p.frame.depth.release();
@@ -118,6 +124,9 @@ void VioSystem::processReady(bool flush) {
     timings_.optimisation_ms += est.ms_optimisation;
     timings_.marginalisation_ms += est.ms_marginalisation;
     ++timings_.frames_estimated;
+    if (est.has_pose && cfg_.estimator.estimate_rolling_shutter_readout &&
+        (readout_history_.empty() || est.t_image >= readout_history_.back().first + 1.0))
+      readout_history_.emplace_back(est.t_image, est.rolling_shutter_readout_s);
     if (est.has_pose) {
       traj_body_.push_back(StampedPose::fromIsometry(est.t_imu, est.T_world_body));
       traj_cam_.push_back(

@@ -9,6 +9,8 @@
 //   Units" option (depth unit), RealSense tf (depth-to-colour and, with IMU streams,
 //   colour-to-IMU extrinsics); otherwise FallbackCalibration (from --config / --camera-yaml /
 //   built-in defaults) and ConvertOptions::integer_depth_unit_m.
+// * Wheel odometry (nav_msgs/Odometry, see ros_odometry.h) becomes WheelOdometrySamples; its
+//   extrinsic T_body_wheel comes from /tf_static when the bag has it (T_body_wheel()).
 // * Damage (see BagReader) ends the stream: run() returns with report.error set, after
 //   delivering everything read before the damage. Unreadable single messages are skipped and
 //   reported.
@@ -43,6 +45,9 @@ struct FallbackCalibration {
 struct BagInputOptions {
   TopicOverrides topics;
   std::optional<bool> depth_aligned;  ///< default: the layout's
+  /// run() reads the IMU and odometry topics only (no images, no ground truth): the motion
+  /// streams, for checks such as rawlog-convert --info's wheel checks.
+  bool motion_only = false;
 };
 
 class BagConverter {
@@ -63,6 +68,10 @@ class BagConverter {
   double depthUnit() const;
   /// Pose of the depth optical frame in the colour optical frame (identity when aligned).
   const Eigen::Isometry3d& T_color_depth() const;
+  /// The wheel frame (the odometry's child_frame_id) in the body frame (the IMU's frame_id) from
+  /// the bag's /tf_static; nullopt without odometry or without such a transform (calibration()
+  /// says which).
+  const std::optional<Eigen::Isometry3d>& T_body_wheel() const;
   /// One line per calibration item and where it comes from (also in the run's report).
   const std::vector<std::string>& calibration() const;
   /// The bag being read (topics, times, recovery state).

@@ -39,6 +39,7 @@ struct BagTopic {
   std::string topic;
   std::string datatype;  ///< e.g. "sensor_msgs/Image"
   std::uint64_t messages = 0;
+  std::string md5sum;  ///< of the message definition (the first connection's)
 };
 
 /// One serialized message (ROS wire format), valid until the next call to BagReader::next().

@@ -3,7 +3,9 @@
 // /camera/aligned_depth_to_color/image_raw (16UC1 millimetres, same stamp as the colour image),
 // IMU on /camera/imu (sensor_msgs/Imu, accelerometer and gyro combined, no orientation) and
 // ground truth on /vrpn_client_node/<name>/pose (geometry_msgs/PoseStamped). No camera_info,
-// like the published bags. Uses Debian's rosbag storage library; no ROS installation needed.
+// like the published bags. Wheel odometry (optional) on /odom (nav_msgs/Odometry, odom ->
+// base_link) with the wheel frame's pose in the IMU frame on /tf_static (tf2_msgs/TFMessage). Uses
+// Debian's rosbag storage library; no ROS installation needed.
 //
 // The bag is written under a temporary name and renamed on close(), so an interrupted run
 // leaves no truncated bag. Messages must be written in non-decreasing time per topic.
@@ -15,6 +17,7 @@
 #include <string>
 
 #include "rgbdi/common/types.h"
+#include "rgbdi/common/wheel_odometry.h"
 
 namespace rgbdi::bag {
 
@@ -37,6 +40,10 @@ struct BagTopics {
   std::string camera_frame_id = "camera_color_optical_frame";
   std::string imu_frame_id = "camera_imu_frame";
   std::string world_frame_id = "world";
+  std::string odometry = "/odom";
+  std::string odom_frame_id = "odom";        ///< the odometry's header.frame_id
+  std::string wheel_frame_id = "base_link";  ///< its child_frame_id
+  std::string tf_static = "/tf_static";
 };
 
 class BagWriter {
@@ -55,6 +62,15 @@ class BagWriter {
   void writeRgbd(const RgbdFrame& frame);
   /// Ground-truth pose of the tracked body in the world frame.
   void writePose(double t, const Eigen::Isometry3d& T_world_body);
+
+  /// One wheel-odometry reading as nav_msgs/Odometry: pose (x, y, yaw about z) of the wheel
+  /// frame in the odometry frame, twist (v_forward, v_lateral, yaw rate) in the wheel frame;
+  /// covariances zero (MRPT gives none). Encoder ticks have no place in the message.
+  void writeOdometry(const WheelOdometrySample& reading);
+  /// One /tf_static message with the pose of `child` in `parent` (T_parent_child), stamped `t`.
+  void writeStaticTransform(double t, const std::string& parent, const std::string& child,
+                            const Eigen::Isometry3d& T_parent_child);
+  const BagTopics& topics() const { return topics_; }
 
   /// Finishes the bag (writes its index) and renames it to the final path.
   void close();

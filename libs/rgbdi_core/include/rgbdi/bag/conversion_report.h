@@ -29,12 +29,13 @@ struct ConversionReport {
   AccelGyroMergeStats merge;           ///< separate accelerometer/gyro streams
   std::size_t accel_only_samples = 0;  ///< accelerometer-only samples written (no gyroscope)
   std::size_t groundtruth_poses = 0;
+  std::size_t odometry_messages = 0;     ///< nav_msgs/Odometry messages decoded and delivered
   std::size_t unreadable = 0;            ///< messages / files that could not be decoded (skipped)
   std::size_t depth_clipped_pixels = 0;  ///< float depth beyond 16 bits of the output unit
   std::size_t stamps_from_bag_time = 0;  ///< messages with a zero header stamp (bag time used)
 
   // Counted by the writer.
-  std::size_t frames_written = 0, imu_written = 0, groundtruth_written = 0;
+  std::size_t frames_written = 0, imu_written = 0, groundtruth_written = 0, wheel_written = 0;
   std::size_t dropped_by_ordering = 0;  ///< late or duplicate stamps beyond the re-ordering window
   std::vector<std::string> outputs;     ///< files written
 
@@ -46,6 +47,8 @@ struct ConversionReport {
   /// per kind, the rest only counted.
   void addIssue(const std::string& kind, const std::string& message, int max_listed);
   std::size_t issueCount(const std::string& kind) const;
+  /// The messages kept of a kind (at most `max_listed`).
+  std::vector<std::string> listedIssues(const std::string& kind) const;
   /// Adds the writer's counts, outputs and issues collected in `writer` to this report.
   void absorbWriter(const ConversionReport& writer, int max_listed);
 

@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "rgbdi/common/types.h"
+#include "rgbdi/common/wheel_odometry.h"
 
 namespace rgbdi::bag {
 
@@ -17,6 +18,9 @@ class ConversionSink {
   virtual void frame(const RgbdFrame& frame) = 0;
   /// Ground-truth pose of the tracked body in the world frame.
   virtual void groundTruth(const StampedPose& pose) = 0;
+  /// A wheel-odometry reading (a bag's nav_msgs/Odometry). A sink with no use for it keeps this
+  /// default, which drops it.
+  virtual void wheel(const WheelOdometrySample& /*reading*/) {}
 };
 
 /// Called often during a conversion with the fraction of the input consumed, in [0, 1].

@@ -29,4 +29,7 @@ PinholeCamera cameraFromInfo(const sensor_msgs::CameraInfo& info, const std::str
 Eigen::Isometry3d isometryFromTransform(const geometry_msgs::Transform& tf,
                                         const std::string& label);
 
+/// "translation (x, y, z) m, rotation A deg" (4 and 3 decimals), for reports.
+std::string describePose(const Eigen::Isometry3d& T);
+
 }  // namespace rgbdi::bag

@@ -25,6 +25,13 @@ struct RollingShutter {
     if (reference_middle) return 0.5 * (rows - 1);
     return bottom_to_top ? rows - 1.0 : 0.0;
   }
+  /// [unitless] (t(y) - t_ref) / readout_s for row coordinate y (its share of the readout, -0.5 to
+  /// 0.5 with the middle reference row); defined for any readout, also 0, as long as rows > 0.
+  double rowFraction(double y) const {
+    if (rows <= 0) return 0.0;
+    const double s = bottom_to_top ? -1.0 : 1.0;
+    return s * (y - referenceRow()) / rows;
+  }
   /// [s] t(y) - t_ref for row coordinate y.
   double rowTime(double y) const {
     if (readout_s == 0.0 || rows <= 0) return 0.0;

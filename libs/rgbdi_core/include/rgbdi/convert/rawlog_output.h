@@ -1,8 +1,9 @@
 // The writing end of a conversion: re-orders what a converter delivers by stamp (within a
 // window; sources deliver in bag or file order, stamps come from message headers) and writes the
-// MRPT rawlog (CObservation3DRangeScan, CObservationIMU) plus the ground truth as a TUM file.
-// Both are written under temporary names and renamed by finish(), so they are always complete
-// files; after damage in the input, finish() still leaves a valid rawlog of what was converted.
+// MRPT rawlog (CObservation3DRangeScan, CObservationIMU, CObservationOdometry) plus the ground
+// truth as a TUM file. Both are written under temporary names and renamed by finish(), so they are
+// always complete files; after damage in the input, finish() still leaves a valid rawlog of what
+// was converted.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -40,6 +41,8 @@ class RawlogOutput : public bag::ConversionSink {
   void accelerometer(double t, const Eigen::Vector3d& acc) override;
   void frame(const RgbdFrame& frame) override;
   void groundTruth(const StampedPose& pose) override;
+  /// Written as CObservationOdometry (RawlogWriter: sensorLabel WHEEL_ODOMETRY).
+  void wheel(const WheelOdometrySample& reading) override;
 
   /// Writes what is buffered, renames the rawlog into place and writes <stem>_groundtruth.tum
   /// when there were poses; adds the files to the report. Throws IoError.
@@ -54,10 +57,10 @@ class RawlogOutput : public bag::ConversionSink {
     double t;
     Eigen::Vector3d acc;
   };
-  using Item = std::variant<ImuSample, Accel, RgbdFrame>;
+  using Item = std::variant<ImuSample, Accel, WheelOdometrySample, RgbdFrame>;
   struct Entry {
     double t;
-    int kind;           ///< IMU data before frames at equal stamps
+    int kind;           ///< IMU data, then wheel odometry, then frames at equal stamps
     std::uint64_t seq;  ///< arrival order
     std::shared_ptr<Item> item;
     bool operator>(const Entry& o) const {

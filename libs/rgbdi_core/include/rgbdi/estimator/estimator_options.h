@@ -80,6 +80,14 @@ struct EstimatorOptions {
   std::string time_offset_velocity = "motion_field";
   double time_offset_prior_sigma_s =
       0.005;  ///< [s] prior std of the time offset around the config value
+  /// Estimate the rolling-shutter readout time online (a parameter of the window's reprojection
+  /// factors, like the time offset); false: [camera] rolling_shutter_readout_s is a constant.
+  bool estimate_rolling_shutter_readout = false;
+  /// [s] prior std of the readout around [camera] rolling_shutter_readout_s (held until the first
+  /// marginalisation, then inside the marginalisation prior, as the time offset's)
+  double rolling_shutter_readout_prior_sigma_s = 0.02;
+  /// [s] the estimate is kept within [0, this] (a weakly excited estimate cannot run away)
+  double rolling_shutter_readout_max_s = 0.1;
   /// [Hz] rate of estimator updates; frames in between get IMU-propagated poses. 0 = every frame.
   double update_rate_hz = 15.0;
   double fail_max_acc_bias_m_s2 = 2.5;    ///< [m/s^2]

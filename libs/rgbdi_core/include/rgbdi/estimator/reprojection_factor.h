@@ -18,6 +18,10 @@ struct FeatureMeasurement {
   Eigen::Vector3d xn;        ///< undistorted normalised point (x, y, 1)
   Eigen::Vector2d velocity;  ///< d(xn)/dt [1/s]
   double td_at_stamp = 0.0;  ///< time offset used when this frame was stamped [s]
+  /// Rolling shutter (read by RollingShutterReprojectionFactor only): the row's share of the
+  /// readout (RollingShutter::rowFraction) and the readout xn was moved to the stamp with.
+  double row_fraction = 0.0;        ///< [unitless]
+  double readout_at_stamp_s = 0.0;  ///< [s]
 };
 
 class ReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 7, 1, 1> {

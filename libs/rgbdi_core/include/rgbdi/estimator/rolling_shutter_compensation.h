@@ -9,8 +9,10 @@
 // time. A feature without a velocity (newly detected) stays where it was seen.
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
 
+#include "rgbdi/common/camera.h"
 #include "rgbdi/common/rolling_shutter.h"
 #include "rgbdi/frontend/feature_frame.h"
 
@@ -20,5 +22,14 @@ namespace rgbdi::estimator {
 /// tracked velocity. A global shutter (readout 0) leaves every feature untouched.
 void moveToReferenceTime(std::vector<frontend::FeatureObservation>& features,
                          const RollingShutter& rs);
+
+/// The pixel where a point seen at pixel uv (at its row's time) was at the image's reference
+/// time, moved along the motion field (motion_field.h) of a camera turning at omega_cam [rad/s]
+/// and moving at v_cam [m/s] (both in the camera frame) for a point at depth_m (0: the rotation's
+/// part only): uv - rowTime(y) (fx vx, fy vy), the distortion neglected over the shift, as the
+/// front end does. For keypoints that have no tracked velocity (loop closing's ORB keypoints).
+Eigen::Vector2d pixelAtReferenceTime(const Eigen::Vector2d& uv, const PinholeCamera& cam,
+                                     const RollingShutter& rs, const Eigen::Vector3d& omega_cam,
+                                     const Eigen::Vector3d& v_cam, double depth_m);
 
 }  // namespace rgbdi::estimator

@@ -37,6 +37,7 @@ struct FrameEstimate {
   Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();
   Eigen::Vector3d bias_gyr = Eigen::Vector3d::Zero();
   double time_offset_s = 0.0;
+  double rolling_shutter_readout_s = 0.0;  ///< [s] configured or estimated readout
   EstimatorStatus status = EstimatorStatus::kInitializing;
   bool just_initialised = false;
   bool reset = false;  ///< a failure was detected and the estimator restarted
@@ -61,6 +62,12 @@ struct KeyframeState {
   /// [s] of the interval since the previous keyframe carried by the IMU alone (blind frames:
   /// a blackout, a bare wall, motion blur), which the pose graph trusts less than tracking.
   double bridged_s = 0.0;
+  /// Motion at the stamp and the rolling-shutter readout then (loop keypoints are moved to the
+  /// stamp with them): velocity [m/s] in the world, rate [rad/s] (gyro minus bias) in the body
+  /// frame, readout [s] (0 = global shutter).
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();
+  double rolling_shutter_readout_s = 0.0;
 };
 
 struct EstimatorStats {
@@ -117,6 +124,9 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   /// The colour images' row timing (CameraOptions::rollingShutter()); default global shutter:
   /// every observation is moved to its image's reference time along its image velocity.
   void setRollingShutter(const RollingShutter& rs);
+  /// [s] current readout: the configured one, or its estimate with
+  /// [estimator] estimate_rolling_shutter_readout.
+  double rollingShutterReadout() const;
   /// Gyroscope bias of the newest window slot [rad/s] (zero before the first slot).
   Eigen::Vector3d gyroBias() const;
   /// Processes a tracked frame; `frame.t` is the image stamp. Requires IMU up to t + timeOffset().

@@ -66,7 +66,13 @@ class StreamChecker {
   /// Wheel odometry (stream_checker_wheel.cpp): counts, and the check against the IMU at rest.
   void onWheelDelivered(const WheelOdometrySample& w, std::size_t record);
   void onImuForWheelCheck(const ImuSample& s);
+  struct WheelCheckRun;
+  /// Opens `run` at (first_t, record) or extends it to last_t.
+  static void extendRun(WheelCheckRun& run, double first_t, double last_t, std::size_t record);
   void closeWheelMotionRun();
+  void closeWheelStillRun();
+  /// issue(), also keeping a listed message in diag_.wheel_warnings.
+  void wheelIssue(const std::string& kind, std::size_t record, const std::string& message);
   void finishWheel();
   std::string records(std::size_t a, std::size_t b) const;
 
@@ -97,12 +103,16 @@ class StreamChecker {
   std::vector<std::pair<double, std::size_t>> wheel_stamps_;  ///< (t, record) delivered
   std::deque<ImuSample> rest_imu_;              ///< IMU of the last wheel_rest_window_s
   std::deque<WheelOdometrySample> rest_wheel_;  ///< wheel readings of that window
-  struct WheelMotionRun {
+  /// A run of consecutive windows with one verdict, and the peak values behind it.
+  struct WheelCheckRun {
     bool open = false;
     std::size_t first_record = 0;
     double first_t = 0.0, last_t = 0.0;
-    double max_speed_m_s = 0.0;
-  } wheel_run_;
+    double peak_a = 0.0;  ///< moving at rest: wheel speed [m/s]; still: IMU mean rate [rad/s]
+    double peak_b = 0.0;  ///< still: spread of the acceleration's block means [m/s^2]
+  };
+  WheelCheckRun wheel_run_;  ///< wheels moving while the IMU rests
+  WheelCheckRun still_run_;  ///< wheels standing while the IMU moves
 };
 
 }  // namespace rgbdi::io

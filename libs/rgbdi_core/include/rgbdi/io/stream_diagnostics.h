@@ -51,6 +51,13 @@ struct StreamDiagnostics {
   /// ([stream] wheel_rest_*).
   std::size_t wheel_moving_at_rest = 0;
   double wheel_moving_at_rest_s = 0.0;  ///< [s]
+  /// Episodes (and their total time) in which the wheels stood while the IMU moved
+  /// ([stream] wheel_still_*): a blocked wheel, a robot pushed or carried.
+  std::size_t wheel_still_imu_moving = 0;
+  double wheel_still_imu_moving_s = 0.0;  ///< [s]
+  double wheel_max_gap_t = 0.0;           ///< [s] stamp of the reading before the largest wheel dt
+  /// The listed warnings of the wheel checks (gaps, the two verdicts); also in `warnings`.
+  std::vector<std::string> wheel_warnings;
 
   std::size_t frames_with_color = 0;
   std::size_t frames_with_depth = 0;
@@ -90,6 +97,9 @@ struct StreamDiagnostics {
   }
   /// Multi-line human-readable summary (counts, rates, durations, gaps, checks, warnings).
   std::string report() const;
+  /// The lines of report()'s "Wheel:" block after its first (period and gaps, content, the two
+  /// verdicts, ordering), each indented by 7 spaces.
+  std::string wheelReport() const;
   /// The same content as a JSON object (keys match the field names).
   std::string toJson(int indent = 2) const;
 };

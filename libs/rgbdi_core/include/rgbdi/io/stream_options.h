@@ -39,6 +39,15 @@ struct StreamOptions {
   double wheel_rest_acc_std_m_s2 = 0.05;    ///< [m/s^2]
   double wheel_rest_speed_m_s = 0.05;       ///< [m/s]
   double wheel_rest_yaw_rate_rad_s = 0.05;  ///< [rad/s]
+  /// The converse check "the wheels stand while the IMU moves" (a blocked wheel, a robot pushed
+  /// or carried): over the same windows the IMU moves when the norm of its mean angular rate is
+  /// above wheel_still_gyr_rad_s, or the accelerometer changes: the standard deviation of the
+  /// means of the acceleration vector over blocks of wheel_still_block_s (block means, so that
+  /// sensor noise and motor vibration average out) is above wheel_still_acc_m_s2; the wheels
+  /// stand when they do not move (above).
+  double wheel_still_gyr_rad_s = 0.1;  ///< [rad/s]
+  double wheel_still_acc_m_s2 = 0.5;   ///< [m/s^2]
+  double wheel_still_block_s = 0.1;    ///< [s]
 
   static StreamOptions load(IniReader& ini);
 };

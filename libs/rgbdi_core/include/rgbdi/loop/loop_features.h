@@ -4,6 +4,7 @@
 // for recognising a place seen again from a similar viewpoint).
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include "rgbdi/common/camera.h"
@@ -70,7 +71,11 @@ class LoopFeatureExtractor {
   /// the keypoint is missing, out of range or on a depth edge) and empty when it has none.
   /// A frame without colour gives an empty set. Throws std::invalid_argument naming
   /// frame.source_label when the colour image does not match `cam` or is not CV_8UC3.
-  mapping::DescriptorSet extract(const RgbdFrame& frame, const PinholeCamera& cam);
+  /// `to_stamp` (rolling shutter): maps a keypoint's pixel as seen to its pixel at the frame's
+  /// stamp, where keypoints_uv and the depth (a global-shutter image at the stamp) are taken.
+  mapping::DescriptorSet extract(
+      const RgbdFrame& frame, const PinholeCamera& cam,
+      const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& to_stamp = {});
 
   /// The frame's depth registered to `cam` and sampled (with the keypoints' hole/edge and range
   /// rules) at the centres of a depth_grid_cols x depth_grid_rows grid. Empty when the frame has

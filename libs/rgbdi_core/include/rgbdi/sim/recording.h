@@ -63,7 +63,9 @@ Recording readRecording(const std::string& dir, const std::string& format);
 /// DIR[/mav0]/imu0/data.csv and DIR[/mav0]/state_groundtruth_estimate0/data.csv. IMU rows:
 /// t [ns], w xyz [rad/s], a xyz [m/s^2]; ground-truth rows: t [ns], p xyz [m], q wxyz,
 /// then optionally v xyz [m/s], bg xyz [rad/s], ba xyz [m/s^2]. Lines starting with '#' are
-/// comments. Sensor: the ADIS16448 values of the dataset's imu0/sensor.yaml; camera: cam0.
+/// comments. In the dataset's layout, the IMU's rate and noise come from imu0/sensor.yaml and the
+/// camera from cam0/sensor.yaml (T_BS) when they are there (an IMU T_BS must be the identity:
+/// body = IMU); otherwise, and in the flat layout, the EuRoC MAV's ADIS16448 and cam0.
 Recording readEurocRecording(const std::string& dir);
 
 /// Seconds of an integer nanosecond stamp, rounded once (the whole seconds and the fraction

@@ -12,7 +12,9 @@
 //                              extrinsic used, IMU noise densities inflated (never the truth)
 //   DIR/simulation.ini         every setting used ([sim] [camera] [extrinsic]; pass it back as
 //                              --config to regenerate the sequence) and the true initial biases
-//   DIR/sequence.bag           optional ROS1 bag in the published dataset layout
+//   DIR/sequence.bag           optional ROS1 bag in the published dataset layout (with the
+//                              encoders: /odom nav_msgs/Odometry and /tf_static base_link in
+//                              the IMU frame)
 //   DIR/vins_config.yaml       with the bag: its VINS-RGBD calibration file (camera, extrinsic,
 //                              the config.ini IMU noise as VINS values, td 0), which
 //                              `rawlog-convert --camera-yaml` turns into an rgbdi configuration

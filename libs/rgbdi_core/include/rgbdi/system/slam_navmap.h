@@ -16,6 +16,9 @@ namespace rgbdi::system {
 /// those deeper than options.max_depth_m in their keyframe's camera.
 std::vector<Eigen::Vector3f> navMapPoints(const mapping::KeyframeStore& store,
                                           const navmap::NavMapOptions& options);
+/// The same for one keyframe, appended to `out` (navMapPoints is these in keyframe order).
+void appendNavMapPoints(const mapping::Keyframe& keyframe, const navmap::NavMapOptions& options,
+                        std::vector<Eigen::Vector3f>* out);
 
 /// Throws std::invalid_argument when the run has no pose.
 navmap::NavMap slamNavMap(const SlamSystem& system, const navmap::NavMapOptions& options);

@@ -182,6 +182,10 @@ class SlamSystem : public MeasurementSink {
   void onKeyframe(const estimator::KeyframeState& kf, const RgbdFrame& frame,
                   const frontend::FeatureFrame& features);
   void handleKeyframe(KeyframePacket& p);
+  /// Rolling shutter: maps a loop keypoint's pixel to its pixel at the keyframe's stamp; empty
+  /// with a global shutter.
+  std::function<Eigen::Vector2d(const Eigen::Vector2d&)> keypointsToStamp(
+      const KeyframePacket& p) const;
   void handleMap(MapPacket& p);
   /// Drift of `segment` to apply to the online pose now (see the file comment); `in_origin`
   /// says whether the segment was joined to the origin then.

@@ -6,6 +6,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "rgbdi/common/measurement_sink.h"
@@ -74,6 +75,11 @@ class VioSystem : public MeasurementSink {
   const Eigen::Isometry3d& T_body_cam() const { return cfg_.extrinsic.T_body_cam; }
   estimator::SlidingWindowEstimator& estimator() { return *estimator_; }
   double timeOffset() const { return estimator_->timeOffset(); }
+  /// [s] the rolling-shutter readout: configured, or estimated ([estimator]
+  /// estimate_rolling_shutter_readout).
+  double rollingShutterReadout() const { return estimator_->rollingShutterReadout(); }
+  /// With the readout estimated: (image stamp [s], estimate [s]) about once a second of stream.
+  const std::vector<std::pair<double, double>>& readoutHistory() const { return readout_history_; }
   /// The colour camera used for `frame` ([camera] intrinsics_source: config or stream).
   PinholeCamera cameraFor(const RgbdFrame& frame) const;
 
@@ -103,6 +109,7 @@ class VioSystem : public MeasurementSink {
   Trajectory traj_body_, traj_cam_;
   VioTimings timings_;
   std::size_t frames_received_ = 0, frames_dropped_ = 0;
+  std::vector<std::pair<double, double>> readout_history_;
   std::function<void(const estimator::FrameEstimate&, const RgbdFrame&)> frame_cb_;
   KeyframeCallback keyframe_cb_;
   std::function<bool(int)> early_wanted_;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "asl_sensor_yaml.h"
 #include "rgbdi/sim/recording.h"
 
 namespace rgbdi::sim {
@@ -180,6 +181,36 @@ std::vector<RecordedPose> readGroundTruth(const std::string& path) {
   return out;
 }
 
+// The IMU as its sensor.yaml describes it (rate and the four Kalibr noise values; the name from
+// its comment). Body = IMU frame: an IMU T_BS other than the identity is refused.
+RecordedImuSensor imuSensorFromYaml(const std::string& path) {
+  const AslSensorYaml y = readAslSensorYaml(path);
+  if (y.T_BS && (*y.T_BS - Eigen::Matrix4d::Identity()).norm() > 1e-9)
+    throw RecordingError(path +
+                         ": T_BS is not the identity; the ground truth must be of the "
+                         "IMU's own frame (body = IMU)");
+  RecordedImuSensor s;
+  const auto comment = y.values.find("comment");
+  s.name = (comment != y.values.end() ? comment->second + " " : std::string()) + "(" + path + ")";
+  s.rate_hz = y.number("rate_hz");
+  s.gyr_noise_density = y.number("gyroscope_noise_density");
+  s.gyr_random_walk = y.number("gyroscope_random_walk");
+  s.acc_noise_density = y.number("accelerometer_noise_density");
+  s.acc_random_walk = y.number("accelerometer_random_walk");
+  for (const double v :
+       {s.rate_hz, s.gyr_noise_density, s.gyr_random_walk, s.acc_noise_density, s.acc_random_walk})
+    if (!(v > 0.0)) throw RecordingError(path + ": rate and noise values must be positive");
+  return s;
+}
+
+Eigen::Isometry3d cameraFromYaml(const std::string& path) {
+  const AslSensorYaml y = readAslSensorYaml(path);
+  if (!y.T_BS) throw RecordingError(path + ": no T_BS");
+  Eigen::Isometry3d T(*y.T_BS);
+  T.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
+  return T;
+}
+
 }  // namespace
 
 Recording readEurocRecording(const std::string& dir) {
@@ -188,14 +219,22 @@ Recording readEurocRecording(const std::string& dir) {
   Recording r;
   r.format = "euroc";
   r.directory = dir;
-  r.imu = readImu(firstExisting(
-      {d / "imu0.csv", d / "imu0" / "data.csv", d / "mav0" / "imu0" / "data.csv"}, "IMU", dir));
+  const fs::path imu_file = firstExisting(
+      {d / "imu0.csv", d / "imu0" / "data.csv", d / "mav0" / "imu0" / "data.csv"}, "IMU", dir);
+  r.imu = readImu(imu_file.string());
   r.ground_truth = readGroundTruth(
       firstExisting({d / "groundtruth.csv", d / "state_groundtruth_estimate0" / "data.csv",
                      d / "mav0" / "state_groundtruth_estimate0" / "data.csv"},
                     "ground-truth", dir));
-  r.sensor = eurocSensor();
-  r.T_body_cam = eurocCam0();
+  // The ASL layout describes its sensors next to their data; without (the flat layout, or a
+  // copy without them) the EuRoC MAV's.
+  const fs::path imu_yaml = imu_file.parent_path() / "sensor.yaml";
+  const fs::path cam_yaml = imu_file.parent_path().parent_path() / "cam0" / "sensor.yaml";
+  const bool asl = imu_file.filename() == "data.csv";
+  r.sensor =
+      asl && fs::is_regular_file(imu_yaml) ? imuSensorFromYaml(imu_yaml.string()) : eurocSensor();
+  r.T_body_cam =
+      asl && fs::is_regular_file(cam_yaml) ? cameraFromYaml(cam_yaml.string()) : eurocCam0();
   return r;
 }
 

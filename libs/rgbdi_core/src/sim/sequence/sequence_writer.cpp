@@ -70,6 +70,7 @@ class WritingSink : public MeasurementSink {
   void feedImu(const ImuSample& imu) override {
     rawlog_.write(imu);
     if (bag_) {
+      writeWheelFrame(imu.t);
       bag_->writeImu(imu);
       if (!seq_.isRecorded()) {
         bag_->writePose(imu.t, seq_.groundTruth(imu.t).T_world_body);
@@ -83,7 +84,11 @@ class WritingSink : public MeasurementSink {
   }
 
   void feedWheel(const WheelOdometrySample& wheel) override {
-    rawlog_.write(wheel);  // the bag has no odometry topic (absent)
+    rawlog_.write(wheel);
+    if (bag_) {
+      writeWheelFrame(wheel.t);
+      bag_->writeOdometry(wheel);
+    }
     ++wheel_readings_;
   }
 
@@ -119,6 +124,16 @@ class WritingSink : public MeasurementSink {
       *options_.progress << os.str() << "\n" << std::flush;
   }
 
+  /// With encoders, once before the first message: the wheel frame (the odometry's child frame)
+  /// in the IMU frame on /tf_static, so that rawlog-convert finds the extrinsic. The simulated
+  /// wheel frame is the body frame (wheel_encoder_synth.h).
+  void writeWheelFrame(double t) {
+    if (wheel_frame_written_ || !seq_.hasWheels()) return;
+    wheel_frame_written_ = true;
+    bag_->writeStaticTransform(t, bag_->topics().imu_frame_id, bag_->topics().wheel_frame_id,
+                               Eigen::Isometry3d::Identity());
+  }
+
   const SimulatedSequence& seq_;
   io::RawlogWriter& rawlog_;
   bag::BagWriter* bag_;
@@ -128,6 +143,7 @@ class WritingSink : public MeasurementSink {
   std::size_t frames_ = 0, imu_samples_ = 0, wheel_readings_ = 0;
   Trajectory recorded_truth_;  ///< a recording's ground-truth samples (bag only)
   std::size_t next_truth_ = 0;
+  bool wheel_frame_written_ = false;
 };
 
 }  // namespace
