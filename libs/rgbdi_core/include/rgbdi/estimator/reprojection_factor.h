@@ -24,6 +24,29 @@ struct FeatureMeasurement {
   double readout_at_stamp_s = 0.0;  ///< [s]
 };
 
+/// What ReprojectionFactor and RollingShutterReprojectionFactor share: the two observations, the
+/// extrinsic and the weight, and the residual with its analytic Jacobians once each observation
+/// is shifted along its image velocity by its own time (dt_i, dt_j).
+class ShiftedReprojection {
+ public:
+  void reset(const FeatureMeasurement& obs_i, const FeatureMeasurement& obs_j,
+             const Eigen::Isometry3d& T_body_cam, double sqrt_info);
+  const FeatureMeasurement& obsI() const { return obs_i_; }
+  const FeatureMeasurement& obsJ() const { return obs_j_; }
+
+  /// parameters[0..2]: pose_i, pose_j, inverse depth. Jacobians (where jacobians[k] is given):
+  /// k = 0..2 of those blocks; k = 3 + s for each of the `shifts` time parameters, a unit of which
+  /// moves observation i by shift_i[s] and observation j by shift_j[s] of their dt.
+  void evaluate(double const* const* parameters, double dt_i, double dt_j, double* residuals,
+                double** jacobians, int shifts, const double* shift_i, const double* shift_j) const;
+
+ private:
+  FeatureMeasurement obs_i_, obs_j_;
+  Eigen::Matrix3d R_bc_;
+  Eigen::Vector3d t_bc_;
+  double sqrt_info_ = 0.0;
+};
+
 class ReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 7, 1, 1> {
  public:
   /// sqrt_info: 1 / sigma on the normalised plane (e.g. 460 / 1.5).
@@ -38,10 +61,7 @@ class ReprojectionFactor final : public ceres::SizedCostFunction<2, 7, 7, 1, 1> 
                 double** jacobians) const override;
 
  private:
-  FeatureMeasurement obs_i_, obs_j_;
-  Eigen::Matrix3d R_bc_;
-  Eigen::Vector3d t_bc_;
-  double sqrt_info_;
+  ShiftedReprojection core_;
 };
 
 }  // namespace rgbdi::estimator

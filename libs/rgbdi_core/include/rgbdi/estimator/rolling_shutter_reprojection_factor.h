@@ -33,10 +33,7 @@ class RollingShutterReprojectionFactor final : public ceres::SizedCostFunction<2
                 double** jacobians) const override;
 
  private:
-  FeatureMeasurement obs_i_, obs_j_;
-  Eigen::Matrix3d R_bc_;
-  Eigen::Vector3d t_bc_;
-  double sqrt_info_;
+  ShiftedReprojection core_;
 };
 
 }  // namespace rgbdi::estimator
