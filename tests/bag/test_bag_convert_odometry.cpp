@@ -18,6 +18,7 @@
 #include "rgbdi/bag/ros_odometry.h"
 #include "testing/fixtures.h"
 #include "testing/recording_sink.h"
+#include "testing/tiny_frame.h"
 
 namespace rgbdi::bag {
 
@@ -140,13 +141,7 @@ std::string writeBag(const std::string& path, int nan_at, bool with_tf) {
       o.yaw_rate_rad_s = 1.5;
       w.writeOdometry(o);
     }
-    if (k % 10 == 0) {
-      RgbdFrame f;
-      f.t = s.t;
-      f.rgb = cv::Mat(24, 32, CV_8UC3, cv::Scalar(k, 2, 3));
-      f.depth = cv::Mat(24, 32, CV_16UC1, cv::Scalar(1000 + k));
-      w.writeRgbd(f);
-    }
+    if (k % 10 == 0) w.writeRgbd(test::tinyFrame(s.t, k));
   }
   w.close();
   return path;

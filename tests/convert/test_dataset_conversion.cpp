@@ -14,6 +14,7 @@
 #include "rgbdi/convert/dataset_conversion.h"
 #include "rgbdi/io/rawlog_source.h"
 #include "testing/fixtures.h"
+#include "testing/tiny_frame.h"
 
 namespace rgbdi::convert {
 namespace {
@@ -30,13 +31,7 @@ std::string writeBag(const std::string& dir) {
     s.acc = Eigen::Vector3d(0, 0, 9.8);
     w.writeImu(s);
     w.writePose(s.t, Eigen::Isometry3d::Identity());
-    if (k % 10 == 0) {
-      RgbdFrame f;
-      f.t = s.t;
-      f.rgb = cv::Mat(24, 32, CV_8UC3, cv::Scalar(k, 2, 3));
-      f.depth = cv::Mat(24, 32, CV_16UC1, cv::Scalar(1000 + k));
-      w.writeRgbd(f);
-    }
+    if (k % 10 == 0) w.writeRgbd(test::tinyFrame(s.t, k));
   }
   w.close();
   return path;

@@ -5,6 +5,7 @@
 
 #include <random>
 
+#include "factor_jacobians.h"
 #include "rgbdi/common/so3.h"
 #include "rgbdi/estimator/gauge_prior.h"
 #include "rgbdi/estimator/marginalization.h"
@@ -14,6 +15,8 @@
 
 using namespace rgbdi;
 using namespace rgbdi::estimator;
+using rgbdi::test::analyticJacobian;
+using rgbdi::test::numericJacobian;
 
 namespace {
 
@@ -24,58 +27,6 @@ Eigen::Matrix<double, 7, 1> randomPose(std::mt19937_64& rng) {
   const Eigen::Quaterniond q = expQuat(Eigen::Vector3d(n(rng), n(rng), n(rng)) * 0.5);
   x.tail<4>() = q.coeffs();
   return x;
-}
-
-/// Numeric Jacobian of a cost function w.r.t. the tangent of block `b` (PoseManifold for 7-blocks).
-Eigen::MatrixXd numericJacobian(const ceres::CostFunction& f,
-                                std::vector<std::vector<double>> params, int b) {
-  const int nres = f.num_residuals();
-  const int size = f.parameter_block_sizes()[static_cast<size_t>(b)];
-  const int tangent = size == 7 ? 6 : size;
-  Eigen::MatrixXd J(nres, tangent);
-  const double h = 1e-6;
-  for (int k = 0; k < tangent; ++k) {
-    auto plus = params, minus = params;
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(tangent);
-    d[k] = h;
-    if (size == 7) {
-      PoseManifold m;
-      m.Plus(params[static_cast<size_t>(b)].data(), d.data(), plus[static_cast<size_t>(b)].data());
-      d[k] = -h;
-      m.Plus(params[static_cast<size_t>(b)].data(), d.data(), minus[static_cast<size_t>(b)].data());
-    } else {
-      plus[static_cast<size_t>(b)][static_cast<size_t>(k)] += h;
-      minus[static_cast<size_t>(b)][static_cast<size_t>(k)] -= h;
-    }
-    auto eval = [&](std::vector<std::vector<double>>& p) {
-      std::vector<const double*> ptrs;
-      for (auto& v : p) ptrs.push_back(v.data());
-      Eigen::VectorXd r(nres);
-      f.Evaluate(ptrs.data(), r.data(), nullptr);
-      return r;
-    };
-    J.col(k) = (eval(plus) - eval(minus)) / (2 * h);
-  }
-  return J;
-}
-
-Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f,
-                                 std::vector<std::vector<double>> params, int b) {
-  const int nres = f.num_residuals();
-  std::vector<const double*> ptrs;
-  std::vector<std::vector<double>> jac;
-  std::vector<double*> jptrs;
-  for (size_t i = 0; i < params.size(); ++i) {
-    ptrs.push_back(params[i].data());
-    jac.emplace_back(static_cast<size_t>(nres) * params[i].size());
-  }
-  for (auto& j : jac) jptrs.push_back(j.data());
-  Eigen::VectorXd r(nres);
-  f.Evaluate(ptrs.data(), r.data(), jptrs.data());
-  const int size = static_cast<int>(params[static_cast<size_t>(b)].size());
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
-      jac[static_cast<size_t>(b)].data(), nres, size);
-  return J.leftCols(size == 7 ? 6 : size);
 }
 
 }  // namespace

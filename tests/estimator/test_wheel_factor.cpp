@@ -6,6 +6,7 @@
 
 #include <random>
 
+#include "factor_jacobians.h"
 #include "rgbdi/common/so3.h"
 #include "rgbdi/estimator/estimator_options.h"
 #include "rgbdi/estimator/pose_manifold.h"
@@ -16,62 +17,14 @@
 namespace rgbdi::estimator {
 namespace {
 
-using Params = std::vector<std::vector<double>>;
+using test::analyticJacobian;
+using test::numericJacobian;
+using test::Params;
 
 std::vector<double> poseBlock(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.rotation());
   return {
       T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
-}
-
-Eigen::VectorXd evaluate(const ceres::CostFunction& f, const Params& p) {
-  std::vector<const double*> ptrs;
-  for (const auto& v : p) ptrs.push_back(v.data());
-  Eigen::VectorXd r(f.num_residuals());
-  f.Evaluate(ptrs.data(), r.data(), nullptr);
-  return r;
-}
-
-/// Central differences w.r.t. the tangent of block b (PoseManifold for the 7-blocks).
-Eigen::MatrixXd numericJacobian(const ceres::CostFunction& f, const Params& params, int b) {
-  const std::size_t bi = static_cast<std::size_t>(b);
-  const int size = static_cast<int>(params[bi].size());
-  const int tangent = size == 7 ? 6 : size;
-  Eigen::MatrixXd J(f.num_residuals(), tangent);
-  const double h = 1e-6;
-  for (int k = 0; k < tangent; ++k) {
-    Params plus = params, minus = params;
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(tangent);
-    if (size == 7) {
-      PoseManifold m;
-      d[k] = h;
-      m.Plus(params[bi].data(), d.data(), plus[bi].data());
-      d[k] = -h;
-      m.Plus(params[bi].data(), d.data(), minus[bi].data());
-    } else {
-      plus[bi][static_cast<std::size_t>(k)] += h;
-      minus[bi][static_cast<std::size_t>(k)] -= h;
-    }
-    J.col(k) = (evaluate(f, plus) - evaluate(f, minus)) / (2 * h);
-  }
-  return J;
-}
-
-Eigen::MatrixXd analyticJacobian(const ceres::CostFunction& f, const Params& params, int b) {
-  std::vector<const double*> ptrs;
-  std::vector<std::vector<double>> jac;
-  std::vector<double*> jptrs;
-  for (const auto& v : params) {
-    ptrs.push_back(v.data());
-    jac.emplace_back(static_cast<std::size_t>(f.num_residuals()) * v.size());
-  }
-  for (auto& j : jac) jptrs.push_back(j.data());
-  Eigen::VectorXd r(f.num_residuals());
-  f.Evaluate(ptrs.data(), r.data(), jptrs.data());
-  const int size = static_cast<int>(params[static_cast<std::size_t>(b)].size());
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
-      jac[static_cast<std::size_t>(b)].data(), f.num_residuals(), size);
-  return J.leftCols(size == 7 ? 6 : size);
 }
 
 /// Readings of a robot driving a circle of radius rho at speed v (rho = 0: straight along x),
