@@ -19,6 +19,21 @@
 
 namespace rgbdi::bag {
 
+namespace {
+
+/// One message into the bag; a rosbag failure becomes a BagError naming `where` and `what`.
+template <class Message>
+void writeMessage(rosbag::Bag& bag, const std::string& topic, const ros::Time& stamp,
+                  const Message& m, const std::string& where, const char* what) {
+  try {
+    bag.write(topic, stamp, m);
+  } catch (const rosbag::BagException& e) {
+    throw BagError(where + ": cannot write " + what + ": " + e.what());
+  }
+}
+
+}  // namespace
+
 struct BagWriter::Impl {
   rosbag::Bag bag;
   // Reused message buffers: a frame is ~1.5 MB, so avoid reallocating per frame.
@@ -99,11 +114,7 @@ void BagWriter::writeImu(const ImuSample& imu) {
   m.linear_acceleration.x = imu.acc.x();
   m.linear_acceleration.y = imu.acc.y();
   m.linear_acceleration.z = imu.acc.z();
-  try {
-    impl_->bag.write(topics_.imu, m.header.stamp, m);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(path_ + ": cannot write IMU message: " + e.what());
-  }
+  writeMessage(impl_->bag, topics_.imu, m.header.stamp, m, path_, "IMU message");
   ++messages_;
 }
 
@@ -150,12 +161,8 @@ void BagWriter::writeRgbd(const RgbdFrame& frame) {
       dst[2 * x + 1] = static_cast<std::uint8_t>(v >> 8);
     }
   }
-  try {
-    impl_->bag.write(topics_.color, stamp, c);
-    impl_->bag.write(topics_.depth, stamp, d);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(what + ": cannot write image messages: " + e.what());
-  }
+  writeMessage(impl_->bag, topics_.color, stamp, c, what, "image messages");
+  writeMessage(impl_->bag, topics_.depth, stamp, d, what, "image messages");
   ++impl_->seq_color;
   messages_ += 2;
 }
@@ -174,11 +181,7 @@ void BagWriter::writePose(double t, const Eigen::Isometry3d& T_world_body) {
   m.pose.orientation.y = q.y();
   m.pose.orientation.z = q.z();
   m.pose.orientation.w = q.w();
-  try {
-    impl_->bag.write(topics_.pose, m.header.stamp, m);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(path_ + ": cannot write pose message: " + e.what());
-  }
+  writeMessage(impl_->bag, topics_.pose, m.header.stamp, m, path_, "pose message");
   ++messages_;
 }
 
@@ -198,11 +201,7 @@ void BagWriter::writeOdometry(const WheelOdometrySample& w) {
     m.twist.twist.linear.y = w.v_lateral_m_s;
     m.twist.twist.angular.z = w.yaw_rate_rad_s;
   }
-  try {
-    impl_->bag.write(topics_.odometry, m.header.stamp, m);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(path_ + ": cannot write odometry message: " + e.what());
-  }
+  writeMessage(impl_->bag, topics_.odometry, m.header.stamp, m, path_, "odometry message");
   ++messages_;
 }
 
@@ -223,11 +222,7 @@ void BagWriter::writeStaticTransform(double t, const std::string& parent, const 
   tf.transform.rotation.w = q.w();
   tf2_msgs::TFMessage m;
   m.transforms.push_back(tf);
-  try {
-    impl_->bag.write(topics_.tf_static, tf.header.stamp, m);
-  } catch (const rosbag::BagException& e) {
-    throw BagError(path_ + ": cannot write static transform: " + e.what());
-  }
+  writeMessage(impl_->bag, topics_.tf_static, tf.header.stamp, m, path_, "static transform");
   ++messages_;
 }
 
