@@ -35,6 +35,21 @@ RelocJob jobOf(const std::vector<DepthSample>& samples) {
   j.samples = samples;
   return j;
 }
+
+/// Points on three walls and a floor patch: structure in x, y and z for the ICP tests.
+std::vector<Eigen::Vector3d> threeWallsAndAFloor() {
+  std::vector<Eigen::Vector3d> map_points;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 10; ++k) {
+      map_points.emplace_back(0.013 * i, 0.0, 0.05 * k);
+      map_points.emplace_back(0.0, 0.017 * i, 0.05 * k);
+      map_points.emplace_back(0.8, 0.011 * i, 0.05 * k);
+    }
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) map_points.emplace_back(0.025 * i, 0.021 * j, 0.0);
+  return map_points;
+}
+
 }  // namespace
 
 TEST(GeometricRelocaliser, FloorOffsetIsTheMedianHeightDifference) {
@@ -55,15 +70,7 @@ TEST(GeometricRelocaliser, FloorOffsetIsTheMedianHeightDifference) {
 TEST(GeometricRelocaliser, RefineRecoversASmallYawAndShift) {
   // Points on three walls and a floor patch (structure in x, y and z); the local copy is moved
   // by 2 deg and (4, -3, 2) cm, point-to-plane ICP from identity must undo it.
-  std::vector<Eigen::Vector3d> map_points;
-  for (int i = 0; i < 60; ++i)
-    for (int k = 0; k < 10; ++k) {
-      map_points.emplace_back(0.013 * i, 0.0, 0.05 * k);
-      map_points.emplace_back(0.0, 0.017 * i, 0.05 * k);
-      map_points.emplace_back(0.8, 0.011 * i, 0.05 * k);
-    }
-  for (int i = 0; i < 30; ++i)
-    for (int j = 0; j < 30; ++j) map_points.emplace_back(0.025 * i, 0.021 * j, 0.0);
+  const std::vector<Eigen::Vector3d> map_points = threeWallsAndAFloor();
   const Eigen::Isometry3d motion = yawPose(2.0 * M_PI / 180.0, Eigen::Vector3d(0.04, -0.03, 0.02));
   std::vector<Eigen::Vector3d> local;
   for (const Eigen::Vector3d& p : map_points) local.push_back(motion.inverse() * p);
@@ -135,15 +142,7 @@ TEST(GeometricRelocaliser, HuberKeepsASurfaceTheMapSawElsewhereFromDraggingTheFi
   // points, 0.1-0.45 m high) 6 cm in front of the x = 0 wall that the map does not have (the back
   // of a shelf, a surface seen with a few centimetres of height drift): paired with that wall, it
   // pulls the fit along x.
-  std::vector<Eigen::Vector3d> map_points;
-  for (int i = 0; i < 60; ++i)
-    for (int k = 0; k < 10; ++k) {
-      map_points.emplace_back(0.013 * i, 0.0, 0.05 * k);
-      map_points.emplace_back(0.0, 0.017 * i, 0.05 * k);
-      map_points.emplace_back(0.8, 0.011 * i, 0.05 * k);
-    }
-  for (int i = 0; i < 30; ++i)
-    for (int j = 0; j < 30; ++j) map_points.emplace_back(0.025 * i, 0.021 * j, 0.0);
+  const std::vector<Eigen::Vector3d> map_points = threeWallsAndAFloor();
   std::vector<Eigen::Vector3d> local = map_points;
   for (int i = 0; i < 40; ++i)
     for (int k = 2; k < 10; ++k) local.emplace_back(0.06, 0.3 + 0.017 * i, 0.05 * k);
