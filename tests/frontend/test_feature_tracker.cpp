@@ -880,3 +880,71 @@ TEST(FeatureTracker, AFastTurnIsTrackedWhenTheRotationIsPredicted) {
     }
   }
 }
+
+TEST(FeatureTracker, AFastMovePastANearWallIsTrackedWhenTheTranslationIsPredicted) {
+  // A camera sliding sideways 0.15 m per frame in front of a wall 1 m away (2.25 m/s at 15 Hz):
+  // every feature moves 75 px, beyond the pyramid's reach (15 px window, 3 levels: 60 px), and
+  // the rotation (none) predicts nothing. With the translation and the features' depth the
+  // prediction puts them where they went.
+  const PinholeCamera cam = simpleCamera();
+  const double z = 1.0, step_m = 0.15;
+  LayeredScene wall;
+  {
+    const double texel = z / 500.0;
+    const double x0 = -1.0, x1 = 2.2, y0 = -0.8, y1 = 0.8;
+    const int tw = static_cast<int>((x1 - x0) / texel) + 4,
+              th = static_cast<int>((y1 - y0) / texel) + 4;
+    wall.scene.textures.push_back(randomRectangleTexture(tw, th, 21, tw * th / 500));
+    wall.scene.rects.push_back({{x0, y0, z}, {x1 - x0, 0, 0}, {0, y1 - y0, 0}, 0, texel});
+    wall.surface_depth.push_back(z);
+  }
+  for (const bool translation : {true, false}) {
+    FrontendOptions options;
+    options.klt_window_px = 15;
+    options.klt_pyramid_levels = 3;
+    options.klt_predict_translation = translation;  // read by the caller (VioSystem), not here
+    FeatureTracker tracker(options, cam);
+    std::map<std::uint64_t, Eigen::Vector2d> last;
+    int tracked = 0, candidates = 0;
+    std::vector<double> errors;
+    for (int k = 0; k < 5; ++k) {
+      Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+      T_world_cam.translation().x() = k * step_m;
+      RenderOutput truth;
+      const RgbdFrame frame = renderFrame(wall, cam, T_world_cam, k * kDt, k, &truth);
+      std::optional<CameraMotion> motion;
+      if (k > 0) {
+        motion = translation
+                     ? CameraMotion(Eigen::Matrix3d::Identity(), Eigen::Vector3d(step_m, 0.0, 0.0))
+                     : CameraMotion(Eigen::Matrix3d::Identity());
+      }
+      const FeatureFrame f = tracker.track(frame, motion);
+      std::map<std::uint64_t, Eigen::Vector2d> now;
+      for (const FeatureObservation& o : f.features) {
+        now[o.id] = o.uv;
+        const auto it = last.find(o.id);
+        if (it == last.end()) continue;
+        ++tracked;
+        errors.push_back((o.uv - (it->second - Eigen::Vector2d(cam.fx * step_m / z, 0.0))).norm());
+      }
+      if (k > 0)
+        for (const auto& [id, uv] : last)
+          if (cam.inImage(uv - Eigen::Vector2d(cam.fx * step_m / z, 0.0), options.border_px))
+            ++candidates;
+      last = now;
+    }
+    std::sort(errors.begin(), errors.end());
+    const double median = errors.empty() ? 0.0 : errors[errors.size() / 2];
+    std::cout << (translation ? "translation predicted" : "rotation only") << ": " << tracked
+              << " of " << candidates << " trackable features tracked, error median " << median
+              << " px\n";
+    ASSERT_GT(candidates, 200);
+    if (translation) {
+      EXPECT_GE(tracked, candidates * 9 / 10);
+      EXPECT_LT(median, 0.1);
+      EXPECT_LT(errors.back(), 0.5);
+    } else {
+      EXPECT_LT(tracked, candidates / 2);
+    }
+  }
+}

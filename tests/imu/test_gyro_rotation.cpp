@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <functional>
 
 #include "rgbdi/common/so3.h"
@@ -86,4 +87,61 @@ TEST(GyroRotation, EmptyBufferOrEmptyIntervalIsIdentity) {
   EXPECT_LT(angleBetween(gyroRotation(b, 0.6, 0.5, Eigen::Vector3d::Zero()),
                          Eigen::Quaterniond::Identity()),
             1e-15);
+}
+
+TEST(DeadReckonedMotion, ConstantRateAndAccelerationOfAKnownPath) {
+  // A body turning about its z axis at w while its specific force is constant in the body frame:
+  // with gravity cancelled in the world's z, the world acceleration of the body is
+  // R(t) a_xy, whose double integral is known in closed form. Pieces of 1 ms: midpoint attitude
+  // integration errs by O(dt^2) per unit time.
+  const double w = 0.8;
+  const Eigen::Vector3d a_body(0.5, -0.2, 0.0), bias_g(0.01, -0.02, 0.03),
+      bias_a(0.05, 0.04, -0.03), g(0.0, 0.0, -9.81);
+  ImuBuffer b;
+  for (double t = 0.0; t <= 2.0 + 1e-12; t += 0.001) {
+    ImuSample s;
+    s.t = t;
+    s.gyr = Eigen::Vector3d(0.0, 0.0, w) + bias_g;
+    s.acc = a_body - g + bias_a;  // the body stays level: gravity's reaction along its z
+    b.push(s);
+  }
+  rgbdi::imu::BodyState start;
+  start.v_world = Eigen::Vector3d(0.3, 0.1, 0.2);
+  start.bias_gyr = bias_g;
+  start.bias_acc = bias_a;
+  const double t0 = 0.2, T = 1.3;
+  const Eigen::Isometry3d M = rgbdi::imu::deadReckonedMotion(b, t0, t0 + T, start, g);
+  // p(T) = v0 T + int_0^T int_0^s R(wu) a du ds; with c = a_x + i a_y:
+  // int_0^s e^{iwu} c du = c (e^{iws} - 1) / (iw); int_0^T of that = c ((e^{iwT} - 1)/(iw) -
+  // T)/(iw).
+  const std::complex<double> c(a_body.x(), a_body.y()), iw(0.0, w);
+  const std::complex<double> xy = c * ((std::exp(iw * T) - 1.0) / iw - T) / iw;
+  const Eigen::Vector3d expected = start.v_world * T + Eigen::Vector3d(xy.real(), xy.imag(), 0.0);
+  EXPECT_LT((M.translation() - expected).norm(), 1e-6) << M.translation().transpose();
+  EXPECT_LT(Eigen::Quaterniond(M.linear())
+                .angularDistance(rgbdi::expQuat(Eigen::Vector3d(0.0, 0.0, w * T))),
+            1e-12);
+}
+
+TEST(DeadReckonedMotion, TranslationIsInTheStartBodyFrameAndEmptyIsIdentity) {
+  // At rest (specific force = gravity's reaction) a body turned by 90 deg about z, moving along
+  // the world's x at 1 m/s, moves along its own -y.
+  ImuBuffer b;
+  for (double t = 0.0; t <= 1.0 + 1e-12; t += 0.005) {
+    ImuSample s;
+    s.t = t;
+    s.acc = Eigen::Vector3d(0.0, 0.0, 9.81);
+    b.push(s);
+  }
+  rgbdi::imu::BodyState start;
+  start.q_world_body = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  start.v_world = Eigen::Vector3d(1.0, 0.0, 0.0);
+  const Eigen::Vector3d g(0.0, 0.0, -9.81);
+  const Eigen::Isometry3d M = rgbdi::imu::deadReckonedMotion(b, 0.25, 0.75, start, g);
+  EXPECT_LT((M.translation() - Eigen::Vector3d(0.0, -0.5, 0.0)).norm(), 1e-12);
+  EXPECT_LT(Eigen::Quaterniond(M.linear()).angularDistance(Eigen::Quaterniond::Identity()), 1e-12);
+  EXPECT_TRUE(rgbdi::imu::deadReckonedMotion(ImuBuffer(), 0.0, 1.0, start, g)
+                  .isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(rgbdi::imu::deadReckonedMotion(b, 0.5, 0.5, start, g)
+                  .isApprox(Eigen::Isometry3d::Identity()));
 }

@@ -249,6 +249,8 @@ const std::vector<Field> kFields = {
     {"frontend", "klt_epsilon_px", [](const Defaults& d) { return text(d.system.frontend.klt_epsilon_px); }},
     {"frontend", "klt_max_forward_backward_px", [](const Defaults& d) { return text(d.system.frontend.klt_max_forward_backward_px); }},
     {"frontend", "klt_predict_rotation", [](const Defaults& d) { return text(d.system.frontend.klt_predict_rotation); }},
+    {"frontend", "klt_predict_translation", [](const Defaults& d) { return text(d.system.frontend.klt_predict_translation); }},
+    {"frontend", "klt_predict_every_feature", [](const Defaults& d) { return text(d.system.frontend.klt_predict_every_feature); }},
     {"frontend", "ransac_threshold_px", [](const Defaults& d) { return text(d.system.frontend.ransac_threshold_px); }},
     {"frontend", "ransac_confidence", [](const Defaults& d) { return text(d.system.frontend.ransac_confidence); }},
     {"frontend", "depth_min_m", [](const Defaults& d) { return text(d.system.frontend.depth_min_m); }},

@@ -53,7 +53,7 @@ void FeatureTracker::reset() {
 }
 
 std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
-    const std::vector<cv::Mat>& pyramid, const std::optional<Eigen::Matrix3d>& R_previous_current,
+    const std::vector<cv::Mat>& pyramid, const std::optional<CameraMotion>& motion,
     FeatureFrame& out) {
   Stopwatch watch;
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
@@ -64,30 +64,53 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   for (size_t i = 0; i < n; ++i) previous_uv[i] = previous_tracks_[i].uv;
   std::vector<std::uint8_t> status;
   int flags = 0;
-  const bool predict = R_previous_current && options_.klt_predict_rotation && n > 0;
-  // Where the rotation alone moves a point (its bearing turned into the other camera frame),
-  // for points it moves beyond the pyramid's reach (half a window at the coarsest level): KLT
-  // cannot find those by itself. Nearer points keep their start, as without a prediction: KLT
-  // finds them, and the backward check keeps its independence from the forward result, which
-  // drops ambiguous features (repetitive texture) that a hint in both passes would let through.
-  // (Measured: predicting every feature moved the odometry ATE of single sequences by -24 to
-  // +41 %, more often up; doc/frontend.md.) Translation is left to KLT.
-  const double reach = 0.5 * options_.klt_window_px * std::pow(2.0, options_.klt_pyramid_levels);
-  // `xn_from`: from's undistorted normalised position (the tracks keep theirs).
-  auto rotated = [&](const cv::Point2f& from, const Eigen::Vector2d& xn_from,
-                     const Eigen::Matrix3d& R_to_from) {
-    const Eigen::Vector3d bearing = R_to_from * xn_from.homogeneous();
+  const bool predict = motion && options_.klt_predict_rotation && n > 0;
+  // Where the motion moves a point (its bearing turned into the other camera frame; with a
+  // translation, its point at its depth moved too), for points it moves beyond the pyramid's
+  // reach (half a window at the coarsest level): KLT cannot find those by itself. Nearer points
+  // keep their start, as without a prediction: KLT finds them, and the backward check keeps its
+  // independence from the forward result, which drops ambiguous features (repetitive texture)
+  // that a hint in both passes would let through. (Measured: predicting every feature moved the
+  // odometry ATE of single sequences by -24 to +41 %, more often up; doc/frontend.md.)
+  const double reach =
+      options_.klt_predict_every_feature
+          ? 0.0
+          : 0.5 * options_.klt_window_px * std::pow(2.0, options_.klt_pyramid_levels);
+  // `xn_from`: from's undistorted normalised position (the tracks keep theirs); `depth_from`
+  // [m] its depth in from's camera (0: unknown, the rotation alone moves it); `depth_to`
+  // receives its depth in to's camera (0 when unknown).
+  auto predicted = [&](const cv::Point2f& from, const Eigen::Vector2d& xn_from, double depth_from,
+                       const Eigen::Matrix3d& R_to_from, const Eigen::Vector3d* p_to_from,
+                       double& depth_to) {
+    depth_to = 0.0;
+    Eigen::Vector3d point = R_to_from * xn_from.homogeneous();
+    if (p_to_from && depth_from > 0.0) {
+      point = depth_from * point + *p_to_from;
+      depth_to = point.z();
+    }
     Eigen::Vector2d uv;
-    if (!cam_.project(bearing, uv)) return from;
+    if (!cam_.project(point, uv)) return from;
     const cv::Point2f to(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
     const cv::Point2f shift = to - from;
     return double(shift.dot(shift)) >= reach * reach ? to : from;
   };
+  // The same motion both ways: T_current_previous for the forward pass, its inverse back.
+  Eigen::Matrix3d R_current_previous = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p_current_previous = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d* p_forward = nullptr;
+  const Eigen::Vector3d* p_backward = nullptr;
+  std::vector<double> depth_current(n, 0.0);
   if (predict) {
-    const Eigen::Matrix3d R_current_previous = R_previous_current->transpose();
+    R_current_previous = motion->R_previous_current.transpose();
+    if (motion->p_previous_current) {
+      p_current_previous = -(R_current_previous * *motion->p_previous_current);
+      p_forward = &p_current_previous;
+      p_backward = &*motion->p_previous_current;
+    }
     current_uv.resize(n);
     for (size_t i = 0; i < n; ++i)
-      current_uv[i] = rotated(previous_uv[i], previous_tracks_[i].xn, R_current_previous);
+      current_uv[i] = predicted(previous_uv[i], previous_tracks_[i].xn, previous_tracks_[i].depth_m,
+                                R_current_previous, p_forward, depth_current[i]);
     flags = cv::OPTFLOW_USE_INITIAL_FLOW;
   }
   // No error output (cv::noArray()): OpenCV would interpolate every window once more to fill it,
@@ -120,16 +143,18 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
   }
 
   // Backward check: track the new positions back to the previous image. It starts from the new
-  // positions themselves, turned back by the rotation when one is given (no hint from the old
-  // positions), so a wrong forward match cannot be pulled back onto its starting point by the
-  // initial guess.
+  // positions themselves, moved back by the motion when one is given (no hint from the old
+  // positions; the depth is the one the forward prediction gave the point here), so a wrong
+  // forward match cannot be pulled back onto its starting point by the initial guess.
   std::vector<cv::Point2f> forward(candidates.size()), backward;
   for (size_t k = 0; k < candidates.size(); ++k) forward[k] = current_uv[candidates[k]];
   if (predict) {
     backward.resize(forward.size());
+    double unused_depth = 0.0;
     for (size_t k = 0; k < forward.size(); ++k)
-      backward[k] = rotated(forward[k], cam_.pixelToNormalized({forward[k].x, forward[k].y}),
-                            *R_previous_current);
+      backward[k] = predicted(forward[k], cam_.pixelToNormalized({forward[k].x, forward[k].y}),
+                              depth_current[candidates[k]], motion->R_previous_current, p_backward,
+                              unused_depth);
   }
   std::vector<std::uint8_t> back_status;
   if (!forward.empty())
@@ -146,8 +171,8 @@ std::vector<FeatureTracker::Track> FeatureTracker::trackPrevious(
       continue;
     }
     const Track& old = previous_tracks_[candidates[k]];
-    Track moved{old.id, forward[k], cam_.pixelToNormalized({forward[k].x, forward[k].y}),
-                old.length + 1, old.xn};
+    Track moved{old.id,         forward[k], cam_.pixelToNormalized({forward[k].x, forward[k].y}),
+                old.length + 1, old.xn,     0.0};
     previous_xn.push_back(old.xn);
     current_xn.push_back(moved.xn);
     survivors.push_back(moved);
@@ -275,8 +300,8 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& derivative
         continue;
       }
       const cv::Point2f& c = corners[k];
-      tracks.push_back(
-          Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1, Eigen::Vector2d::Zero()});
+      tracks.push_back(Track{next_id_++, c, cam_.pixelToNormalized({c.x, c.y}), 1,
+                             Eigen::Vector2d::Zero(), 0.0});
       ++out.n_new;
       --missing;
     }
@@ -286,7 +311,7 @@ void FeatureTracker::detectNew(const RgbdFrame& frame, const cv::Mat& derivative
 }
 
 FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
-                                   const std::optional<Eigen::Matrix3d>& R_previous_current,
+                                   const std::optional<CameraMotion>& motion,
                                    const PreparedImage* prepared) {
   Stopwatch total, step;
   if (!frame.hasColor()) failFrame(frame, "no colour image (the front end tracks colour images)");
@@ -331,7 +356,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   out.timings.pyramid_ms = step.lapMs();
 
   std::vector<Track> tracks;
-  if (has_previous_) tracks = trackPrevious(pyramid, R_previous_current, out);
+  if (has_previous_) tracks = trackPrevious(pyramid, motion, out);
   step.lapMs();  // klt_ms and ransac_ms were taken inside
   FeatureSpacing spacing = distribute(frame.rgb.size(), tracks, out);
   out.timings.detect_ms = step.lapMs();
@@ -361,12 +386,14 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   // features' windows were registered around where they were seen.
   std::vector<Eigen::Vector2d> depth_at;
   depth_at.reserve(tracks.size());
+  std::optional<Eigen::Matrix3d> R_previous_current;
+  if (motion) R_previous_current = motion->R_previous_current;
   for (const Track& t : tracks) depth_at.push_back(depthPixel(t, dt, R_previous_current));
   if (with_depth && !rolling_shutter_.global())
     registrar_.registerMoreDepthAround(frame, cam_, depth_at, depthWindowRadius(), depth_m_);
   out.features.reserve(tracks.size());
   for (std::size_t k = 0; k < tracks.size(); ++k) {
-    const Track& t = tracks[k];
+    Track& t = tracks[k];
     FeatureObservation obs;
     obs.id = t.id;
     obs.uv = Eigen::Vector2d(t.uv.x, t.uv.y);
@@ -375,6 +402,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
     if (t.length > 1) obs.velocity_xn = (t.xn - t.xn_velocity_from) / dt;
     if (with_depth) obs.depth_m = sampleDepth(depth_m_, depth_at[k], options_);
     if (obs.depth_m > 0.0) ++out.n_with_depth;
+    t.depth_m = obs.depth_m;  // where the next image's prediction places it
     out.features.push_back(obs);
   }
   out.timings.depth_ms += step.lapMs();

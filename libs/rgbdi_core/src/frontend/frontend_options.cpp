@@ -100,6 +100,10 @@ FrontendOptions FrontendOptions::load(IniReader& ini) {
   for (const DoubleKey& k : kDoubleKeys)
     o.*k.field = ini.getDouble(kSection, k.key, o.*k.field, k.min, k.max);
   o.klt_predict_rotation = ini.getBool(kSection, "klt_predict_rotation", o.klt_predict_rotation);
+  o.klt_predict_translation =
+      ini.getBool(kSection, "klt_predict_translation", o.klt_predict_translation);
+  o.klt_predict_every_feature =
+      ini.getBool(kSection, "klt_predict_every_feature", o.klt_predict_every_feature);
   checkConsistency(o, [&ini](const std::string& key, const std::string& what) {
     ini.fail(kSection, key, what);
   });

@@ -73,10 +73,10 @@ void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepar
   // the other processes.
   // An image prepared ahead was prepared on another thread: its CPU counts as tracking too.
   const double t0 = threadCpuSeconds() - (prepared ? 1e-3 * prepared->cpuMs() : 0.0);
-  std::optional<Eigen::Matrix3d> R_previous_current;
+  std::optional<frontend::CameraMotion> motion;
   if (has_tracked_ && cfg_.frontend.klt_predict_rotation)
-    R_previous_current = cameraRotation(last_tracked_t_, in.t);
-  p.features = tracker_->track(p.frame, R_previous_current, prepared);
+    motion = cameraMotion(last_tracked_t_, in.t);
+  p.features = tracker_->track(p.frame, motion, prepared);
   last_tracked_t_ = in.t;
   has_tracked_ = true;
   // The next prediction starts at this image.
@@ -91,12 +91,29 @@ void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepar
   processReady(false);
 }
 
-Eigen::Matrix3d VioSystem::cameraRotation(double t0, double t1) const {
+frontend::CameraMotion VioSystem::cameraMotion(double t0, double t1) const {
   const double td = estimator_->timeOffset();
-  const Eigen::Matrix3d R_body =
-      imu::gyroRotation(gyro_history_, t0 + td, t1 + td, estimator_->gyroBias()).toRotationMatrix();
-  const Eigen::Matrix3d R_bc = cfg_.extrinsic.T_body_cam.linear();
-  return R_bc.transpose() * R_body * R_bc;
+  const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
+  // Dead reckoning needs the velocity at t0: the estimate of the image at t0, when that image was
+  // estimated before this one arrived (the IMU passed it) and has a pose.
+  const bool velocity_known = cfg_.frontend.klt_predict_translation && newest_estimate_ &&
+                              newest_estimate_->has_pose && newest_estimate_->t_image == t0;
+  if (!velocity_known) {
+    const Eigen::Matrix3d R_body =
+        imu::gyroRotation(gyro_history_, t0 + td, t1 + td, estimator_->gyroBias())
+            .toRotationMatrix();
+    return frontend::CameraMotion(T_bc.linear().transpose() * R_body * T_bc.linear());
+  }
+  const estimator::FrameEstimate& e = *newest_estimate_;
+  imu::BodyState start;
+  start.q_world_body = Eigen::Quaterniond(e.T_world_body.linear());
+  start.v_world = e.v_world;
+  start.bias_gyr = e.bias_gyr;
+  start.bias_acc = e.bias_acc;
+  const Eigen::Isometry3d T_b0_b1 = imu::deadReckonedMotion(
+      gyro_history_, e.t_imu, t1 + td, start, Eigen::Vector3d(0.0, 0.0, -cfg_.imu.gravity_m_s2));
+  const Eigen::Isometry3d T_c0_c1 = T_bc.inverse() * T_b0_b1 * T_bc;
+  return frontend::CameraMotion(T_c0_c1.linear(), T_c0_c1.translation());
 }
 
 void VioSystem::endOfStream() {
@@ -120,6 +137,7 @@ void VioSystem::processReady(bool flush) {
       break;
     }
     const estimator::FrameEstimate est = estimator_->processFrame(p.features);
+    newest_estimate_ = est;
     timings_.preintegration_ms += est.ms_preintegration;
     timings_.optimisation_ms += est.ms_optimisation;
     timings_.marginalisation_ms += est.ms_marginalisation;

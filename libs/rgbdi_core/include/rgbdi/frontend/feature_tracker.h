@@ -20,6 +20,20 @@ namespace rgbdi::frontend {
 
 class CornerDetector;
 
+/// The camera's motion from the previous image to this one as the IMU predicts it: where KLT
+/// starts features that move beyond the pyramid's reach.
+struct CameraMotion {
+  /// Rotation only (the gyroscope): implicit, so a rotation can be passed where a motion is asked.
+  CameraMotion(const Eigen::Matrix3d& R) : R_previous_current(R) {}  // NOLINT
+  CameraMotion(const Eigen::Matrix3d& R, const Eigen::Vector3d& p)
+      : R_previous_current(R), p_previous_current(p) {}
+  /// This image's camera orientation in the previous image's camera frame.
+  Eigen::Matrix3d R_previous_current;
+  /// [m] this image's camera centre in the previous image's camera frame (dead reckoning from
+  /// the estimated velocity); absent: the rotation alone predicts (points taken as far away).
+  std::optional<Eigen::Vector3d> p_previous_current;
+};
+
 /// Tracks Shi-Tomasi corners with pyramidal KLT across consecutive colour images.
 ///
 /// Per image: grey conversion; forward KLT from the previous image and a backward KLT check
@@ -46,16 +60,17 @@ class FeatureTracker {
 
   /// Throws std::invalid_argument (naming frame.source_label) when the frame has no colour image,
   /// an unsupported image type, a size different from the camera's, or a stamp not after the
-  /// previous frame's. `R_previous_current`: the rotation of this image's camera in the previous
-  /// image's camera frame (e.g. from the gyroscope); when given and klt_predict_rotation is on,
-  /// KLT starts a feature that the rotation moves beyond the pyramid's reach where the rotation
-  /// puts it (a fast turn), otherwise at its previous position.
+  /// previous frame's. `motion`: this image's camera in the previous image's camera frame (the
+  /// gyroscope's rotation, and the translation when known); when given and klt_predict_rotation
+  /// is on, KLT starts a feature that the motion moves beyond the pyramid's reach where the motion
+  /// puts it (a fast turn; with a translation, also a fast move past near surfaces: a feature's
+  /// depth in the previous image places it), otherwise at its previous position.
   /// `prepared`: the frame's image prepared ahead (ImagePreparer with these options, e.g. on the
   /// thread that feeds the tracker; read during this call only). Without it
   /// the tracker prepares the image itself; the result is the same. Throws
   /// std::invalid_argument when `prepared` was made from another frame or with other options.
   FeatureFrame track(const RgbdFrame& frame,
-                     const std::optional<Eigen::Matrix3d>& R_previous_current = std::nullopt,
+                     const std::optional<CameraMotion>& motion = std::nullopt,
                      const PreparedImage* prepared = nullptr);
 
   /// Forgets all tracks (e.g. after the estimator resets); ids keep increasing.
@@ -77,13 +92,13 @@ class FeatureTracker {
     Eigen::Vector2d xn;
     int length;
     Eigen::Vector2d xn_velocity_from;  ///< xn in the previous image (for the velocity)
+    double depth_m = 0.0;  ///< [m] sensor depth in the image it was last seen in; 0 = none
   };
 
   /// Forward/backward KLT, border and RANSAC checks; returns the surviving tracks moved to the
   /// current image (positions updated, lengths incremented).
   std::vector<Track> trackPrevious(const std::vector<cv::Mat>& pyramid,
-                                   const std::optional<Eigen::Matrix3d>& R_previous_current,
-                                   FeatureFrame& out);
+                                   const std::optional<CameraMotion>& motion, FeatureFrame& out);
   /// Keeps features min_distance_px apart (longest-tracked first); returns the spacing of those
   /// kept.
   FeatureSpacing distribute(const cv::Size& image, std::vector<Track>& tracks, FeatureFrame& out);

@@ -40,6 +40,13 @@ struct FrontendOptions {
   /// start KLT where the rotation puts them instead of at their previous position (a robot
   /// spinning in place, a whip pan); nearer ones start as without it.
   bool klt_predict_rotation = true;
+  /// With klt_predict_rotation: the prediction also moves each feature with the camera's
+  /// translation (the estimated velocity at the previous image dead-reckoned with the IMU) at its
+  /// depth in the previous image, so features of near surfaces passed fast start where they went.
+  bool klt_predict_translation = false;
+  /// Start every feature where the prediction puts it, not only those it moves beyond the
+  /// pyramid's reach (klt_window_px / 2 x 2^klt_pyramid_levels).
+  bool klt_predict_every_feature = false;
 
   // --- geometric outlier rejection ---
   double ransac_threshold_px = 1.0;  ///< [px] epipolar distance at the camera's focal length

@@ -1,5 +1,5 @@
-// The body's rotation between two times from the gyroscope alone: what the front end needs to
-// predict where features move when the camera turns fast.
+// The body's motion between two times from the buffered IMU samples: what the front end needs to
+// predict where features move when the camera turns or moves fast.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -15,5 +15,21 @@ namespace rgbdi::imu {
 /// the nearest sample's rate is held. Identity when the buffer is empty or t1 <= t0.
 Eigen::Quaterniond gyroRotation(const ImuBuffer& buffer, double t0, double t1,
                                 const Eigen::Vector3d& bias_gyr);
+
+/// The body's state at t0 in a gravity-aligned world frame: what dead reckoning starts from.
+struct BodyState {
+  Eigen::Quaterniond q_world_body = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d v_world = Eigen::Vector3d::Zero();   ///< [m/s]
+  Eigen::Vector3d bias_gyr = Eigen::Vector3d::Zero();  ///< [rad/s]
+  Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();  ///< [m/s^2]
+};
+
+/// T_b0_b1: the body at t1 in the body frame at t0, dead-reckoned from `start` (its attitude and
+/// velocity at t0) with the buffer's rates and specific forces minus the biases and gravity
+/// `g_world` [m/s^2] (e.g. (0, 0, -9.81) in a z-up world); samples are taken as
+/// gyroRotation takes them (mean of consecutive samples, the nearest one held outside the
+/// buffered span). Identity when the buffer is empty or t1 <= t0.
+Eigen::Isometry3d deadReckonedMotion(const ImuBuffer& buffer, double t0, double t1,
+                                     const BodyState& start, const Eigen::Vector3d& g_world);
 
 }  // namespace rgbdi::imu

@@ -6,6 +6,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -90,9 +91,10 @@ class VioSystem : public MeasurementSink {
     RgbdFrame frame;
   };
   void processReady(bool flush);
-  /// R_cam(t0)_cam(t1) from the gyroscope (camera stamps; the estimator's time offset and gyro
-  /// bias applied).
-  Eigen::Matrix3d cameraRotation(double t0, double t1) const;
+  /// The camera at t1 in the camera frame at t0 (camera stamps; the estimator's time offset and
+  /// gyro bias applied): the gyroscope's rotation, and with klt_predict_translation the
+  /// translation dead-reckoned from the estimate of the image at t0 when it has one.
+  frontend::CameraMotion cameraMotion(double t0, double t1) const;
   void emitKeyframes(std::vector<estimator::KeyframeState> kfs);
   void emitEarlyKeyframes();
   const Pending* recentFrame(std::uint64_t frame_index) const;
@@ -106,6 +108,8 @@ class VioSystem : public MeasurementSink {
   imu::ImuBuffer gyro_history_;
   double last_tracked_t_ = 0.0;
   bool has_tracked_ = false;
+  /// The newest frame's estimate (the prediction's velocity when it is the last tracked image's).
+  std::optional<estimator::FrameEstimate> newest_estimate_;
   Trajectory traj_body_, traj_cam_;
   VioTimings timings_;
   std::size_t frames_received_ = 0, frames_dropped_ = 0;
