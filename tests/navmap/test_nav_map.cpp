@@ -245,6 +245,33 @@ TEST(NavMap, AHandHeldPathOverUnseenFloorTakesItsHeightFromTheFloorBelowIt) {
   EXPECT_EQ(stateAt(m, 2.0, -0.35), CellState::kUnknown);
 }
 
+TEST(NavMap, BoxTopsBesideAHandHeldPathDoNotLiftTheGroundUnderIt) {
+  // Camera carried at 1.4 m over unseen floor; within 1 m of it mostly box tops at 0.3 m and a
+  // strip of floor (0.5 <= y < 0.6, about 12 % of the cells around each position). The floor is
+  // the lowest height band holding at least path_ground_min_fraction (10 %) of those cells: the
+  // strip is free floor and the box tops raised. Their median (fraction 1) would put the ground
+  // on the box tops and the strip 0.3 m below it, lowered.
+  std::vector<Eigen::Vector3f> pts;
+  addFlat(pts, -1.0, 3.0, 0.5, 0.6, 0.0);
+  addFlat(pts, -1.0, 3.0, 0.6, 1.0, 0.3);
+  addFlat(pts, -1.0, 3.0, -1.0, -0.5, 0.3);
+  const auto path = straightPath(0.0, 2.0, 0.0, 1.4);
+  const NavMap m = buildNavMap(pts, path, NavMapOptions{});
+  EXPECT_NEAR(m.path_height_m, 1.4, 1e-6);
+  EXPECT_EQ(stateAt(m, 1.0, 0.525), CellState::kFree);
+  EXPECT_EQ(stateAt(m, 1.0, 0.575), CellState::kFree);
+  EXPECT_NEAR(m.ground_z_m[cellAt(m, 1.0, 0.525)], 0.0, 1e-6);
+  EXPECT_EQ(stateAt(m, 1.0, 0.825), CellState::kRaised);
+  EXPECT_EQ(stateAt(m, 1.0, -0.775), CellState::kRaised);
+
+  NavMapOptions median_of_all;
+  median_of_all.path_ground_min_fraction = 1.0;
+  const NavMap old = buildNavMap(pts, path, median_of_all);
+  EXPECT_NEAR(old.path_height_m, 1.1, 1e-6);
+  EXPECT_EQ(stateAt(old, 1.0, 0.525), CellState::kLowered);
+  EXPECT_EQ(stateAt(old, 1.0, 0.825), CellState::kFree);
+}
+
 TEST(NavMap, CellsTheRobotDroveOverAreFree) {
   std::vector<Eigen::Vector3f> pts;
   addFlat(pts, -1.0, 3.0, -1.0, 1.0, 0.0);

@@ -473,6 +473,7 @@ const std::vector<Field> kFields = {
     {"navmap", "clearance_height_m", [](const Defaults& d) { return text(d.system.navmap.clearance_height_m); }},
     {"navmap", "max_roughness_m", [](const Defaults& d) { return text(d.system.navmap.max_roughness_m); }},
     {"navmap", "path_ground_radius_m", [](const Defaults& d) { return text(d.system.navmap.path_ground_radius_m); }},
+    {"navmap", "path_ground_min_fraction", [](const Defaults& d) { return text(d.system.navmap.path_ground_min_fraction); }},
     {"navmap", "max_depth_m", [](const Defaults& d) { return text(d.system.navmap.max_depth_m); }},
     {"navmap", "refresh_interval_s", [](const Defaults& d) { return text(d.system.navmap.refresh_interval_s); }},
     {"mapping", "grid_step_px", [](const Defaults& d) { return text(d.system.mapping.grid_step_px); }},

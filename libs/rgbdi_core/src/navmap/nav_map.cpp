@@ -111,12 +111,32 @@ void classifyPlateaus(NavMap& m, const std::vector<float>& reference, double max
   }
 }
 
+/// The floor among the ground heights `h` of the cells around a path position: the median of the
+/// lowest window [h_i, h_i + depth] holding at least min_fraction of them (the lowest surface
+/// seen often enough to be the floor, not a few cells of a pit or noise); the median of all when
+/// no window holds that many (a ramp steeper than depth over the radius).
+double lowestDenseGround(std::vector<double> h, double depth, double min_fraction) {
+  if (h.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(h.begin(), h.end());
+  const std::size_t need = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::ceil(min_fraction * static_cast<double>(h.size()))));
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    j = std::max(j, i);
+    while (j < h.size() && h[j] <= h[i] + depth) ++j;
+    if (j - i >= need)
+      return median(std::vector<double>(h.begin() + static_cast<std::ptrdiff_t>(i),
+                                        h.begin() + static_cast<std::ptrdiff_t>(j)));
+  }
+  return median(h);
+}
+
 /// The ground under each path position: the median ground of the cells within radius whose
 /// ground lies below the position (under a hand-held camera the floor beneath may be unseen and
 /// the ceiling the lowest surface of a cell); NaN where there is none. Computed once per cell
 /// travelled, positions closer than a cell to the last computed one take its value.
 std::vector<float> groundUnderPath(const NavMap& m, const std::vector<Eigen::Vector3d>& path,
-                                   double radius) {
+                                   double radius, double depth, double min_fraction) {
   const GridGeometry& g = m.grid;
   const int r = static_cast<int>(std::ceil(radius / g.cell_size_m));
   const double r2 = std::pow(radius / g.cell_size_m, 2);
@@ -140,7 +160,8 @@ std::vector<float> groundUnderPath(const NavMap& m, const std::vector<Eigen::Vec
         const float h = m.ground_z_m[g.index(ix + dx, iy + dy)];
         if (std::isfinite(h) && h < p.z()) local.push_back(h);
       }
-    last_ground = local.empty() ? kNaN : static_cast<float>(median(local));
+    last_ground =
+        local.empty() ? kNaN : static_cast<float>(lowestDenseGround(local, depth, min_fraction));
     out[k] = last_ground;
   }
   return out;
@@ -289,7 +310,8 @@ void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uin
   // The ground under the path, its height above it, and each cell's reference ground: that
   // under its nearest path position, measured, else the position less the path's height (a
   // hand-held camera moves up and down; a robot's ground is where it drives).
-  std::vector<float> path_ground = groundUnderPath(m, path, o.path_ground_radius_m);
+  std::vector<float> path_ground =
+      groundUnderPath(m, path, o.path_ground_radius_m, o.max_step_m, o.path_ground_min_fraction);
   std::vector<double> above;
   for (std::size_t k = 0; k < path.size(); ++k)
     if (std::isfinite(path_ground[k])) above.push_back(path[k].z() - path_ground[k]);

@@ -40,6 +40,8 @@ const std::vector<DoubleKey>& doubleKeys() {
        5.0},
       {"path_ground_radius_m", [](NavMapOptions& o) -> double& { return o.path_ground_radius_m; },
        0.0, 100.0},
+      {"path_ground_min_fraction",
+       [](NavMapOptions& o) -> double& { return o.path_ground_min_fraction; }, 0.0, 1.0},
       {"max_depth_m", [](NavMapOptions& o) -> double& { return o.max_depth_m; }, 0.1, 100.0},
       {"refresh_interval_s", [](NavMapOptions& o) -> double& { return o.refresh_interval_s; }, 0.0,
        86400.0},

@@ -33,6 +33,10 @@ struct NavMapOptions {
   /// [m] the ground under a path position is the median ground of the cells within this radius
   /// below it; the median of the path's height above it over the path gives the robot's ground
   double path_ground_radius_m = 1.0;
+  /// [0..1] the ground under a path position is the lowest height band (max_step_m deep) holding
+  /// at least this fraction of those cells, not their median: box and table tops beside a
+  /// hand-held camera whose floor was rarely seen do not lift it; 1 = the median of them all
+  double path_ground_min_fraction = 0.1;
   /// [m] map points the camera saw farther than this are left out: depth noise grows with the
   /// square of the distance, and the points of a wall seen from far spill into the floor cells
   /// in front of it as obstacles
