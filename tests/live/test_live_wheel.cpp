@@ -206,8 +206,8 @@ TEST(RgbdiSimulatorWheels, EncodersFollowTheKeyAndTheLabelIsConfigurable) {
   const std::string dir = test::makeTempDir("live_sim_wheels_keys");
   test::writeFile(dir + "/wheels.ini", kWheelConfig);
   // The sensor's key replaces [sim] wheel_encoders of the config (auto there).
-  EXPECT_TRUE(simulatorOutput(dir, simSection("wheeled_circle", "wheel_encoders = off\n"))
-                  .wheel.empty());
+  EXPECT_TRUE(
+      simulatorOutput(dir, simSection("wheeled_circle", "wheel_encoders = off\n")).wheel.empty());
   std::vector<std::string> labels;
   const OrderSink on = simulatorOutput(
       dir, simSection("wheeled_circle", "wheel_encoders = on\nwheel_label = BASE\n"), &labels);
@@ -225,8 +225,7 @@ TEST(RgbdiSimulatorWheels, EncodersFollowTheKeyAndTheLabelIsConfigurable) {
     const std::string what = e.what();
     // MRPT's loadConfig wraps the message: file, key and value are in it.
     EXPECT_NE(what.find("bad.ini"), std::string::npos) << what;
-    EXPECT_NE(what.find("wheel_encoders: 'sometimes' is not one of off|on|auto"),
-              std::string::npos)
+    EXPECT_NE(what.find("wheel_encoders: 'sometimes' is not one of off|on|auto"), std::string::npos)
         << what;
   }
 }
@@ -236,10 +235,10 @@ TEST(LiveSourceWheels, OdometryFromAnyMrptSensorClassReachesFeedWheelIntact) {
   testsensors::TestWheelCamera::doRegister();
   const std::string dir = test::makeTempDir("live_any_odometer");
   const double before = io::toSeconds(mrpt::Clock::now());
-  LiveSource src(SensorConfig::fromFile(test::writeFile(
-      dir + "/sensors.ini",
-      "[CAM]\ndriver = TestWheelCamera\nprocess_rate = 200\n\n"
-      "[BASE]\ndriver = TestOdometer\nprocess_rate = 50\nreadings = 20\n")));
+  LiveSource src(SensorConfig::fromFile(
+      test::writeFile(dir + "/sensors.ini",
+                      "[CAM]\ndriver = TestWheelCamera\nprocess_rate = 200\n\n"
+                      "[BASE]\ndriver = TestOdometer\nprocess_rate = 50\nreadings = 20\n")));
   std::atomic<bool> stop{false};
   struct StopSink : OrderSink {
     std::atomic<bool>* stop;
