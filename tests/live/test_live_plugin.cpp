@@ -1,6 +1,7 @@
 // The rgbdi sensor plugin in Debian's own rawlog-grabber: it loads, RgbdiSimulator records a few
 // seconds, and the rawlog (with rawlog-grabber's external images) reads back with RawlogSource.
-// Also RgbdiSimulator through LiveSource: real-time stamps at the configured rates.
+// Also RgbdiSimulator through LiveSource: real-time stamps at the configured rates (IMU, frames
+// and the wheeled profile's odometry).
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -61,6 +62,7 @@ TEST(RgbdiSensorPlugin, LoadsInRawlogGrabberAndRecordsFromTheSimulator) {
   // A few seconds at 200 Hz / 30 Hz (rawlog-grabber keeps the last second in memory).
   EXPECT_GT(sink.imu.size(), 200u);
   EXPECT_GT(sink.frames.size(), 20u);
+  EXPECT_GT(sink.wheel.size(), 30u);  // wheeled_circle: the encoders at 50 Hz (wheel_encoders auto)
   EXPECT_EQ(src.diagnostics().unusable, 0u);
   ASSERT_FALSE(sink.frames.empty());
   EXPECT_EQ(sink.frames[0].rgb.cols, 160);
@@ -93,6 +95,12 @@ TEST(RgbdiSimulatorLive, DeliversTheSimulatorInRealTimeOnTheWallClock) {
     EXPECT_NEAR(sink.imu[k].t - sink.imu[k - 1].t, 0.005, 1e-6);
   for (std::size_t i = 1; i < sink.frames.size(); ++i)
     EXPECT_NEAR(sink.frames[i].t - sink.frames[i - 1].t, 1.0 / 30.0, 1e-6);
+  // The wheel odometry on the same wall clock, at [sim] wheel_rate_hz = 50.
+  ASSERT_GT(sink.wheel.size(), 15u);
+  EXPECT_GE(sink.wheel.front().t, before);
+  EXPECT_NEAR(sink.wheel.front().t, sink.imu.front().t, 1e-6);  // wheel_time_offset_s = 0
+  for (std::size_t k = 1; k < sink.wheel.size(); ++k)
+    EXPECT_NEAR(sink.wheel[k].t - sink.wheel[k - 1].t, 0.02, 1e-6);
   EXPECT_EQ(sink.frames[0].rgb.cols, 160);
   const LiveStats st = src.stats();
   EXPECT_TRUE(st.error.empty()) << st.error;

@@ -1,6 +1,7 @@
 #include "rgbdi/live/simulator_sensor.h"
 
 #include <atomic>
+#include <cmath>
 #include <optional>
 
 #include "live/external_images.h"
@@ -15,14 +16,15 @@ namespace rgbdi::live {
 
 struct RgbdiSimulator::Impl {
   std::string profile = "wheeled_circle", speed_preset = "normal", config;
-  std::string camera_label = "RGBD", imu_label = "IMU", external_dir;
+  std::string camera_label = "RGBD", imu_label = "IMU", wheel_label = "WHEEL_ODOMETRY";
+  std::string wheel_encoders = "auto", external_dir;
   double duration_s = 0.0, fps = 0.0, speed = 1.0, max_frame_lateness_s = 0.1;
   int seed = -1;
   bool restamp = true;
 
   std::unique_ptr<sim::SimulatedSequence> seq;
   std::optional<PlaybackClock> clock;
-  std::size_t next_imu = 0, next_frame = 0;
+  std::size_t next_imu = 0, next_wheel = 0, next_frame = 0;
   std::atomic<std::size_t> skipped{0};
   std::atomic<bool> ended{false};
 };
@@ -46,6 +48,8 @@ void RgbdiSimulator::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBa
   d.max_frame_lateness_s = k.getDouble("max_frame_lateness_s", d.max_frame_lateness_s, 0.0, 3600.0);
   d.camera_label = k.getString("camera_label", d.camera_label);
   d.imu_label = k.getString("imu_label", d.imu_label);
+  d.wheel_encoders = k.getEnum("wheel_encoders", d.wheel_encoders, {"off", "on", "auto"});
+  d.wheel_label = k.getString("wheel_label", d.wheel_label);
 }
 
 void RgbdiSimulator::setPathForExternalImages(const std::string& directory) {
@@ -61,6 +65,9 @@ void RgbdiSimulator::initialize() {
   if (d.duration_s > 0.0) o.profile.duration_s = d.duration_s;
   if (d.fps > 0.0) o.fps = d.fps;
   if (d.seed >= 0) o.seed = static_cast<std::uint64_t>(d.seed);
+  // The rest of the encoder model (rate, radius, track, errors, time offset, events) is the
+  // config's [sim] wheel_*, so the readings are the ones rgbdi-sim writes for that file.
+  o.wheel.mode = d.wheel_encoders;
   o.prefetch_frames = false;  // frames are rendered on demand in doProcess()
   d.seq = std::make_unique<sim::SimulatedSequence>(o);
   m_state = ssWorking;
@@ -77,35 +84,42 @@ void RgbdiSimulator::doProcess() {
   const double horizon = d.clock->horizon(now);
   const sim::SimulatedSequence& s = *d.seq;
   const Eigen::Isometry3d& T_body_cam = s.options().extrinsic.T_body_cam;
-  // In stamp order (an IMU sample before a frame with the same stamp), as the offline pump.
+  const std::vector<WheelOdometrySample>& wheels = s.wheelSamples();
+  // In stamp order, at equal stamps IMU, then wheel, then frame, as SimulatedSequence::pump()
+  // and the offline reader deliver them.
+  enum class Next { Imu, Wheel, Frame };
   bool appended = false;
   for (;;) {
-    const bool imu_left = d.next_imu < s.imuCount();
-    const bool frame_left = d.next_frame < s.frameCount();
-    if (!imu_left && !frame_left) {
+    const double ti = d.next_imu < s.imuCount() ? s.imuStamp(d.next_imu) : INFINITY;
+    const double tw = d.next_wheel < wheels.size() ? wheels[d.next_wheel].t : INFINITY;
+    const double tf = d.next_frame < s.frameCount() ? s.frameStamp(d.next_frame) : INFINITY;
+    if (std::isinf(ti) && std::isinf(tw) && std::isinf(tf)) {
       d.ended = true;
       break;
     }
-    const double ti = imu_left ? s.imuSample(d.next_imu).t : 0.0;
-    const double tf = frame_left ? s.frameStamp(d.next_frame) : 0.0;
-    const bool take_imu = imu_left && (!frame_left || ti <= tf);
-    if ((take_imu ? ti : tf) > horizon) break;
-    if (!take_imu && (horizon - tf) / d.speed > d.max_frame_lateness_s) {
+    const Next next = ti <= tf && ti <= tw ? Next::Imu : (tw <= tf ? Next::Wheel : Next::Frame);
+    const double t = next == Next::Imu ? ti : (next == Next::Wheel ? tw : tf);
+    if (t > horizon) break;
+    if (next == Next::Frame && (horizon - tf) / d.speed > d.max_frame_lateness_s) {
       // Rendering fell behind: skip the frame, as a camera whose host is too slow loses it.
       ++d.next_frame;
       ++d.skipped;
       continue;
     }
     // Rendering takes a while (tens of ms, more on a loaded machine) and LiveSource collects
-    // what was appended only when doProcess() returns: hand the IMU samples over first, render
-    // on the next call, so that rendering never holds IMU samples back (a real camera's IMU
-    // does not wait for its images).
-    if (!take_imu && appended) break;
+    // what was appended only when doProcess() returns: hand the IMU samples and wheel readings
+    // over first, render on the next call, so that rendering never holds them back (a real
+    // camera's IMU and a robot's odometry do not wait for the images).
+    if (next == Next::Frame && appended) break;
     appended = true;
-    if (take_imu) {
+    if (next == Next::Imu) {
       ImuSample imu = s.imuSample(d.next_imu++);
       imu.t = d.clock->outputStamp(imu.t);
       appendObservation(io::toMrpt(imu, d.imu_label));
+    } else if (next == Next::Wheel) {
+      WheelOdometrySample w = wheels[d.next_wheel++];
+      w.t = d.clock->outputStamp(w.t);
+      appendObservation(io::toMrpt(w, d.wheel_label));
     } else {
       RgbdFrame f = s.renderFrame(d.next_frame);
       f.t = d.clock->outputStamp(f.t);

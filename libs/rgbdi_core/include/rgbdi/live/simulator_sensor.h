@@ -1,6 +1,7 @@
 // RgbdiSimulator: rgbdi's simulator (sim::SimulatedSequence) as a live sensor, paced in real
-// time: doProcess() appends every IMU sample and renders every frame whose stamp is due
-// (t <= t0 + (wall - wall0) * speed; playback starts at the first doProcess()). Frames are
+// time: doProcess() appends every IMU sample and wheel-odometry reading (CObservationOdometry,
+// the simulated encoders of the wheeled and tracked profiles) and renders every frame whose stamp
+// is due (t <= t0 + (wall - wall0) * speed; playback starts at the first doProcess()). Frames are
 // rendered in the sensor's thread; a frame that is already more than max_frame_lateness_s late
 // when its turn comes is skipped (counted), as a camera loses frames its host cannot take, so a
 // machine slower than the frame rate gets fewer frames, not a growing delay.
@@ -15,7 +16,10 @@
 //   speed        = 1.0     [sim s / wall s] playback speed
 //   stamps       = now     now: stamps on the wall clock; source: the simulator's own stamps
 //   max_frame_lateness_s = 0.1  [s] later frames are skipped (rendering slower than real time)
-//   camera_label = RGBD, imu_label = IMU
+//   wheel_encoders = auto  off | on | auto (the wheeled and tracked profiles): the simulated
+//                          encoders; replaces [sim] wheel_encoders of `config`, whose other
+//                          [sim] wheel_* keys give the model (the readings rgbdi-sim writes)
+//   camera_label = RGBD, imu_label = IMU, wheel_label = WHEEL_ODOMETRY
 #pragma once
 
 #include <mrpt/hwdrivers/CGenericSensor.h>
