@@ -62,6 +62,11 @@ struct RelocOptions {
   double submap_path_m = 3.0;
   /// [count] occupied cells the local plan needs before it is searched.
   int submap_min_occupied_cells = 100;
+  /// [m] when the latest submap_path_m have fewer obstacle cells than that, older keyframes
+  /// are added (up to this path) until the plan has them: thin structure (walls along the
+  /// path, little furniture) gets a longer submap instead of no search. At most submap_path_m
+  /// disables it.
+  double submap_max_path_m = 6.0;
   double attempt_interval_m = 0.25;  ///< [m] path between two searches of one part
   /// [count] the result of a search started at loop keyframe k is taken at keyframe k + this
   /// (offline: a defined point, so threaded and sequential runs agree; live: when ready).
@@ -81,6 +86,11 @@ struct RelocOptions {
   /// the submap on ramps, which a ramp's surface turns into a sideways push) must not drag the
   /// fit. 1e9 or more: plain least squares.
   double refine_huber_m = 0.01;
+  /// [m per m] the refinement also solves the odometry's height drift along the submap's path
+  /// (a sample s metres before the anchor raised by s x drift), with this prior sigma: on ramps
+  /// the submap's height drifts a few centimetres over 3 m, and a ramp seen at the wrong height
+  /// pushes a fit without it sideways. 0: off (4-DOF).
+  double refine_height_drift_sigma_per_m = 0.02;
   /// After the refinement at least this fraction of the local samples (thinned) must have a map
   /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
   double refine_min_pair_fraction = 0.5;  ///< [fraction]
