@@ -226,6 +226,23 @@ TEST(GeometricRelocaliser, RefineSolvesTheSubmapsHeightDrift) {
   EXPECT_GT(without.rms_m, 5e-3);
 }
 
+TEST(GeometricRelocaliser, RefineCanKeepTheSearchsYawAndPosition) {
+  // The local copy 3 cm and 1 deg off horizontally and 2 cm low: with horizontal refinement off
+  // only the height moves (exactly), yaw, x and y stay as given.
+  const std::vector<Eigen::Vector3d> map_points = threeWallsAndAFloor();
+  const Eigen::Isometry3d motion = yawPose(M_PI / 180.0, Eigen::Vector3d(0.03, 0.0, 0.02));
+  std::vector<Eigen::Vector3d> local;
+  for (const Eigen::Vector3d& p : map_points) local.push_back(motion.inverse() * p);
+  const PointIndex index(map_points, 1e-4, 0.15);
+  const GeometricRelocaliser::Refinement r = GeometricRelocaliser::refine(
+      local, index, Eigen::Isometry3d::Identity(), 0.15, 50, 0.01, {}, 0.0, false);
+  EXPECT_TRUE(r.T.linear().isIdentity(0.0));
+  EXPECT_EQ(r.T.translation().x(), 0.0);
+  EXPECT_EQ(r.T.translation().y(), 0.0);
+  // The floor patch pins z; Huber keeps the walls' sideways residuals from pulling it.
+  EXPECT_NEAR(r.T.translation().z(), 0.02, 1e-3);
+}
+
 TEST(GeometricRelocaliser, ThinningAveragesAValuePerVoxel) {
   const std::vector<Eigen::Vector3d> pts{{0.01, 0.01, 0.01}, {0.03, 0.02, 0.01}, {0.2, 0, 0}};
   std::vector<double> values;

@@ -44,6 +44,8 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.search.conflict_penalty, d.search.conflict_penalty);
   EXPECT_EQ(o.refine_huber_m, d.refine_huber_m);
   EXPECT_EQ(o.refine_height_drift_sigma_per_m, d.refine_height_drift_sigma_per_m);
+  EXPECT_EQ(o.refine_max_range_m, d.refine_max_range_m);
+  EXPECT_EQ(o.refine_horizontal, d.refine_horizontal);
   EXPECT_EQ(o.submap_path_m, d.submap_path_m);
   EXPECT_EQ(o.submap_min_occupied_cells, d.submap_min_occupied_cells);
   EXPECT_EQ(o.submap_max_path_m, d.submap_max_path_m);

@@ -339,6 +339,8 @@ const std::vector<Field> kFields = {
     {"relocalise", "confirm_max_disagreement_m", [](const Defaults& d) { return text(d.system.reloc.confirm_max_disagreement_m); }},
     {"relocalise", "confirm_max_disagreement_deg", [](const Defaults& d) { return text(d.system.reloc.confirm_max_disagreement_deg); }},
     {"relocalise", "refine_max_distance_m", [](const Defaults& d) { return text(d.system.reloc.refine_max_distance_m); }},
+    {"relocalise", "refine_max_range_m", [](const Defaults& d) { return text(d.system.reloc.refine_max_range_m); }},
+    {"relocalise", "refine_horizontal", [](const Defaults& d) { return text(d.system.reloc.refine_horizontal); }},
     {"relocalise", "refine_iterations", [](const Defaults& d) { return text(d.system.reloc.refine_iterations); }},
     {"relocalise", "refine_huber_m", [](const Defaults& d) { return text(d.system.reloc.refine_huber_m); }},
     {"relocalise", "refine_height_drift_sigma_per_m", [](const Defaults& d) { return text(d.system.reloc.refine_height_drift_sigma_per_m); }},

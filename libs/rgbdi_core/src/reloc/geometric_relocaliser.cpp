@@ -44,7 +44,7 @@ GeometricRelocaliser::GeometricRelocaliser(const std::vector<DepthSample>& map_s
                                            const RelocOptions& options)
     : options_(options),
       search_(PlanGrid::build(map_samples, options.grid), options.search),
-      points_(pointsOf(map_samples, options.grid.max_range_m), options.grid.resolution_m,
+      points_(pointsOf(map_samples, options.refine_max_range_m), options.grid.resolution_m,
               options.refine_max_distance_m) {}
 
 bool GeometricRelocaliser::floorOffset(const PlanGrid& map, const PlanGrid& local,
@@ -68,7 +68,7 @@ bool GeometricRelocaliser::floorOffset(const PlanGrid& map, const PlanGrid& loca
 GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
     const std::vector<Eigen::Vector3d>& local, const PointIndex& map, const Eigen::Isometry3d& T0,
     double max_distance_m, int iterations, double huber_m, const std::vector<double>& path_m,
-    double drift_sigma_per_m) {
+    double drift_sigma_per_m, bool horizontal) {
   // Point-to-plane: each local point's distance along the normal of its nearest map point,
   // linearised in (yaw step, tx, ty, tz[, height drift per metre]) about the current estimate;
   // the yaw keeps T 4-DOF. Pairs farther than huber_m weigh huber_m / |r| (Huber): surfaces
@@ -112,16 +112,25 @@ GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
             ? Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(nn / nn.trace()).eigenvalues()(0)
             : 0.0;
     if (n < 10) break;
-    Vector5d step = Vector5d::Zero();
     if (drift) {
       // The prior b ~ 0 +- sigma, as one pair whose noise is huber_m.
       const double prior = (huber_m / drift_sigma_per_m) * (huber_m / drift_sigma_per_m);
       H(4, 4) += prior;
       g(4) += prior * b;
-      step = -H.ldlt().solve(g);
-    } else {
-      step.head<4>() = -H.topLeftCorner<4, 4>().ldlt().solve(g.head<4>());
     }
+    // The unknowns solved: yaw, x, y unless only the height is refined; z; the drift.
+    std::vector<int> active;
+    for (int k = horizontal ? 0 : 3; k < (drift ? 5 : 4); ++k) active.push_back(k);
+    const int m = static_cast<int>(active.size());
+    Eigen::MatrixXd Hs(m, m);
+    Eigen::VectorXd gs(m);
+    for (int r = 0; r < m; ++r) {
+      gs(r) = g(active[r]);
+      for (int c = 0; c < m; ++c) Hs(r, c) = H(active[r], active[c]);
+    }
+    const Eigen::VectorXd sub = -Hs.ldlt().solve(gs);
+    Vector5d step = Vector5d::Zero();
+    for (int r = 0; r < m; ++r) step(active[r]) = sub(r);
     if (!step.allFinite()) break;
     Eigen::Isometry3d next = yawPose(step(0), Eigen::Vector3d::Zero());
     next.linear() = next.linear() * T.linear();
@@ -217,7 +226,7 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
     std::size_t span = 0;
     for (std::size_t i = 0; i < submap.size(); ++i) {
       while (span < job.spans.size() && job.spans[span].end <= i) ++span;
-      if ((submap[i].point - submap[i].origin).norm() > options_.grid.max_range_m) continue;
+      if ((submap[i].point - submap[i].origin).norm() > options_.refine_max_range_m) continue;
       pts.push_back(submap[i].point);
       paths.push_back(span < job.spans.size() ? job.spans[span].path_m : 0.0);
     }
@@ -226,7 +235,8 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
         PointIndex::thin(pts, paths, options_.grid.resolution_m, &local_paths);
     const Refinement r3 =
         refine(local_points, points_, T, options_.refine_max_distance_m, options_.refine_iterations,
-               options_.refine_huber_m, local_paths, options_.refine_height_drift_sigma_per_m);
+               options_.refine_huber_m, local_paths, options_.refine_height_drift_sigma_per_m,
+               options_.refine_horizontal);
     f.height_drift_per_m = r3.height_drift_per_m;
     T = r3.T;
     f.refine_pairs = r3.pairs;

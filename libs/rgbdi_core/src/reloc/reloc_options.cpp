@@ -46,6 +46,8 @@ RelocOptions RelocOptions::load(IniReader& ini) {
       ini.getDouble(s, "confirm_max_disagreement_deg", o.confirm_max_disagreement_deg, 0.0, 180.0);
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
+  o.refine_max_range_m = ini.getDouble(s, "refine_max_range_m", o.refine_max_range_m, 0.1, 100.0);
+  o.refine_horizontal = ini.getBool(s, "refine_horizontal", o.refine_horizontal);
   o.refine_iterations = ini.getInt(s, "refine_iterations", o.refine_iterations, 0, 1000);
   o.refine_huber_m = ini.getDouble(s, "refine_huber_m", o.refine_huber_m, 0.0001, 1e12);
   o.refine_height_drift_sigma_per_m = ini.getDouble(s, "refine_height_drift_sigma_per_m",

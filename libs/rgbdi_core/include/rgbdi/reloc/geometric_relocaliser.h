@@ -100,11 +100,12 @@ class GeometricRelocaliser {
   /// the odometry's height drift per metre of path (prior 0 +- drift_sigma_per_m, weighed as
   /// one pair of huber_m noise), is solved with the pose: the submap's floor and ramps drift a
   /// few centimetres in height over its path, and a ramp seen at the wrong height pushes a
-  /// 4-DOF fit sideways.
+  /// 4-DOF fit sideways. `horizontal` false: yaw, x and y stay as given (only the height and
+  /// the drift are solved; the pairs still judge the fit).
   static Refinement refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
                            const Eigen::Isometry3d& T, double max_distance_m, int iterations,
                            double huber_m, const std::vector<double>& path_m = {},
-                           double drift_sigma_per_m = 0.0);
+                           double drift_sigma_per_m = 0.0, bool horizontal = true);
   /// Median of map floor height - local floor height over cells both saw as floor, with the
   /// local plan placed by `a`; false with fewer than min_cells such cells.
   static bool floorOffset(const PlanGrid& map, const PlanGrid& local, const PlanAlignment& a,

@@ -80,7 +80,14 @@ struct RelocOptions {
   /// ICP refinement of a hypothesis on the 3-D depth samples (nearest neighbours within this
   /// distance, these many iterations).
   double refine_max_distance_m = 0.15;  ///< [m]
-  int refine_iterations = 15;           ///< [count] 0 = off
+  /// [m] the refinement uses the depth samples within this of their camera (map and submap):
+  /// the plans may use farther ones (grid.max_range_m: more structure to search), but their
+  /// depth noise (growing with the square of the range) would pull a centimetre fit apart.
+  double refine_max_range_m = 4.0;
+  /// The refinement moves yaw, x and y too (true), or keeps the search's (plan resolution) and
+  /// solves the height and its drift only (false).
+  bool refine_horizontal = true;
+  int refine_iterations = 15;  ///< [count] 0 = off
   /// [m] pairs farther apart than this weigh this / their distance (Huber): what the map saw
   /// differently (the backs of things; the odometry's height drifting a few centimetres within
   /// the submap on ramps, which a ramp's surface turns into a sideways push) must not drag the
