@@ -61,7 +61,7 @@ struct RelocOptions {
   /// [m] path length of the part's latest keyframes that make the local plan.
   double submap_path_m = 3.0;
   /// [count] occupied cells the local plan needs before it is searched.
-  int submap_min_occupied_cells = 100;
+  int submap_min_occupied_cells = 80;
   /// [m] when the latest submap_path_m have fewer obstacle cells than that, older keyframes
   /// are added (up to this path) until the plan has them: thin structure (walls along the
   /// path, little furniture) gets a longer submap instead of no search. At most submap_path_m
