@@ -16,7 +16,8 @@
 # wheeled_circle --speed fast (one 26 s lap), the other profiles' default durations.
 # To save disk, a mapping sequence's images and rawlog may be deleted once its map is built:
 # touch OUT/NAME.mapped then keeps it from being generated again (its ground truth stays).
-# Environment: RUN_CONFIG=FILE runs the second runs with --config FILE, into run directories
+# Environment: MAPS_ONLY=1 generates the sequences and maps of the cases and stops there (the
+# second runs need the code under test; the maps do not). RUN_CONFIG=FILE runs the second runs with --config FILE, into run directories
 # suffixed with TAG=... (so that one set of sequences and maps serves several configurations).
 set -euo pipefail
 OUT=${1:?usage: reloc-acceptance.sh OUT [CASE ...]}
@@ -51,12 +52,15 @@ RUN_ARGS=()
 slam() {
   local name=$1 seq=$2
   shift 2
+  # The second runs are those with --load-map.
+  [ -n "${MAPS_ONLY:-}" ] && [[ " $* " == *" --load-map "* ]] && return 0
   [ -f "$OUT/$name/summary.json" ] && return 0
   "$BIN/rgbdi-slam" --input "$OUT/$seq/sequence.rawlog" --out "$OUT/$name" --quiet "$@" \
     > "$OUT/$name.log" 2>&1
 }
 # row CASE MAPSEQ MAPRUN RUNSEQ RUN
 row() {
+  [ -n "${MAPS_ONLY:-}" ] && return 0
   python3 - "$@" <<'EOF'
 import json, math, sys
 case, mapseq, maprun, runseq, run = sys.argv[1:6]

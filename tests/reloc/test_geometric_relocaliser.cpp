@@ -159,3 +159,97 @@ TEST(GeometricRelocaliser, HuberKeepsASurfaceTheMapSawElsewhereFromDraggingTheFi
   EXPECT_LT(plain, -2e-3);
   EXPECT_LT(std::abs(huber), 0.25 * std::abs(plain));
 }
+
+TEST(GeometricRelocaliser, ThinStructureGrowsTheSubmapToOlderKeyframes) {
+  // Four keyframes, newest first, 0 / 2 / 4 / 7 m of path back from the anchor, each adding 40
+  // obstacle cells in a row of its own (samples at their own origin: a hit, no ray).
+  RelocJob job;
+  for (int kf = 0; kf < 4; ++kf) {
+    for (int i = 0; i < 40; ++i) {
+      const Eigen::Vector3d p(at(i), at(3 * kf), kCamZ);
+      job.samples.push_back({p, p});
+    }
+    job.spans.push_back({std::vector<double>{0.0, 2.0, 4.0, 7.0}[kf], job.samples.size()});
+  }
+  RelocOptions o;  // submap_path_m 3, submap_max_path_m 6
+  o.submap_min_occupied_cells = 100;
+  PlanGrid plan;
+  double path = -1.0;
+  // 3 m hold 80 cells: the keyframe 4 m back is added (120), the one 7 m back is not needed.
+  EXPECT_EQ(GeometricRelocaliser::chooseSubmap(job, o, &plan, &path), 120u);
+  EXPECT_EQ(plan.count(CellState::kOccupied), 120u);
+  EXPECT_DOUBLE_EQ(path, 4.0);
+  // Enough structure within 3 m: nothing older.
+  o.submap_min_occupied_cells = 80;
+  EXPECT_EQ(GeometricRelocaliser::chooseSubmap(job, o, &plan, &path), 80u);
+  EXPECT_DOUBLE_EQ(path, 2.0);
+  // Never beyond submap_max_path_m, even when still short of cells.
+  o.submap_min_occupied_cells = 1000;
+  EXPECT_EQ(GeometricRelocaliser::chooseSubmap(job, o, &plan, &path), 120u);
+  EXPECT_DOUBLE_EQ(path, 4.0);
+  // submap_max_path_m at or below submap_path_m: no growth.
+  o.submap_max_path_m = 3.0;
+  EXPECT_EQ(GeometricRelocaliser::chooseSubmap(job, o, &plan, &path), 80u);
+  EXPECT_EQ(plan.count(CellState::kOccupied), 80u);
+}
+
+TEST(GeometricRelocaliser, RefineSolvesTheSubmapsHeightDrift) {
+  // The three walls and floor plus a ramp (z = 0.15 x on y in [0.7, 1.0]); the local copy's
+  // points lie s = 0.5 + 3 x metres of path before the anchor, and its odometry's height drifted
+  // by -2 cm per metre of path (s = 0.5 .. 2.9 m: 1 to 6 cm low, as on the slopes profiles).
+  std::vector<Eigen::Vector3d> map_points = threeWallsAndAFloor();
+  for (int i = 0; i < 60; ++i)
+    for (int j = 0; j < 15; ++j)
+      map_points.emplace_back(0.013 * i, 0.7 + 0.02 * j, 0.15 * 0.013 * i);
+  const double drift = 0.02;
+  std::vector<Eigen::Vector3d> local;
+  std::vector<double> path;
+  for (const Eigen::Vector3d& p : map_points) {
+    path.push_back(0.5 + 3.0 * p.x());
+    local.push_back(p - Eigen::Vector3d(0.0, 0.0, drift * path.back()));
+  }
+  const PointIndex index(map_points, 1e-4, 0.15);
+  // A weak prior (1 m per m) leaves the exact answer; the default 0.02 pulls it by a hair.
+  const GeometricRelocaliser::Refinement with = GeometricRelocaliser::refine(
+      local, index, Eigen::Isometry3d::Identity(), 0.15, 50, 0.01, path, 1.0);
+  EXPECT_NEAR(with.height_drift_per_m, drift, 1e-7);
+  EXPECT_NEAR(with.T.translation().norm(), 0.0, 1e-7);
+  EXPECT_LT(with.rms_m, 1e-7);
+  const GeometricRelocaliser::Refinement prior = GeometricRelocaliser::refine(
+      local, index, Eigen::Isometry3d::Identity(), 0.15, 50, 0.01, path, 0.02);
+  EXPECT_NEAR(prior.height_drift_per_m, drift, 1e-4);
+  EXPECT_NEAR(prior.T.translation().norm(), 0.0, 1e-4);
+  // Without the drift term the fit cannot explain it: a residual of centimetres remains.
+  const GeometricRelocaliser::Refinement without =
+      GeometricRelocaliser::refine(local, index, Eigen::Isometry3d::Identity(), 0.15, 50, 0.01);
+  EXPECT_EQ(without.height_drift_per_m, 0.0);
+  EXPECT_GT(without.rms_m, 5e-3);
+}
+
+TEST(GeometricRelocaliser, RefineCanKeepTheSearchsYawAndPosition) {
+  // The local copy 3 cm and 1 deg off horizontally and 2 cm low: with horizontal refinement off
+  // only the height moves (exactly), yaw, x and y stay as given.
+  const std::vector<Eigen::Vector3d> map_points = threeWallsAndAFloor();
+  const Eigen::Isometry3d motion = yawPose(M_PI / 180.0, Eigen::Vector3d(0.03, 0.0, 0.02));
+  std::vector<Eigen::Vector3d> local;
+  for (const Eigen::Vector3d& p : map_points) local.push_back(motion.inverse() * p);
+  const PointIndex index(map_points, 1e-4, 0.15);
+  const GeometricRelocaliser::Refinement r = GeometricRelocaliser::refine(
+      local, index, Eigen::Isometry3d::Identity(), 0.15, 50, 0.01, {}, 0.0, false);
+  EXPECT_TRUE(r.T.linear().isIdentity(0.0));
+  EXPECT_EQ(r.T.translation().x(), 0.0);
+  EXPECT_EQ(r.T.translation().y(), 0.0);
+  // The floor patch pins z; Huber keeps the walls' sideways residuals from pulling it.
+  EXPECT_NEAR(r.T.translation().z(), 0.02, 1e-3);
+}
+
+TEST(GeometricRelocaliser, ThinningAveragesAValuePerVoxel) {
+  const std::vector<Eigen::Vector3d> pts{{0.01, 0.01, 0.01}, {0.03, 0.02, 0.01}, {0.2, 0, 0}};
+  std::vector<double> values;
+  const std::vector<Eigen::Vector3d> thin = PointIndex::thin(pts, {1.0, 3.0, 5.0}, 0.05, &values);
+  ASSERT_EQ(thin.size(), 2u);
+  ASSERT_EQ(values.size(), 2u);
+  EXPECT_DOUBLE_EQ(values[0], 2.0);
+  EXPECT_DOUBLE_EQ(values[1], 5.0);
+  EXPECT_TRUE(thin[0].isApprox(Eigen::Vector3d(0.02, 0.015, 0.01)));
+}

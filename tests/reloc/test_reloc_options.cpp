@@ -43,8 +43,12 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.search.candidate_margin, d.search.candidate_margin);
   EXPECT_EQ(o.search.conflict_penalty, d.search.conflict_penalty);
   EXPECT_EQ(o.refine_huber_m, d.refine_huber_m);
+  EXPECT_EQ(o.refine_height_drift_sigma_per_m, d.refine_height_drift_sigma_per_m);
+  EXPECT_EQ(o.refine_max_range_m, d.refine_max_range_m);
+  EXPECT_EQ(o.refine_horizontal, d.refine_horizontal);
   EXPECT_EQ(o.submap_path_m, d.submap_path_m);
   EXPECT_EQ(o.submap_min_occupied_cells, d.submap_min_occupied_cells);
+  EXPECT_EQ(o.submap_max_path_m, d.submap_max_path_m);
   EXPECT_EQ(o.attempt_interval_m, d.attempt_interval_m);
   EXPECT_EQ(o.result_lag_keyframes, d.result_lag_keyframes);
   EXPECT_EQ(o.confirm_fits, d.confirm_fits);
@@ -71,5 +75,7 @@ TEST(RelocOptions, BadValuesNameTheKey) {
   EXPECT_NE(loadError("[relocalise]\nresult_lag_keyframes = 0\n").find("result_lag_keyframes"),
             std::string::npos);
   EXPECT_NE(loadError("[relocalise]\nconfirm_fits = 1\n").find("confirm_fits"), std::string::npos);
+  EXPECT_NE(loadError("[relocalise]\nsubmap_max_path_m = -1\n").find("submap_max_path_m"),
+            std::string::npos);
   EXPECT_EQ(loadError("[relocalise]\ngeometric = false\n"), "");
 }

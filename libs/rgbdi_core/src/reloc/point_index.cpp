@@ -18,10 +18,19 @@ Eigen::Vector3i PointIndex::cellOf(const Eigen::Vector3d& p) const {
 
 std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>& points,
                                               double voxel_m) {
+  std::vector<double> unused;
+  return thin(points, std::vector<double>(points.size(), 0.0), voxel_m, &unused);
+}
+
+std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>& points,
+                                              const std::vector<double>& values, double voxel_m,
+                                              std::vector<double>* values_out) {
   std::unordered_map<std::int64_t, std::size_t> slot;
   std::vector<Eigen::Vector3d> sum;
   std::vector<int> n;
-  for (const Eigen::Vector3d& p : points) {
+  values_out->clear();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
     if (!p.allFinite()) continue;
     const Eigen::Vector3i c(static_cast<int>(std::floor(p.x() / voxel_m)),
                             static_cast<int>(std::floor(p.y() / voxel_m)),
@@ -29,13 +38,18 @@ std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>
     const auto [it, added] = slot.emplace(key(c), sum.size());
     if (added) {
       sum.push_back(p);
+      values_out->push_back(values[i]);
       n.push_back(1);
     } else {
       sum[it->second] += p;
+      (*values_out)[it->second] += values[i];
       ++n[it->second];
     }
   }
-  for (std::size_t i = 0; i < sum.size(); ++i) sum[i] /= n[i];
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    sum[i] /= n[i];
+    (*values_out)[i] /= n[i];
+  }
   return sum;
 }
 

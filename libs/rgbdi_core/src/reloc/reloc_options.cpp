@@ -35,6 +35,7 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   o.submap_path_m = ini.getDouble(s, "submap_path_m", o.submap_path_m, 0.0, 1000.0);
   o.submap_min_occupied_cells =
       ini.getInt(s, "submap_min_occupied_cells", o.submap_min_occupied_cells, 1, 1000000);
+  o.submap_max_path_m = ini.getDouble(s, "submap_max_path_m", o.submap_max_path_m, 0.0, 1000.0);
   o.attempt_interval_m = ini.getDouble(s, "attempt_interval_m", o.attempt_interval_m, 0.0, 1000.0);
   o.result_lag_keyframes = ini.getInt(s, "result_lag_keyframes", o.result_lag_keyframes, 1, 1000);
   o.confirm_fits = ini.getInt(s, "confirm_fits", o.confirm_fits, 2, 100);
@@ -45,8 +46,12 @@ RelocOptions RelocOptions::load(IniReader& ini) {
       ini.getDouble(s, "confirm_max_disagreement_deg", o.confirm_max_disagreement_deg, 0.0, 180.0);
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
+  o.refine_max_range_m = ini.getDouble(s, "refine_max_range_m", o.refine_max_range_m, 0.1, 100.0);
+  o.refine_horizontal = ini.getBool(s, "refine_horizontal", o.refine_horizontal);
   o.refine_iterations = ini.getInt(s, "refine_iterations", o.refine_iterations, 0, 1000);
   o.refine_huber_m = ini.getDouble(s, "refine_huber_m", o.refine_huber_m, 0.0001, 1e12);
+  o.refine_height_drift_sigma_per_m = ini.getDouble(s, "refine_height_drift_sigma_per_m",
+                                                    o.refine_height_drift_sigma_per_m, 0.0, 1.0);
   o.refine_min_pair_fraction =
       ini.getDouble(s, "refine_min_pair_fraction", o.refine_min_pair_fraction, 0.0, 1.0);
   o.refine_max_rms_m = ini.getDouble(s, "refine_max_rms_m", o.refine_max_rms_m, 0.0, 10.0);

@@ -61,9 +61,13 @@ reloc::RelocJob GeoRelocStage::makeJob(const loop::LoopCloser& closer,
   j.T_anchor = closer.pose(newest.id);
   j.travelled_m = newest.travelled_m;
   j.t_query = newest.t - closer.timeShift();
+  // Newest first, up to the longest path a submap may need (GeometricRelocaliser picks).
+  const double max_path = std::max(options_.submap_path_m, options_.submap_max_path_m);
   for (auto it = kfs.rbegin(); it != kfs.rend() && it->segment == newest.segment; ++it) {
-    if (newest.travelled_m - it->travelled_m > options_.submap_path_m) break;
+    const double path = newest.travelled_m - it->travelled_m;
+    if (path > max_path) break;
     reloc::appendDepthSamples(*it, closer.pose(it->id), cam, T_body_cam_, &j.samples);
+    j.spans.push_back({path, j.samples.size()});
   }
   return j;
 }

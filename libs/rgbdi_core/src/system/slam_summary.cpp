@@ -173,6 +173,7 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
       nlohmann::json e = {{"time_s", have_t ? f.t_query - run.stream_t0 : f.t_query},
                           {"outcome", reloc::toString(f.outcome)},
                           {"local_obstacle_cells", f.local_obstacles},
+                          {"submap_path_m", f.submap_path_m},
                           {"candidates", f.candidates},
                           {"places", f.places},
                           {"ms", f.ms}};
@@ -191,6 +192,7 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
         e["refine_pairs"] = f.refine_pairs;
         e["refine_rms_m"] = f.refine_rms_m;
         e["refine_horizontal_constraint"] = f.refine_horizontal_constraint;
+        e["height_drift_per_m"] = f.height_drift_per_m;
       }
       if (f.outcome == reloc::FitOutcome::kFit) {
         const Eigen::Isometry3d P = f.T_map_part * f.T_anchor;  // the anchor in the map

@@ -24,7 +24,15 @@ struct RelocJob {
   Eigen::Isometry3d T_anchor = Eigen::Isometry3d::Identity();  ///< its pose (part frame)
   double travelled_m = 0.0;          ///< [m] odometry path length at the anchor
   double t_query = 0.0;              ///< [s] stamp of the anchor (run clock)
-  std::vector<DepthSample> samples;  ///< part frame
+  std::vector<DepthSample> samples;  ///< part frame, newest keyframe first
+  /// Per keyframe, newest first: the path from it to the anchor [m] and the end of its samples
+  /// in `samples` (samples[0, end) are this keyframe's and the newer ones'). Empty: all samples
+  /// are one submap (path 0).
+  struct Span {
+    double path_m = 0.0;
+    std::size_t end = 0;
+  };
+  std::vector<Span> spans;
 };
 
 enum class FitOutcome {
@@ -45,9 +53,10 @@ struct RelocFit {
   double travelled_m = 0.0;
   double t_query = 0.0;
   FitOutcome outcome = FitOutcome::kTooLittle;
-  int local_obstacles = 0;  ///< [count] occupied cells of the submap's plan
-  int candidates = 0;       ///< [count] distinct places near the best score
-  int places = 0;           ///< [count] of those, agreeing with the map's free space
+  int local_obstacles = 0;     ///< [count] occupied cells of the submap's plan
+  double submap_path_m = 0.0;  ///< [m] path of the keyframes the submap was made of
+  int candidates = 0;          ///< [count] distinct places near the best score
+  int places = 0;              ///< [count] of those, agreeing with the map's free space
   /// Where each of those places puts the anchor in the map: x, y [m] and yaw [rad] (plan
   /// resolution, before the refinement), best first; and their scores.
   std::vector<Eigen::Vector3d> place_poses;
@@ -59,6 +68,7 @@ struct RelocFit {
   int refine_pairs = 0;                       ///< [count] ICP correspondences at the end
   double refine_rms_m = 0.0;                  ///< [m] their RMS distance
   double refine_horizontal_constraint = 0.0;  ///< see GeometricRelocaliser::Refinement
+  double height_drift_per_m = 0.0;            ///< [m per m] solved by the refinement
   double ms = 0.0;                            ///< [ms] wall time of the attempt
 };
 
@@ -79,17 +89,33 @@ class GeometricRelocaliser {
     /// sum n_xy n_xy^T / its trace over the pairs' map normals (0: free to slide along a wall,
     /// 0.5: walls facing two perpendicular directions equally).
     double horizontal_constraint = 0.0;
+    /// [m per m] height drift of the local samples solved with the pose (0 when not solved):
+    /// a sample `s` metres of path before the anchor is moved up by s times this.
+    double height_drift_per_m = 0.0;
   };
   /// 4-DOF point-to-plane ICP of `local` onto `map` from T (yaw about z, translation):
   /// nearest neighbours within max_distance_m, at most `iterations` Gauss-Newton steps, pairs
-  /// farther than huber_m down-weighted by huber_m / |r| (Huber).
+  /// farther than huber_m down-weighted by huber_m / |r| (Huber). With `path_m` (per local
+  /// point: its keyframe's path before the anchor) and drift_sigma_per_m > 0, a fifth unknown,
+  /// the odometry's height drift per metre of path (prior 0 +- drift_sigma_per_m, weighed as
+  /// one pair of huber_m noise), is solved with the pose: the submap's floor and ramps drift a
+  /// few centimetres in height over its path, and a ramp seen at the wrong height pushes a
+  /// 4-DOF fit sideways. `horizontal` false: yaw, x and y stay as given (only the height and
+  /// the drift are solved; the pairs still judge the fit).
   static Refinement refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
                            const Eigen::Isometry3d& T, double max_distance_m, int iterations,
-                           double huber_m);
+                           double huber_m, const std::vector<double>& path_m = {},
+                           double drift_sigma_per_m = 0.0, bool horizontal = true);
   /// Median of map floor height - local floor height over cells both saw as floor, with the
   /// local plan placed by `a`; false with fewer than min_cells such cells.
   static bool floorOffset(const PlanGrid& map, const PlanGrid& local, const PlanAlignment& a,
                           int min_cells, double* dz);
+  /// How many of job.samples make the local submap: those of the keyframes within
+  /// submap_path_m of the anchor, and when their plan has fewer than submap_min_occupied_cells
+  /// obstacle cells, older keyframes one by one (up to submap_max_path_m) until it has. Sets
+  /// *plan to the submap's plan and *path_m to its path.
+  static std::size_t chooseSubmap(const RelocJob& job, const RelocOptions& options, PlanGrid* plan,
+                                  double* path_m);
 
  private:
   RelocOptions options_;

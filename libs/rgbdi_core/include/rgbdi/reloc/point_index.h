@@ -26,6 +26,11 @@ class PointIndex {
   /// The points thinned to one mean per voxel (deterministic order: first seen first).
   static std::vector<Eigen::Vector3d> thin(const std::vector<Eigen::Vector3d>& points,
                                            double voxel_m);
+  /// The same, with a value per point (e.g. its keyframe's path from the anchor) averaged per
+  /// voxel into *values_out (one per thinned point).
+  static std::vector<Eigen::Vector3d> thin(const std::vector<Eigen::Vector3d>& points,
+                                           const std::vector<double>& values, double voxel_m,
+                                           std::vector<double>* values_out);
 
  private:
   static std::int64_t key(const Eigen::Vector3i& c);

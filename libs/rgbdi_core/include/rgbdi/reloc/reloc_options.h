@@ -61,7 +61,12 @@ struct RelocOptions {
   /// [m] path length of the part's latest keyframes that make the local plan.
   double submap_path_m = 3.0;
   /// [count] occupied cells the local plan needs before it is searched.
-  int submap_min_occupied_cells = 100;
+  int submap_min_occupied_cells = 80;
+  /// [m] when the latest submap_path_m have fewer obstacle cells than that, older keyframes
+  /// are added (up to this path) until the plan has them: thin structure (walls along the
+  /// path, little furniture) gets a longer submap instead of no search. At most submap_path_m
+  /// disables it.
+  double submap_max_path_m = 6.0;
   double attempt_interval_m = 0.25;  ///< [m] path between two searches of one part
   /// [count] the result of a search started at loop keyframe k is taken at keyframe k + this
   /// (offline: a defined point, so threaded and sequential runs agree; live: when ready).
@@ -75,12 +80,24 @@ struct RelocOptions {
   /// ICP refinement of a hypothesis on the 3-D depth samples (nearest neighbours within this
   /// distance, these many iterations).
   double refine_max_distance_m = 0.15;  ///< [m]
-  int refine_iterations = 15;           ///< [count] 0 = off
+  /// [m] the refinement uses the depth samples within this of their camera (map and submap):
+  /// the plans may use farther ones (grid.max_range_m: more structure to search), but their
+  /// depth noise (growing with the square of the range) would pull a centimetre fit apart.
+  double refine_max_range_m = 4.0;
+  /// The refinement moves yaw, x and y too (true), or keeps the search's (plan resolution) and
+  /// solves the height and its drift only (false).
+  bool refine_horizontal = true;
+  int refine_iterations = 15;  ///< [count] 0 = off
   /// [m] pairs farther apart than this weigh this / their distance (Huber): what the map saw
   /// differently (the backs of things; the odometry's height drifting a few centimetres within
   /// the submap on ramps, which a ramp's surface turns into a sideways push) must not drag the
   /// fit. 1e9 or more: plain least squares.
   double refine_huber_m = 0.01;
+  /// [m per m] the refinement also solves the odometry's height drift along the submap's path
+  /// (a sample s metres before the anchor raised by s x drift), with this prior sigma: on ramps
+  /// the submap's height drifts a few centimetres over 3 m, and a ramp seen at the wrong height
+  /// pushes a fit without it sideways. 0: off (4-DOF).
+  double refine_height_drift_sigma_per_m = 0.02;
   /// After the refinement at least this fraction of the local samples (thinned) must have a map
   /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
   double refine_min_pair_fraction = 0.5;  ///< [fraction]
