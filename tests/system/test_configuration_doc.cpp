@@ -364,6 +364,7 @@ const std::vector<Field> kFields = {
     {"wheel", "max_blind_s", [](const Defaults& d) { return text(d.system.estimator.wheel.max_blind_s); }},
     {"wheel", "reading_lag_s", [](const Defaults& d) { return text(d.system.estimator.wheel.reading_lag_s); }},
     {"wheel", "fault_motion_ratio", [](const Defaults& d) { return text(d.system.estimator.wheel.fault_motion_ratio); }},
+    {"wheel", "direction_from_gyro", [](const Defaults& d) { return text(d.system.estimator.wheel.direction_from_gyro); }},
     {"loop", "enable", [](const Defaults& d) { return text(d.system.loop.enable); }},
     {"loop", "offline_lag_keyframes", [](const Defaults& d) { return text(d.system.loop.offline_lag_keyframes); }},
     {"loop", "max_verified_candidates", [](const Defaults& d) { return text(d.system.loop.max_verified_candidates); }},

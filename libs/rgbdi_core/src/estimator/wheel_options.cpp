@@ -47,6 +47,8 @@ WheelOptions WheelOptions::load(IniReader& ini) {
   o.max_blind_s = ini.getDouble(s, "max_blind_s", o.max_blind_s, 0.0, 3600.0);
   o.reading_lag_s = ini.getDouble(s, "reading_lag_s", o.reading_lag_s, 0.0, 10.0);
   o.fault_motion_ratio = ini.getDouble(s, "fault_motion_ratio", o.fault_motion_ratio, 0.0, 1.0);
+  o.direction_from_gyro =
+      ini.getEnum(s, "direction_from_gyro", o.direction_from_gyro, {"never", "blind", "always"});
   return o;
 }
 

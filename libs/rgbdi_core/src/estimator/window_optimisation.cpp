@@ -73,7 +73,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   std::vector<std::pair<std::size_t, WheelPreintegration>> wheel_intervals;
   if (model_.wheel.enable)
     for (std::size_t k = 1; k < window.size(); ++k)
-      if (auto pre = wheels.interval(window[k - 1].t, window[k].t, model_.wheel)) {
+      if (auto pre = wheels.interval(window[k - 1], window[k], model_.wheel)) {
         // Checked against what the IMU and vision made of the interval so far.
         if (wheels.check(*pre, window[k - 1].pose, window[k].pose, window[k - 1].t, window[k].t,
                          model_.wheel) == WheelVerdict::Consistent)
