@@ -94,18 +94,18 @@ TEST(WheelPreintegration3d, RampStartKnownAnswerWherePlanarIsWrong) {
   EXPECT_NEAR(dp.z(), 0.0, 1e-12);
 }
 
-TEST(WheelPreintegration3d, RotationRowsHaveNoWeightAndTheVerticalTheLateralSigma) {
+TEST(WheelPreintegration3d, RotationRowsHaveNoWeightAndTheTranslationThePlanarSigmas) {
   const auto readings = straightReadings(2.2, driveStopDrive);
   const std::vector<ImuSample> imu = pitchWhileStanding(-1.5, Eigen::Vector3d::Zero());
   WheelGyro gyro;
   gyro.samples = &imu;
   WheelNoise noise;
-  noise.lateral_sigma_per_sqrt_m = 0.03;
+  noise.vertical_sigma_per_sqrt_m = 0.07;
   const auto pre = WheelPreintegration::between(readings, 0.0, 2.2, 0.0, noise, 0.0, &gyro);
   const auto planar = WheelPreintegration::between(readings, 0.0, 2.2, 0.0, noise);
   const Eigen::Matrix<double, 6, 1>& w = pre->sqrtInformation();
-  EXPECT_EQ(w.head<2>(), planar->sqrtInformation().head<2>());
-  EXPECT_NEAR(w[2], 1.0 / (0.03 * std::sqrt(2.0)), 1e-9);  // 2 m travelled
+  EXPECT_EQ(w.head<3>(), planar->sqrtInformation().head<3>());
+  EXPECT_NEAR(w[2], 1.0 / (0.07 * std::sqrt(2.0)), 1e-9);  // 2 m travelled
   EXPECT_EQ(w.tail<3>(), Eigen::Vector3d::Zero());
 }
 

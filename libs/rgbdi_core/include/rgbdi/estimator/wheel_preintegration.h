@@ -17,8 +17,9 @@
 // turned by R_k, the wheel frame at its start in the wheel frame at a (integrated from the
 // rates, wheel yaw unused): dp(s) = s_v sum_k R_k [d_k; 0], dyaw = s_w phi_n. The rotation is
 // then the IMU factor's business: the rotation rows get no weight (the wheels' yaw adds nothing
-// to the gyroscope over seconds, and is what slips on skid-steered tracks), and the vertical of
-// dp gets the lateral sigma (it is known as well as the direction of travel).
+// to the gyroscope over seconds, and is what slips on skid-steered tracks); the translation keeps
+// the planar noise model (the vertical its loose sigma: the gyroscope's tilt drifts with its
+// bias error).
 #pragma once
 
 #include <Eigen/Core>
