@@ -37,6 +37,9 @@ struct WindowWheels {
     WheelVerdict verdict = WheelVerdict::Slip;
   };
   std::vector<Episode> episodes;
+  /// [m] the ground plane's height (world z of the wheel frame where the constraint began).
+  std::optional<double> ground_z;
+  int ground_plane_used = 0, ground_plane_gated = 0;  ///< frame constraints (summed over updates)
 
   /// Appends a reading (older than the newest one or not finite: ignored).
   void add(const WheelOdometrySample& w);
