@@ -204,6 +204,7 @@ TEST(WheelOptions, DefaultsEqualTheSharedConfigAndBadValuesAreNamed) {
   EXPECT_EQ(o.noise.min_sigma_rad, d.noise.min_sigma_rad);
   EXPECT_EQ(o.estimate_scale, d.estimate_scale);
   EXPECT_EQ(o.scale_prior_sigma, d.scale_prior_sigma);
+  EXPECT_EQ(o.direction_from_gyro, d.direction_from_gyro);
   ini.acceptConfigSectionsExcept({"estimator", "wheel"});
   EXPECT_NO_THROW(ini.checkNoUnknownKeys());
 

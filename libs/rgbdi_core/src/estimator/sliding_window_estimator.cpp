@@ -394,6 +394,8 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
   stats_.wheel_intervals_stuck = wheels.intervals_stuck;
   stats_.wheel_intervals_lifted = wheels.intervals_lifted;
   stats_.wheel_factors_gated = wheels.factors_gated;
+  stats_.ground_plane_used = wheels.ground_plane_used;
+  stats_.ground_plane_gated = wheels.ground_plane_gated;
   if (stats_.wheel_fault_episodes.size() != wheels.episodes.size() ||
       (!wheels.episodes.empty() &&
        stats_.wheel_fault_episodes.back().t_end != wheels.episodes.back().t_end)) {

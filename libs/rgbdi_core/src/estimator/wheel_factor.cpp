@@ -19,12 +19,17 @@ Eigen::Matrix<double, 6, 1> WheelFactor::error(const double* pose_a, const doubl
                                                double s_v, double s_w) const {
   const double* params[] = {pose_a, pose_b, &s_v, &s_w};
   Eigen::Matrix<double, 6, 1> r;
-  Evaluate(params, r.data(), nullptr);
-  return r.cwiseQuotient(preint_.sqrtInformation());
+  evaluate(params, r.data(), nullptr, false);
+  return r;
 }
 
 bool WheelFactor::Evaluate(double const* const* parameters, double* residuals,
                            double** jacobians) const {
+  return evaluate(parameters, residuals, jacobians, true);
+}
+
+bool WheelFactor::evaluate(double const* const* parameters, double* residuals, double** jacobians,
+                           bool weighted) const {
   const Eigen::Map<const Eigen::Vector3d> pa(parameters[0]);
   const Eigen::Matrix3d Ra =
       Eigen::Map<const Eigen::Quaterniond>(parameters[0] + 3).normalized().toRotationMatrix();
@@ -33,10 +38,9 @@ bool WheelFactor::Evaluate(double const* const* parameters, double* residuals,
       Eigen::Map<const Eigen::Quaterniond>(parameters[1] + 3).normalized().toRotationMatrix();
   const double s_v = parameters[2][0], s_w = parameters[3][0];
 
-  Eigen::Vector2d dp2, ddp_dsw;
+  Eigen::Vector3d dp, ddp_dsw;
   double dyaw = 0.0;
-  preint_.delta(s_v, s_w, &dp2, &dyaw, &ddp_dsw);
-  const Eigen::Vector3d dp(dp2.x(), dp2.y(), 0.0);
+  preint_.motion(s_v, s_w, &dp, &dyaw, &ddp_dsw);
 
   // y = R_a^T (p_b + R_b p_bw - p_a): the wheel origin at b in body frame a.
   const Eigen::Vector3d y = Ra.transpose() * (pb + Rb * p_bw_ - pa);
@@ -44,7 +48,8 @@ bool WheelFactor::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Matrix3d E =
       rotZ(dyaw).transpose() * R_bw_.transpose() * Ra.transpose() * Rb * R_bw_;
   const Eigen::Vector3d r_theta = logSO3(E);
-  const Eigen::Matrix<double, 6, 1>& w = preint_.sqrtInformation();
+  const Eigen::Matrix<double, 6, 1> w =
+      weighted ? preint_.sqrtInformation() : Eigen::Matrix<double, 6, 1>::Ones();
   Eigen::Map<Eigen::Matrix<double, 6, 1>> out(residuals);
   out.head<3>() = r_p;
   out.tail<3>() = r_theta;
@@ -72,15 +77,15 @@ bool WheelFactor::Evaluate(double const* const* parameters, double* residuals,
   if (jacobians[2]) {
     Eigen::Map<Eigen::Matrix<double, 6, 1>> J(jacobians[2]);
     J.setZero();
-    Eigen::Vector2d unscaled;
-    preint_.delta(1.0, s_w, &unscaled, nullptr);
-    J.head<2>() = -unscaled;
+    Eigen::Vector3d unscaled;
+    preint_.motion(1.0, s_w, &unscaled, nullptr);
+    J.head<3>() = -unscaled;
     J = w.asDiagonal() * J;
   }
   if (jacobians[3]) {
     Eigen::Map<Eigen::Matrix<double, 6, 1>> J(jacobians[3]);
     J.setZero();
-    J.head<2>() = -ddp_dsw;
+    J.head<3>() = -ddp_dsw;
     J.tail<3>() = -Jr_inv * E.transpose() * Eigen::Vector3d::UnitZ() * preint_.reportedYaw();
     J = w.asDiagonal() * J;
   }

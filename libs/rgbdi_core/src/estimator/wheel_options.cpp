@@ -47,6 +47,14 @@ WheelOptions WheelOptions::load(IniReader& ini) {
   o.max_blind_s = ini.getDouble(s, "max_blind_s", o.max_blind_s, 0.0, 3600.0);
   o.reading_lag_s = ini.getDouble(s, "reading_lag_s", o.reading_lag_s, 0.0, 10.0);
   o.fault_motion_ratio = ini.getDouble(s, "fault_motion_ratio", o.fault_motion_ratio, 0.0, 1.0);
+  o.direction_from_gyro =
+      ini.getEnum(s, "direction_from_gyro", o.direction_from_gyro, {"never", "blind", "always"});
+  o.ground_plane_sigma_m =
+      ini.getDouble(s, "ground_plane_sigma_m", o.ground_plane_sigma_m, 0.0, 10.0);
+  o.ground_plane_tilt_sigma_rad =
+      ini.getDouble(s, "ground_plane_tilt_sigma_rad", o.ground_plane_tilt_sigma_rad, 1e-6, 10.0);
+  o.ground_plane_gate_chi2 =
+      ini.getDouble(s, "ground_plane_gate_chi2", o.ground_plane_gate_chi2, 0.0, 1e9);
   return o;
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rgbdi/common/so3.h"
+
 namespace rgbdi::estimator {
 namespace {
 
@@ -20,11 +22,36 @@ Pose2 unwrapped(const WheelOdometrySample& w, double ref) {
   return {w.x_m, w.y_m, ref + std::remainder(w.yaw_rad - ref, 2.0 * M_PI)};
 }
 
+/// The wheel frame's rotation at increasing times relative to the start time, from the gyroscope
+/// (each sample's rate held until the next one; the first one's before it).
+class WheelFrameRotation {
+ public:
+  WheelFrameRotation(const WheelGyro& g, double t0) : g_(g), t_(t0) {}
+  /// Times must not decrease from call to call.
+  Eigen::Matrix3d at(double t) {
+    const std::vector<ImuSample>& imu = *g_.samples;
+    while (t_ < t && !imu.empty()) {
+      while (next_ < imu.size() && imu[next_].t <= t_) ++next_;
+      const std::size_t k = next_ == 0 ? 0 : next_ - 1;
+      const double t_end = next_ < imu.size() ? std::min(t, imu[next_].t) : t;
+      q_ = (q_ * expQuat((imu[k].gyr - g_.bias) * (t_end - t_))).normalized();
+      t_ = t_end;
+    }
+    return g_.R_body_wheel.transpose() * q_.toRotationMatrix() * g_.R_body_wheel;
+  }
+
+ private:
+  const WheelGyro& g_;
+  double t_;
+  Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
+  std::size_t next_ = 0;
+};
+
 }  // namespace
 
 WheelPreintegration::WheelPreintegration(std::vector<Eigen::Vector2d> d, std::vector<double> a,
-                                         const WheelNoise& noise)
-    : d_(std::move(d)) {
+                                         const WheelNoise& noise, std::vector<Eigen::Matrix3d> R)
+    : d_(std::move(d)), R_(std::move(R)) {
   phi_.reserve(a.size());
   double phi = 0.0;
   for (std::size_t k = 0; k < d_.size(); ++k) {
@@ -44,11 +71,16 @@ WheelPreintegration::WheelPreintegration(std::vector<Eigen::Vector2d> d, std::ve
       1.0 / sigma(noise.lateral_sigma_per_sqrt_m, distance_, noise.min_sigma_m),
       1.0 / sigma(noise.vertical_sigma_per_sqrt_m, distance_, noise.min_sigma_m), 1.0 / s_tilt,
       1.0 / s_tilt, 1.0 / s_yaw;
+  // 3-D: the rotation is the IMU factor's (the wheels' yaw adds nothing to the gyroscope over
+  // seconds and slips on tracks); the vertical keeps its loose sigma, as the gyroscope's tilt
+  // drifts with its bias error (a 5 s blackout over a ramp early in a run: 3 cm too high with
+  // the lateral sigma there, doc/wheels.md "Blind frames").
+  if (threeD()) sqrt_info_.tail<3>().setZero();
 }
 
 std::optional<WheelPreintegration> WheelPreintegration::between(
     const std::deque<WheelOdometrySample>& readings, double t_a, double t_b, double time_offset_s,
-    const WheelNoise& noise, double max_extrapolation_s) {
+    const WheelNoise& noise, double max_extrapolation_s, const WheelGyro* gyro) {
   const auto stamp = [&](std::size_t i) { return readings[i].t + time_offset_s; };
   if (readings.empty() || !(t_b >= t_a) || stamp(0) > t_a ||
       stamp(readings.size() - 1) < t_b - max_extrapolation_s)
@@ -56,7 +88,8 @@ std::optional<WheelPreintegration> WheelPreintegration::between(
   // i0: the last reading at or before t_a.
   std::size_t i0 = 0;
   while (i0 + 1 < readings.size() && stamp(i0 + 1) <= t_a) ++i0;
-  std::vector<Pose2> poses;  // the poses at t_a, at every reading inside (t_a, t_b), at t_b
+  std::vector<Pose2> poses;   // the poses at t_a, at every reading inside (t_a, t_b), at t_b
+  std::vector<double> times;  // their IMU-clock times
   double ref = readings[i0].yaw_rad;
   const std::size_t last = readings.size() - 1;
   const auto at = [&](double t, std::size_t i) {  // between reading i and i + 1
@@ -74,26 +107,57 @@ std::optional<WheelPreintegration> WheelPreintegration::between(
     return Pose2{p.x + f * (q.x - p.x), p.y + f * (q.y - p.y), p.yaw + f * (q.yaw - p.yaw)};
   };
   poses.push_back(at(t_a, i0));
+  times.push_back(t_a);
   std::size_t i = i0 + 1;
   for (; i < readings.size() && stamp(i) < t_b; ++i) {
     poses.push_back(unwrapped(readings[i], poses.back().yaw));
+    times.push_back(stamp(i));
     ref = poses.back().yaw;
   }
   ref = poses.back().yaw;
   poses.push_back(at(t_b, i - 1));
+  times.push_back(t_b);
   std::vector<Eigen::Vector2d> d;
   std::vector<double> a;
+  std::vector<Eigen::Matrix3d> R;
+  std::optional<WheelFrameRotation> rotation;
+  if (gyro && gyro->samples) rotation.emplace(*gyro, t_a);
   for (std::size_t k = 1; k < poses.size(); ++k) {
     const Pose2& p = poses[k - 1];
     const Pose2& q = poses[k];
     d.push_back(rot2(-p.yaw) * Eigen::Vector2d(q.x - p.x, q.y - p.y));
     a.push_back(q.yaw - p.yaw);
+    if (rotation) R.push_back(rotation->at(times[k - 1]));
   }
-  return WheelPreintegration(std::move(d), std::move(a), noise);
+  return WheelPreintegration(std::move(d), std::move(a), noise, std::move(R));
+}
+
+void WheelPreintegration::motion(double s_v, double s_w, Eigen::Vector3d* dp, double* dyaw,
+                                 Eigen::Vector3d* ddp_dsw) const {
+  if (threeD()) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < d_.size(); ++k)
+      p += R_[k] * Eigen::Vector3d(d_[k].x(), d_[k].y(), 0.0);
+    if (dp) *dp = s_v * p;
+    if (dyaw) *dyaw = s_w * phi_end_;
+    if (ddp_dsw) ddp_dsw->setZero();
+    return;
+  }
+  Eigen::Vector2d p2, dp2_dsw;
+  delta(s_v, s_w, &p2, dyaw, &dp2_dsw);
+  if (dp) *dp = Eigen::Vector3d(p2.x(), p2.y(), 0.0);
+  if (ddp_dsw) *ddp_dsw = Eigen::Vector3d(dp2_dsw.x(), dp2_dsw.y(), 0.0);
 }
 
 void WheelPreintegration::delta(double s_v, double s_w, Eigen::Vector2d* dp, double* dyaw,
                                 Eigen::Vector2d* ddp_dsw) const {
+  if (threeD()) {
+    Eigen::Vector3d p, dp_dsw;
+    motion(s_v, s_w, &p, dyaw, &dp_dsw);
+    if (dp) *dp = p.head<2>();
+    if (ddp_dsw) *ddp_dsw = dp_dsw.head<2>();
+    return;
+  }
   Eigen::Vector2d p = Eigen::Vector2d::Zero(), dp_dsw = Eigen::Vector2d::Zero();
   const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished();  // d R / da
   for (std::size_t k = 0; k < d_.size(); ++k) {

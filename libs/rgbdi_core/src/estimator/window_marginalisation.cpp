@@ -71,7 +71,7 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
   // What the wheels told the window about this interval stays in the prior.
   WindowWheels& wheels = state.wheels;
   if (model.wheel.enable) {
-    auto pre = wheels.interval(s0.t, window[1].t, model.wheel);
+    auto pre = wheels.interval(s0, window[1], model.wheel);
     const WheelVerdict verdict =
         pre ? wheels.check(*pre, s0.pose, window[1].pose, s0.t, window[1].t, model.wheel)
             : WheelVerdict::Consistent;

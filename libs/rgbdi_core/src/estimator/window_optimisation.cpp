@@ -6,6 +6,7 @@
 
 #include "estimator/window_state.h"
 #include "rgbdi/estimator/gauge_prior.h"
+#include "rgbdi/estimator/ground_plane_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
 #include "rgbdi/estimator/wheel_factor.h"
@@ -73,7 +74,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   std::vector<std::pair<std::size_t, WheelPreintegration>> wheel_intervals;
   if (model_.wheel.enable)
     for (std::size_t k = 1; k < window.size(); ++k)
-      if (auto pre = wheels.interval(window[k - 1].t, window[k].t, model_.wheel)) {
+      if (auto pre = wheels.interval(window[k - 1], window[k], model_.wheel)) {
         // Checked against what the IMU and vision made of the interval so far.
         if (wheels.check(*pre, window[k - 1].pose, window[k].pose, window[k - 1].t, window[k].t,
                          model_.wheel) == WheelVerdict::Consistent)
@@ -124,6 +125,22 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   for (const auto& [k, pre] : wheel_intervals)
     add(new WheelFactor(pre, model_.wheel.T_body_wheel), nullptr,
         {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w});
+  if (model_.wheel.enable && model_.wheel.ground_plane_sigma_m > 0.0) {
+    // The flat floor, where the state agrees with it (a ramp or a bump switches it off).
+    const WheelOptions& w = model_.wheel;
+    if (!wheels.ground_z) wheels.ground_z = (window.front().T() * w.T_body_wheel).translation().z();
+    for (auto& s : window) {
+      auto f = std::make_unique<GroundPlaneFactor>(*wheels.ground_z, w.ground_plane_sigma_m,
+                                                   w.ground_plane_tilt_sigma_rad, w.T_body_wheel);
+      if (w.ground_plane_gate_chi2 > 0.0 &&
+          f->squaredNormalised(s.pose) > w.ground_plane_gate_chi2) {
+        ++wheels.ground_plane_gated;
+        continue;
+      }
+      ++wheels.ground_plane_used;
+      add(f.release(), nullptr, {s.pose});
+    }
+  }
   if (wheel_scales && wheels.scale_prior_pending) {
     add(new ScalarPrior(wheels.prior_mean_v, model_.wheel.scale_prior_sigma), nullptr,
         {wheels.scale_v});

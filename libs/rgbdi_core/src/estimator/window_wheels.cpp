@@ -31,11 +31,11 @@ WheelVerdict WindowWheels::check(const WheelPreintegration& pre, const double* p
   const Eigen::Matrix<double, 6, 1> e = f.error(pose_a, pose_b, scale_v[0], scale_w[0]);
   if (e.cwiseProduct(pre.sqrtInformation()).squaredNorm() <= opt.gate_chi2)
     return WheelVerdict::Consistent;
-  Eigen::Vector2d dp;
-  pre.delta(scale_v[0], scale_w[0], &dp, nullptr);
+  Eigen::Vector3d dp;
+  pre.motion(scale_v[0], scale_w[0], &dp, nullptr);
   const double wheels_m = dp.norm();
   // The window's own motion in the wheel frame: the error plus what the wheels said.
-  const double window_m = (e.head<3>() + Eigen::Vector3d(dp.x(), dp.y(), 0.0)).norm();
+  const double window_m = (e.head<3>() + dp).norm();
   if (wheels_m < opt.fault_motion_ratio * window_m) return WheelVerdict::Stuck;
   // One wheel's encoder standing while the other turns: a blocked wheel dragged along.
   std::int64_t left = 0, right = 0;
@@ -77,10 +77,21 @@ void WindowWheels::add(const WheelOdometrySample& w) {
   readings.push_back(w);
 }
 
-std::optional<WheelPreintegration> WindowWheels::interval(double t_a, double t_b,
+std::optional<WheelPreintegration> WindowWheels::interval(const WindowSlot& a, const WindowSlot& b,
                                                           const WheelOptions& opt) const {
-  return WheelPreintegration::between(readings, t_a, t_b, opt.time_offset_s, opt.noise,
-                                      opt.reading_lag_s);
+  const bool three_d = opt.direction_from_gyro == "always" ||
+                       (opt.direction_from_gyro == "blind" && b.bridged_s > 0.0);
+  if (!three_d || !b.preint)
+    return WheelPreintegration::between(readings, a.t, b.t, opt.time_offset_s, opt.noise,
+                                        opt.reading_lag_s);
+  // The gyroscope's samples of the interval at the older frame's bias (the factors are rebuilt
+  // at every update, so the bias follows the solve).
+  WheelGyro gyro;
+  gyro.samples = &b.preint->samples();
+  gyro.bias = a.bg();
+  gyro.R_body_wheel = opt.T_body_wheel.rotation();
+  return WheelPreintegration::between(readings, a.t, b.t, opt.time_offset_s, opt.noise,
+                                      opt.reading_lag_s, &gyro);
 }
 
 void WindowWheels::trimBefore(double t, const WheelOptions& opt) {

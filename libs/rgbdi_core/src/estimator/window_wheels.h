@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "estimator/window_slot.h"
 #include "rgbdi/common/wheel_odometry.h"
 #include "rgbdi/estimator/wheel_options.h"
 #include "rgbdi/estimator/wheel_preintegration.h"
@@ -36,11 +37,15 @@ struct WindowWheels {
     WheelVerdict verdict = WheelVerdict::Slip;
   };
   std::vector<Episode> episodes;
+  /// [m] the ground plane's height (world z of the wheel frame where the constraint began).
+  std::optional<double> ground_z;
+  int ground_plane_used = 0, ground_plane_gated = 0;  ///< frame constraints (summed over updates)
 
   /// Appends a reading (older than the newest one or not finite: ignored).
   void add(const WheelOdometrySample& w);
-  /// The readings between IMU-clock times t_a and t_b pre-integrated; nullopt: not covered.
-  std::optional<WheelPreintegration> interval(double t_a, double t_b,
+  /// The readings between window frames a and b pre-integrated (in 3-D with b's gyroscope
+  /// samples when [wheel] direction_from_gyro asks for it); nullopt: not covered.
+  std::optional<WheelPreintegration> interval(const WindowSlot& a, const WindowSlot& b,
                                               const WheelOptions& opt) const;
   /// The interval [t_a, t_b]'s factor at the window's states of its two frames (poses [p, q])
   /// and the present scales: consistent (squared normalised error <= gate_chi2, or no gate), or

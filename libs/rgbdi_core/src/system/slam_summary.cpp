@@ -267,6 +267,9 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
                   {"scale_yaw_rate", st.wheel_scale_w},
                   {"scale_estimated", cfg.estimator.wheel.estimate_scale},
                   {"left_out_episodes", wheelEpisodes(st, have_t ? run.stream_t0 : 0.0)}};
+  if (cfg.estimator.wheel.enable && cfg.estimator.wheel.ground_plane_sigma_m > 0.0)
+    s["wheel"]["ground_plane"] = {{"frames_used", st.ground_plane_used},
+                                  {"frames_gated", st.ground_plane_gated}};
   s["wall_time_s"] = run.wall_s;
   s["frames_per_s"] = run.wall_s > 0 ? run.frames / run.wall_s : 0.0;
   const double n_tr = std::max(1, tm.frames_tracked), n_est = std::max(1, tm.frames_estimated);

@@ -98,6 +98,8 @@ struct EstimatorStats {
   /// left out of solves by the gate (summed over updates).
   int wheel_intervals_slip = 0, wheel_intervals_stuck = 0, wheel_intervals_lifted = 0;
   int wheel_factors_gated = 0;
+  /// Ground-plane constraints of frames used and left out by their gate (summed over updates).
+  int ground_plane_used = 0, ground_plane_gated = 0;
   /// Runs of consecutive left-out intervals of one kind ("slip", "stuck", "lifted"), IMU clock.
   struct WheelFaultEpisode {
     double t_start = 0.0, t_end = 0.0;  ///< [s]

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <string>
 
 #include "rgbdi/common/ini_reader.h"
 #include "rgbdi/estimator/wheel_preintegration.h"
@@ -37,6 +38,19 @@ struct WheelOptions {
   /// of the distance the window moved, "lifted" when the window moved less than this fraction
   /// of what the wheels report, "slip" otherwise.
   double fault_motion_ratio = 0.25;
+  /// Which intervals take the direction of travel (yaw and tilt) from the gyroscope, the wheel
+  /// factor then 3-D (WheelPreintegration): "never" (planar in the wheel frame at the older
+  /// frame), "blind" (intervals across blind frames: metres in which a ramp breaks the plane),
+  /// "always" (also skid steering: the tracks' yaw slips in every turn).
+  std::string direction_from_gyro = "blind";
+  /// [m] soft ground-plane constraint of a flat-floor robot: every window frame's wheel frame
+  /// held on the horizontal plane it started on, with this sigma on its height (0 = off).
+  double ground_plane_sigma_m = 0.0;
+  /// [rad] ... and this one on its tilt (roll, pitch).
+  double ground_plane_tilt_sigma_rad = 0.02;
+  /// [unitless] a frame whose state is farther from the plane than this squared Mahalanobis
+  /// distance (3 dof) gets no constraint in that update: ramps, bumps, steps switch it off.
+  double ground_plane_gate_chi2 = 11.3;
 
   /// Reads [wheel]; throws ConfigError on a value out of range or a matrix that is no rotation.
   static WheelOptions load(IniReader& ini);

@@ -11,6 +11,15 @@
 // Noise (diagonal, in the wheel frame at a): per metre travelled along (sigma_forward), across
 // (sigma_lateral) and off the ground plane (sigma_vertical), per radian turned and per metre for
 // the yaw, per metre for roll and pitch, each with a floor for a standing robot.
+//
+// 3-D (direction from the gyroscope): on a ramp, or across a long blind interval, the wheel
+// frame does not stay in the plane it had at a. Given the gyroscope's rates, each increment is
+// turned by R_k, the wheel frame at its start in the wheel frame at a (integrated from the
+// rates, wheel yaw unused): dp(s) = s_v sum_k R_k [d_k; 0], dyaw = s_w phi_n. The rotation is
+// then the IMU factor's business: the rotation rows get no weight (the wheels' yaw adds nothing
+// to the gyroscope over seconds, and is what slips on skid-steered tracks); the translation keeps
+// the planar noise model (the vertical its loose sigma: the gyroscope's tilt drifts with its
+// bias error).
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +27,7 @@
 #include <optional>
 #include <vector>
 
+#include "rgbdi/common/types.h"
 #include "rgbdi/common/wheel_odometry.h"
 
 namespace rgbdi::estimator {
@@ -34,6 +44,15 @@ struct WheelNoise {
   double min_sigma_rad = 0.002;             ///< [rad] floor of every rotation sigma
 };
 
+/// The gyroscope for 3-D pre-integration: its samples over the interval (time order; the rate of
+/// a sample is held until the next one, the first one's before it), its bias and the wheel frame's
+/// rotation in the body frame.
+struct WheelGyro {
+  const std::vector<ImuSample>* samples = nullptr;
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();  ///< [rad/s]
+  Eigen::Matrix3d R_body_wheel = Eigen::Matrix3d::Identity();
+};
+
 class WheelPreintegration {
  public:
   /// The interval [t_a, t_b] (IMU clock) from `readings` (time order; stamps + time_offset_s on
@@ -44,14 +63,22 @@ class WheelPreintegration {
   static std::optional<WheelPreintegration> between(const std::deque<WheelOdometrySample>& readings,
                                                     double t_a, double t_b, double time_offset_s,
                                                     const WheelNoise& noise,
-                                                    double max_extrapolation_s = 0.0);
-  /// From increments directly (tests): d_k [m] and a_k [rad].
+                                                    double max_extrapolation_s = 0.0,
+                                                    const WheelGyro* gyro = nullptr);
+  /// From increments directly (tests): d_k [m] and a_k [rad]; with `R` (one per increment:
+  /// the wheel frame at its start in the wheel frame at a) the 3-D pre-integration.
   WheelPreintegration(std::vector<Eigen::Vector2d> d, std::vector<double> a,
-                      const WheelNoise& noise);
+                      const WheelNoise& noise, std::vector<Eigen::Matrix3d> R = {});
 
-  /// The motion at scales (s_v, s_w): translation (x, y) and yaw; d dp / d s_w if asked.
+  /// The motion at scales (s_v, s_w): translation (x, y, z; z = 0 when planar) and yaw;
+  /// d dp / d s_w if asked (zero in 3-D: the directions come from the gyroscope).
+  void motion(double s_v, double s_w, Eigen::Vector3d* dp, double* dyaw,
+              Eigen::Vector3d* ddp_dsw = nullptr) const;
+  /// The planar part of motion(): translation (x, y) and yaw.
   void delta(double s_v, double s_w, Eigen::Vector2d* dp, double* dyaw,
              Eigen::Vector2d* ddp_dsw = nullptr) const;
+  /// True when the increments' directions come from the gyroscope.
+  bool threeD() const { return !R_.empty(); }
   /// [rad] the reported yaw change phi_n (= d dyaw / d s_w).
   double reportedYaw() const { return phi_end_; }
   /// [m] distance travelled as reported (sum of |d_k|).
@@ -62,7 +89,8 @@ class WheelPreintegration {
 
  private:
   std::vector<Eigen::Vector2d> d_;
-  std::vector<double> phi_;  ///< reported yaw at the start of each increment
+  std::vector<Eigen::Matrix3d> R_;  ///< 3-D: wheel frame at increment k in the one at a
+  std::vector<double> phi_;         ///< reported yaw at the start of each increment
   double phi_end_ = 0.0;
   double distance_ = 0.0;
   Eigen::Matrix<double, 6, 1> sqrt_info_;
