@@ -37,13 +37,15 @@ TEST(GroundPlaneFactor, HeightRollAndPitchOfTheWheelFrameAreTheResiduals) {
   // Rolled by 0.1 rad about the (body = wheel) x axis at the axle's height: the up axis is
   // (0, -sin 0.1, cos 0.1), and the axle, 0.2 m below the IMU, comes up by 0.2 (1 - cos 0.1).
   const Eigen::Matrix3d rolled = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).matrix();
-  const Eigen::VectorXd r = test::evaluateResidual(f, {poseBlock(Eigen::Vector3d(0, 0, 0.5), rolled)});
+  const Eigen::VectorXd r =
+      test::evaluateResidual(f, {poseBlock(Eigen::Vector3d(0, 0, 0.5), rolled)});
   EXPECT_NEAR(r[0], 0.2 * (1.0 - std::cos(0.1)) / 0.01, 1e-9);
   EXPECT_NEAR(r[1], 0.0, 1e-12);
   EXPECT_NEAR(r[2], -std::sin(0.1) / 0.02, 1e-9);
   // Pitched nose-up by 0.1 rad (-0.1 about y): the up axis leans back, n.x = -sin 0.1.
   const Eigen::Matrix3d pitched = Eigen::AngleAxisd(-0.1, Eigen::Vector3d::UnitY()).matrix();
-  const Eigen::VectorXd s = test::evaluateResidual(f, {poseBlock(Eigen::Vector3d(0, 0, 0.5), pitched)});
+  const Eigen::VectorXd s =
+      test::evaluateResidual(f, {poseBlock(Eigen::Vector3d(0, 0, 0.5), pitched)});
   EXPECT_NEAR(s[1], -std::sin(0.1) / 0.02, 1e-9);
   EXPECT_NEAR(s[2], 0.0, 1e-12);
 }

@@ -43,7 +43,7 @@ struct FrontendOptions {
   /// With klt_predict_rotation: the prediction also moves each feature with the camera's
   /// translation (the estimated velocity at the previous image dead-reckoned with the IMU) at its
   /// depth in the previous image, so features of near surfaces passed fast start where they went.
-  bool klt_predict_translation = false;
+  bool klt_predict_translation = true;
   /// Start every feature where the prediction puts it, not only those it moves beyond the
   /// pyramid's reach (klt_window_px / 2 x 2^klt_pyramid_levels).
   bool klt_predict_every_feature = false;
