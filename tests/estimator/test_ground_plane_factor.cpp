@@ -9,6 +9,7 @@
 #include "rgbdi/estimator/ground_plane_factor.h"
 #include "rgbdi/estimator/pose_manifold.h"
 #include "rgbdi/estimator/wheel_options.h"
+#include "testing/options_load_error.h"
 
 namespace rgbdi::estimator {
 namespace {
@@ -76,14 +77,9 @@ TEST(WheelOptions, GroundPlaneKeysAreReadOffByDefaultAndBadValuesNamed) {
   EXPECT_EQ(o.ground_plane_sigma_m, 0.01);
   EXPECT_EQ(o.ground_plane_tilt_sigma_rad, 0.03);
   EXPECT_EQ(o.ground_plane_gate_chi2, 20.0);
-  IniReader bad = IniReader::fromText("[wheel]\nground_plane_sigma_m = -1\n", "w.ini");
-  try {
-    WheelOptions::load(bad);
-    ADD_FAILURE() << "no error";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("w.ini [wheel] ground_plane_sigma_m"), std::string::npos)
-        << e.what();
-  }
+  const std::string error =
+      rgbdi::test::optionsLoadError<WheelOptions>("[wheel]\nground_plane_sigma_m = -1\n", "w.ini");
+  EXPECT_NE(error.find("w.ini [wheel] ground_plane_sigma_m"), std::string::npos) << error;
 }
 
 }  // namespace

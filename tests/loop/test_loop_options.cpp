@@ -8,6 +8,7 @@
 #include "rgbdi/loop/loop_options.h"
 #include "rgbdi/loop/place_recognizer.h"
 #include "testing/fixtures.h"
+#include "testing/options_load_error.h"
 
 using rgbdi::ConfigError;
 using rgbdi::IniReader;
@@ -18,13 +19,7 @@ namespace {
 
 template <typename Options>
 std::string loadError(const std::string& text) {
-  IniReader ini = IniReader::fromText(text, "test.ini");
-  try {
-    Options::load(ini);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return rgbdi::test::optionsLoadError<Options>(text);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "rgbdi/loop/loop_verifier.h"
 #include "testing/fixtures.h"
+#include "testing/options_load_error.h"
 
 using rgbdi::ConfigError;
 using rgbdi::IniReader;
@@ -14,13 +15,7 @@ using rgbdi::loop::LoopVerificationOptions;
 namespace {
 
 std::string loadError(const std::string& text) {
-  IniReader ini = IniReader::fromText(text, "test.ini");
-  try {
-    LoopVerificationOptions::load(ini);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return rgbdi::test::optionsLoadError<LoopVerificationOptions>(text);
 }
 
 }  // namespace

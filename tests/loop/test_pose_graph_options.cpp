@@ -9,6 +9,7 @@
 #include "rgbdi/loop/pose_graph.h"
 #include "rgbdi/loop/pose_graph_options.h"
 #include "testing/fixtures.h"
+#include "testing/options_load_error.h"
 
 using rgbdi::ConfigError;
 using rgbdi::IniReader;
@@ -18,13 +19,7 @@ using rgbdi::loop::RobustLoss;
 namespace {
 
 std::string loadError(const std::string& text) {
-  IniReader ini = IniReader::fromText(text, "test.ini");
-  try {
-    PoseGraphOptions::load(ini);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return rgbdi::test::optionsLoadError<PoseGraphOptions>(text);
 }
 
 const std::set<std::string> kKeys = {"graph_sequential_edges",

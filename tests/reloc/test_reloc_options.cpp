@@ -5,6 +5,7 @@
 
 #include "rgbdi/reloc/reloc_options.h"
 #include "testing/fixtures.h"
+#include "testing/options_load_error.h"
 
 using rgbdi::ConfigError;
 using rgbdi::IniReader;
@@ -12,13 +13,7 @@ using rgbdi::reloc::RelocOptions;
 
 namespace {
 std::string loadError(const std::string& text) {
-  IniReader ini = IniReader::fromText(text, "test.ini");
-  try {
-    RelocOptions::load(ini);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return rgbdi::test::optionsLoadError<RelocOptions>(text);
 }
 }  // namespace
 

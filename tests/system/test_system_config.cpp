@@ -9,18 +9,13 @@
 
 #include "rgbdi/system/system_config.h"
 #include "testing/fixtures.h"
+#include "testing/options_load_error.h"
 
 using namespace rgbdi;
 
 namespace {
 std::string loadError(const std::string& text) {
-  try {
-    IniReader ini = IniReader::fromText(text, "test.ini");
-    system::SystemConfig::load(ini);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return rgbdi::test::optionsLoadError<system::SystemConfig>(text);
 }
 }  // namespace
 
