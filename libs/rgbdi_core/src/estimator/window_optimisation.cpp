@@ -3,6 +3,8 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
+#include <memory>
+#include <type_traits>
 
 #include "estimator/window_state.h"
 #include "rgbdi/estimator/gauge_prior.h"
@@ -46,25 +48,24 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     factors.emplace_back(f);
     addResidual(f, loss, blocks);
   };
-  std::size_t reprojections = 0;
-  auto reprojection = [&](const FeatureMeasurement& i, const FeatureMeasurement& j) {
-    if (reprojections == reprojection_factors_.size())
-      reprojection_factors_.push_back(std::make_unique<ReprojectionFactor>(
-          i, j, model_.T_body_cam, model_.reprojection_sqrt_info));
+  // Factors are reused from one update to the next (a thousand fresh ones per update cost
+  // allocations): the pool's next unused one is reset, or a new one appended.
+  auto reused = [&](auto& pool, std::size_t& used, const FeatureMeasurement& i,
+                    const FeatureMeasurement& j) {
+    using Factor = typename std::decay_t<decltype(pool)>::value_type::element_type;
+    if (used == pool.size())
+      pool.push_back(
+          std::make_unique<Factor>(i, j, model_.T_body_cam, model_.reprojection_sqrt_info));
     else
-      reprojection_factors_[reprojections]->reset(i, j, model_.T_body_cam,
-                                                  model_.reprojection_sqrt_info);
-    return reprojection_factors_[reprojections++].get();
+      pool[used]->reset(i, j, model_.T_body_cam, model_.reprojection_sqrt_info);
+    return pool[used++].get();
   };
-  std::size_t rs_reprojections = 0;
+  std::size_t reprojections = 0, rs_reprojections = 0;
+  auto reprojection = [&](const FeatureMeasurement& i, const FeatureMeasurement& j) {
+    return reused(reprojection_factors_, reprojections, i, j);
+  };
   auto rsReprojection = [&](const FeatureMeasurement& i, const FeatureMeasurement& j) {
-    if (rs_reprojections == rs_reprojection_factors_.size())
-      rs_reprojection_factors_.push_back(std::make_unique<RollingShutterReprojectionFactor>(
-          i, j, model_.T_body_cam, model_.reprojection_sqrt_info));
-    else
-      rs_reprojection_factors_[rs_reprojections]->reset(i, j, model_.T_body_cam,
-                                                        model_.reprojection_sqrt_info);
-    return rs_reprojection_factors_[rs_reprojections++].get();
+    return reused(rs_reprojection_factors_, rs_reprojections, i, j);
   };
   double* readout = state.readout;
   const ceres::CauchyLoss cauchy(model_.cauchy_loss_sigma);
