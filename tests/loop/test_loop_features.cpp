@@ -68,6 +68,18 @@ cv::Rect checkedWindow(const Eigen::Vector2f& uv, int n) {
   return {umin, vmin, umax - umin + 1, vmax - vmin + 1};
 }
 
+/// The plane n . p = 2 in the camera frame, tilted against the image: its depth along the ray of
+/// each pixel is z = 2 / (n . (x, y, 1)).
+struct TiltedPlane {
+  explicit TiltedPlane(const PinholeCamera& camera) : cam(camera) {}
+  double z(double u, double v) const {
+    const Eigen::Vector2d xn = cam.pixelToNormalized({u, v});
+    return 2.0 / n.dot(Eigen::Vector3d(xn.x(), xn.y(), 1.0));
+  }
+  PinholeCamera cam;
+  Eigen::Vector3d n{0.25, -0.15, 1.0};
+};
+
 }  // namespace
 
 TEST(LoopFeatures, KeepsAtMostMaxKeypointsOfTypeOrb256InsideTheBorder) {
@@ -139,23 +151,18 @@ TEST(LoopFeatures, AreDeterministic) {
 TEST(LoopFeatures, PointsEqualTheDepthOfATiltedPlaneAtTheKeypoint) {
   const PinholeCamera cam = rgbdi::test::simpleCamera();
   RgbdFrame frame = texturedFrame(cam, 5);
-  // Plane n . p = 2 in the camera frame: z = 2 / (n . (x, y, 1)) along the ray of each pixel.
-  const Eigen::Vector3d n(0.25, -0.15, 1.0);
-  const auto zOf = [&](double u, double v) {
-    const Eigen::Vector2d xn = cam.pixelToNormalized({u, v});
-    return 2.0 / n.dot(Eigen::Vector3d(xn.x(), xn.y(), 1.0));
-  };
-  setDepth(frame, cam.width, cam.height, [&](int u, int v) { return zOf(u, v); });
+  const TiltedPlane plane(cam);
+  setDepth(frame, cam.width, cam.height, [&](int u, int v) { return plane.z(u, v); });
   const DescriptorSet d = rgbdi::loop::extractLoopFeatures(frame, cam, LoopFeatureOptions());
   ASSERT_EQ(d.keypoints_p_cam.size(), d.size());
   ASSERT_GT(d.size(), 300u);
   for (std::size_t k = 0; k < d.size(); ++k) {
     ASSERT_TRUE(d.hasPoint(k)) << "keypoint " << k << " at " << d.keypoints_uv[k].transpose();
     const Eigen::Vector2d uv = d.keypoints_uv[k].cast<double>();
-    const Eigen::Vector3d expected = cam.backProject(uv, zOf(uv.x(), uv.y()));
+    const Eigen::Vector3d expected = cam.backProject(uv, plane.z(uv.x(), uv.y()));
     // Millimetre quantisation of the depth image and bilinear interpolation: < 1 mm.
     EXPECT_LT((d.keypoints_p_cam[k].cast<double>() - expected).norm(), 1e-3) << "keypoint " << k;
-    EXPECT_NEAR(n.dot(d.keypoints_p_cam[k].cast<double>()), 2.0, 1e-3);  // on the plane
+    EXPECT_NEAR(plane.n.dot(d.keypoints_p_cam[k].cast<double>()), 2.0, 1e-3);  // on the plane
   }
 }
 
@@ -164,12 +171,8 @@ TEST(LoopFeatures, KeypointsMovedToTheStampTakeTheirDepthThere) {
   // 2 px up); keypoints_uv and the points are taken there, where the global-shutter depth is.
   const PinholeCamera cam = rgbdi::test::simpleCamera();
   RgbdFrame frame = texturedFrame(cam, 5);
-  const Eigen::Vector3d n(0.25, -0.15, 1.0);
-  const auto zOf = [&](double u, double v) {
-    const Eigen::Vector2d xn = cam.pixelToNormalized({u, v});
-    return 2.0 / n.dot(Eigen::Vector3d(xn.x(), xn.y(), 1.0));
-  };
-  setDepth(frame, cam.width, cam.height, [&](int u, int v) { return zOf(u, v); });
+  const TiltedPlane plane(cam);
+  setDepth(frame, cam.width, cam.height, [&](int u, int v) { return plane.z(u, v); });
   const Eigen::Vector2d shift(-3.0, -2.0);
   LoopFeatureExtractor plain(LoopFeatureOptions{}), moved(LoopFeatureOptions{});
   const DescriptorSet a = plain.extract(frame, cam);
@@ -182,7 +185,7 @@ TEST(LoopFeatures, KeypointsMovedToTheStampTakeTheirDepthThere) {
     const Eigen::Vector2d uv = a.keypoints_uv[k].cast<double>() + shift;
     EXPECT_LT((b.keypoints_uv[k].cast<double>() - uv).norm(), 1e-4) << "keypoint " << k;
     if (!b.hasPoint(k)) continue;
-    const Eigen::Vector3d expected = cam.backProject(uv, zOf(uv.x(), uv.y()));
+    const Eigen::Vector3d expected = cam.backProject(uv, plane.z(uv.x(), uv.y()));
     EXPECT_LT((b.keypoints_p_cam[k].cast<double>() - expected).norm(), 1e-3) << "keypoint " << k;
   }
 }
