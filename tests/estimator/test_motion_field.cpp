@@ -57,3 +57,23 @@ TEST(MotionField, KnownAnswers) {
   const Eigen::Vector2d n = motionFieldVelocity({0.2, -0.1}, 0.0, {0, 0, 0}, {0, 0, 1.0});
   EXPECT_EQ(n, Eigen::Vector2d::Zero());
 }
+
+TEST(MotionField, TheCameraCentreMovesWithTheLeverArm) {
+  // Camera 0.1 m ahead of the body (body x), looking along body x (camera z = body x).
+  Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+  T_body_cam.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  T_body_cam.translation() << 0.1, 0.0, 0.0;
+  // The body turns at 2 rad/s about its z axis and moves 0.5 m/s forward (body frame).
+  const CameraVelocity c = cameraVelocity(T_body_cam, {0.5, 0.0, 0.0}, {0.0, 0.0, 2.0});
+  // Body z is camera -y; the centre moves 0.5 forward (camera z) and 0.2 to the body's left
+  // (body y = camera -x).
+  EXPECT_NEAR((c.omega_cam - Eigen::Vector3d(0.0, -2.0, 0.0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((c.v_cam - Eigen::Vector3d(-0.2, 0.0, 0.5)).norm(), 0.0, 1e-15);
+}
+
+TEST(MotionField, TheTypicalDepthIsTheMedianOfTheKnownOnes) {
+  EXPECT_EQ(typicalDepth({}), 0.0);
+  EXPECT_EQ(typicalDepth({0.0, -1.0}), 0.0);
+  EXPECT_EQ(typicalDepth({3.0, 0.0, 1.0, 2.0}), 2.0);
+  EXPECT_EQ(typicalDepth({4.0, 1.0, 0.0, 2.0, 3.0}), 3.0);  // the upper of two middles
+}

@@ -1,5 +1,7 @@
 #include "rgbdi/estimator/motion_field.h"
 
+#include <algorithm>
+
 namespace rgbdi::estimator {
 
 Eigen::Vector2d motionFieldVelocity(const Eigen::Vector2d& xn, double depth_m,
@@ -16,6 +18,24 @@ Eigen::Vector2d motionFieldVelocity(const Eigen::Vector2d& xn, double depth_m,
     v.y() += (y * v_cam.z() - v_cam.y()) / depth_m;
   }
   return v;
+}
+
+CameraVelocity cameraVelocity(const Eigen::Isometry3d& T_body_cam, const Eigen::Vector3d& v_body,
+                              const Eigen::Vector3d& omega_body) {
+  const Eigen::Matrix3d R_cb = T_body_cam.rotation().transpose();
+  CameraVelocity c;
+  c.omega_cam = R_cb * omega_body;
+  c.v_cam = R_cb * (v_body + omega_body.cross(T_body_cam.translation()));
+  return c;
+}
+
+double typicalDepth(std::vector<double> depths_m) {
+  depths_m.erase(
+      std::remove_if(depths_m.begin(), depths_m.end(), [](double z) { return !(z > 0.0); }),
+      depths_m.end());
+  if (depths_m.empty()) return 0.0;
+  std::nth_element(depths_m.begin(), depths_m.begin() + depths_m.size() / 2, depths_m.end());
+  return depths_m[depths_m.size() / 2];
 }
 
 }  // namespace rgbdi::estimator

@@ -15,11 +15,8 @@ void assignMotionFieldVelocities(FrameWindow& window, std::size_t slot, const im
   const WindowSlot& s = window[slot];
   if (!imu.covers(s.t, s.t)) return;
   const Eigen::Vector3d w_b = imu.interpolate(s.t).gyr - s.bg();
-  const Eigen::Matrix3d R_cb = T_body_cam.rotation().transpose();
-  const Eigen::Vector3d w_c = R_cb * w_b;
-  // Velocity of the camera centre, in the camera frame (the lever arm adds omega x t_bc).
-  const Eigen::Vector3d v_c =
-      R_cb * (s.q().normalized().conjugate() * s.v() + w_b.cross(T_body_cam.translation()));
+  const CameraVelocity cam =
+      cameraVelocity(T_body_cam, s.q().normalized().conjugate() * s.v(), w_b);
   const Eigen::Isometry3d T_c_w = (s.T() * T_body_cam).inverse();
   const int slot_i = static_cast<int>(slot);
   // Depth of each observation: measured, else from the track's estimate; features with neither
@@ -38,13 +35,10 @@ void assignMotionFieldVelocities(FrameWindow& window, std::size_t slot, const im
     if (z > 0.0) known.push_back(z);
     todo.emplace_back(&o, z);
   }
-  double typical = 0.0;
-  if (!known.empty()) {
-    std::nth_element(known.begin(), known.begin() + known.size() / 2, known.end());
-    typical = known[known.size() / 2];
-  }
+  const double typical = typicalDepth(std::move(known));
   for (auto& [o, z] : todo) {
-    o->meas.velocity = motionFieldVelocity(o->meas.xn.head<2>(), z > 0.0 ? z : typical, w_c, v_c);
+    o->meas.velocity =
+        motionFieldVelocity(o->meas.xn.head<2>(), z > 0.0 ? z : typical, cam.omega_cam, cam.v_cam);
     // The rolling-shutter shift along the better (IMU) velocity.
     o->compensateRollingShutter();
   }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rgbdi/estimator/motion_field.h"
 #include "rgbdi/estimator/rolling_shutter_compensation.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/map/map_directory.h"
@@ -284,22 +285,14 @@ std::function<Eigen::Vector2d(const Eigen::Vector2d&)> SlamSystem::keypointsToSt
   RollingShutter rs = cfg_.camera.rollingShutter();
   rs.readout_s = p.state.rolling_shutter_readout_s;
   rs.rows = loop_camera_.height;
-  const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
-  const Eigen::Matrix3d R_cb = T_bc.rotation().transpose();
-  const Eigen::Vector3d w_c = R_cb * p.state.omega_body;
-  const Eigen::Vector3d v_c =
-      R_cb * (p.state.T_world_body.rotation().transpose() * p.state.v_world +
-              p.state.omega_body.cross(T_bc.translation()));
+  const estimator::CameraVelocity cam = estimator::cameraVelocity(
+      cfg_.extrinsic.T_body_cam, p.state.T_world_body.rotation().transpose() * p.state.v_world,
+      p.state.omega_body);
   std::vector<double> depths;
-  for (const auto& f : p.features.features)
-    if (f.depth_m > 0.0) depths.push_back(f.depth_m);
-  double typical = 0.0;
-  if (!depths.empty()) {
-    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-    typical = depths[depths.size() / 2];
-  }
-  return [this, rs, w_c, v_c, typical](const Eigen::Vector2d& uv) {
-    return estimator::pixelAtReferenceTime(uv, loop_camera_, rs, w_c, v_c, typical);
+  for (const auto& f : p.features.features) depths.push_back(f.depth_m);
+  const double typical = estimator::typicalDepth(std::move(depths));
+  return [this, rs, cam, typical](const Eigen::Vector2d& uv) {
+    return estimator::pixelAtReferenceTime(uv, loop_camera_, rs, cam.omega_cam, cam.v_cam, typical);
   };
 }
 

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
 
 namespace rgbdi::estimator {
 
@@ -18,5 +20,20 @@ namespace rgbdi::estimator {
 /// only.
 Eigen::Vector2d motionFieldVelocity(const Eigen::Vector2d& xn, double depth_m,
                                     const Eigen::Vector3d& omega_cam, const Eigen::Vector3d& v_cam);
+
+/// The camera's motion in its own frame, for motionFieldVelocity.
+struct CameraVelocity {
+  Eigen::Vector3d omega_cam = Eigen::Vector3d::Zero();  ///< [rad/s]
+  Eigen::Vector3d v_cam = Eigen::Vector3d::Zero();      ///< [m/s] of the camera centre
+};
+/// The camera's velocity from the body's: the body turning at omega_body [rad/s] and moving at
+/// v_body [m/s], both in the body frame. The camera centre sits at the lever arm
+/// T_body_cam.translation(), so it moves at v + omega x t_bc.
+CameraVelocity cameraVelocity(const Eigen::Isometry3d& T_body_cam, const Eigen::Vector3d& v_body,
+                              const Eigen::Vector3d& omega_body);
+
+/// [m] The median of the positive depths (0 when there is none): the depth given to points whose
+/// own depth is unknown (the translational term only needs a rough one).
+double typicalDepth(std::vector<double> depths_m);
 
 }  // namespace rgbdi::estimator
