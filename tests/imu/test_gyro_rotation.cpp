@@ -110,7 +110,8 @@ TEST(DeadReckonedMotion, ConstantRateAndAccelerationOfAKnownPath) {
   start.bias_gyr = bias_g;
   start.bias_acc = bias_a;
   const double t0 = 0.2, T = 1.3;
-  const Eigen::Isometry3d M = rgbdi::imu::deadReckonedMotion(b, t0, t0 + T, start, g);
+  rgbdi::imu::BodyState end;
+  const Eigen::Isometry3d M = rgbdi::imu::deadReckonedMotion(b, t0, t0 + T, start, g, &end);
   // p(T) = v0 T + int_0^T int_0^s R(wu) a du ds; with c = a_x + i a_y:
   // int_0^s e^{iwu} c du = c (e^{iws} - 1) / (iw); int_0^T of that = c ((e^{iwT} - 1)/(iw) -
   // T)/(iw).
@@ -121,6 +122,31 @@ TEST(DeadReckonedMotion, ConstantRateAndAccelerationOfAKnownPath) {
   EXPECT_LT(Eigen::Quaterniond(M.linear())
                 .angularDistance(rgbdi::expQuat(Eigen::Vector3d(0.0, 0.0, w * T))),
             1e-12);
+  // The end state: v(T) = v0 + c (e^{iwT} - 1) / (iw), the attitude turned by w T, the biases
+  // carried over.
+  const std::complex<double> vxy = c * (std::exp(iw * T) - 1.0) / iw;
+  EXPECT_LT((end.v_world - start.v_world - Eigen::Vector3d(vxy.real(), vxy.imag(), 0.0)).norm(),
+            1e-6);
+  EXPECT_LT(end.q_world_body.angularDistance(rgbdi::expQuat(Eigen::Vector3d(0.0, 0.0, w * T))),
+            1e-12);
+  EXPECT_EQ(end.bias_gyr, bias_g);
+  EXPECT_EQ(end.bias_acc, bias_a);
+}
+
+TEST(GyroRate, InterpolatedInsideTheSpanHeldOutsideAndZeroWhenEmpty) {
+  ImuBuffer b;
+  for (int k = 0; k <= 2; ++k) {
+    ImuSample s;
+    s.t = 1.0 + 0.01 * k;
+    s.gyr = Eigen::Vector3d(0.1 * k, -0.2 * k, 1.0);
+    b.push(s);
+  }
+  const Eigen::Vector3d bias(0.0, 0.0, 0.5);
+  EXPECT_LT((rgbdi::imu::gyroRate(b, 1.015, bias) - Eigen::Vector3d(0.15, -0.3, 0.5)).norm(),
+            1e-12);
+  EXPECT_EQ(rgbdi::imu::gyroRate(b, 0.5, bias), Eigen::Vector3d(0.0, 0.0, 0.5));
+  EXPECT_EQ(rgbdi::imu::gyroRate(b, 2.0, bias), Eigen::Vector3d(0.2, -0.4, 0.5));
+  EXPECT_EQ(rgbdi::imu::gyroRate(ImuBuffer(), 1.0, bias), Eigen::Vector3d::Zero());
 }
 
 TEST(DeadReckonedMotion, TranslationIsInTheStartBodyFrameAndEmptyIsIdentity) {

@@ -1,6 +1,6 @@
 #include "rgbdi/estimator/rolling_shutter_compensation.h"
 
-#include "rgbdi/estimator/motion_field.h"
+#include "rgbdi/common/motion_field.h"
 
 namespace rgbdi::estimator {
 

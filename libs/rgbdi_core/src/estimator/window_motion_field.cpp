@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "estimator/frame_window.h"
-#include "rgbdi/estimator/motion_field.h"
+#include "rgbdi/common/motion_field.h"
 #include "rgbdi/imu/imu_buffer.h"
 
 namespace rgbdi::estimator {

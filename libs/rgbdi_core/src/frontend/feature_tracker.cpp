@@ -11,6 +11,7 @@
 #include "frontend/epipolar_ransac.h"
 #include "frontend/feature_spacing.h"
 #include "frontend/stopwatch.h"
+#include "rgbdi/common/motion_field.h"
 #include "rgbdi/frontend/corner_detector.h"
 #include "rgbdi/frontend/depth_sampling.h"
 #include "rgbdi/frontend/occlusion_test.h"
@@ -227,16 +228,22 @@ int FeatureTracker::depthWindowRadius() const {
   return std::max(options_.depth_neighbourhood_px + 1, options_.occlusion_window_px);
 }
 
-Eigen::Vector2d FeatureTracker::depthPixel(
-    const Track& t, double dt, const std::optional<Eigen::Matrix3d>& R_previous_current) const {
+Eigen::Vector2d FeatureTracker::depthPixel(const Track& t, double dt,
+                                           const std::optional<CameraMotion>& motion) const {
   const Eigen::Vector2d uv(t.uv.x, t.uv.y);
   if (rolling_shutter_.global() || !(dt > 0.0)) return uv;
   Eigen::Vector2d v;  // [1/s] normalised-plane velocity
-  if (t.length > 1) {
+  if (motion && motion->omega_cam && (t.length <= 1 || (t.depth_m > 0.0 && motion->v_cam))) {
+    // The motion field at the stamp: the gyroscope's rate there, and the camera's velocity at
+    // the feature's last depth (a new feature: the rotation's part).
+    const Eigen::Vector3d v_cam =
+        t.depth_m > 0.0 && motion->v_cam ? *motion->v_cam : Eigen::Vector3d::Zero();
+    v = motionFieldVelocity(t.xn, t.depth_m, *motion->omega_cam, v_cam);
+  } else if (t.length > 1) {
     v = (t.xn - t.xn_velocity_from) / dt;  // as the observation's velocity
-  } else if (R_previous_current) {
+  } else if (motion) {
     // Where the rotation alone had the bearing in the previous image.
-    const Eigen::Vector3d b = *R_previous_current * t.xn.homogeneous();
+    const Eigen::Vector3d b = motion->R_previous_current * t.xn.homogeneous();
     if (!(b.z() > 0.0)) return uv;
     v = (t.xn - b.head<2>() / b.z()) / dt;
   } else {
@@ -246,11 +253,12 @@ Eigen::Vector2d FeatureTracker::depthPixel(
 }
 
 void FeatureTracker::dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied,
-                                  int& dropped, double dt) const {
+                                  int& dropped, double dt,
+                                  const std::optional<CameraMotion>& motion) const {
   std::vector<Track> kept;
   kept.reserve(tracks.size());
   for (const Track& t : tracks) {
-    if (straddlesOcclusion(depth_m_, depthPixel(t, dt, std::nullopt), options_)) {
+    if (straddlesOcclusion(depth_m_, depthPixel(t, dt, motion), options_)) {
       occupied.push_back(t.uv);
       ++dropped;
     } else {
@@ -370,9 +378,9 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   if (with_depth) {
     std::vector<Eigen::Vector2d> centres;
     centres.reserve(tracks.size());
-    for (const Track& t : tracks) centres.push_back(depthPixel(t, dt, std::nullopt));
+    for (const Track& t : tracks) centres.push_back(depthPixel(t, dt, motion));
     registrar_.registerDepthAround(frame, cam_, centres, depthWindowRadius(), depth_m_);
-    dropOccluded(tracks, occupied, out.n_occluded, dt);
+    dropOccluded(tracks, occupied, out.n_occluded, dt, motion);
   }
   out.n_tracked = static_cast<int>(tracks.size());
   out.timings.depth_ms = step.lapMs();
@@ -386,9 +394,7 @@ FeatureFrame FeatureTracker::track(const RgbdFrame& frame,
   // features' windows were registered around where they were seen.
   std::vector<Eigen::Vector2d> depth_at;
   depth_at.reserve(tracks.size());
-  std::optional<Eigen::Matrix3d> R_previous_current;
-  if (motion) R_previous_current = motion->R_previous_current;
-  for (const Track& t : tracks) depth_at.push_back(depthPixel(t, dt, R_previous_current));
+  for (const Track& t : tracks) depth_at.push_back(depthPixel(t, dt, motion));
   if (with_depth && !rolling_shutter_.global())
     registrar_.registerMoreDepthAround(frame, cam_, depth_at, depthWindowRadius(), depth_m_);
   out.features.reserve(tracks.size());

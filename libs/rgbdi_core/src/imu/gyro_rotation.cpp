@@ -38,7 +38,8 @@ Eigen::Quaterniond gyroRotation(const ImuBuffer& buffer, double t0, double t1,
 }
 
 Eigen::Isometry3d deadReckonedMotion(const ImuBuffer& buffer, double t0, double t1,
-                                     const BodyState& start, const Eigen::Vector3d& g_world) {
+                                     const BodyState& start, const Eigen::Vector3d& g_world,
+                                     BodyState* end) {
   Eigen::Quaterniond q = start.q_world_body.normalized();
   Eigen::Vector3d v = start.v_world, p = Eigen::Vector3d::Zero();
   forEachPiece(buffer, t0, t1,
@@ -54,7 +55,19 @@ Eigen::Isometry3d deadReckonedMotion(const ImuBuffer& buffer, double t0, double 
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = (q0.conjugate() * q.normalized()).toRotationMatrix();
   T.translation() = q0.conjugate() * p;
+  if (end) {
+    *end = start;
+    end->q_world_body = q.normalized();
+    end->v_world = v;
+  }
   return T;
+}
+
+Eigen::Vector3d gyroRate(const ImuBuffer& buffer, double t, const Eigen::Vector3d& bias_gyr) {
+  if (buffer.empty()) return Eigen::Vector3d::Zero();
+  if (t <= buffer.oldestTime()) return buffer.samples().front().gyr - bias_gyr;
+  if (t >= buffer.newestTime()) return buffer.samples().back().gyr - bias_gyr;
+  return buffer.interpolate(t).gyr - bias_gyr;
 }
 
 }  // namespace rgbdi::imu

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "rgbdi/estimator/motion_field.h"
+#include "rgbdi/common/motion_field.h"
 #include "rgbdi/estimator/rolling_shutter_compensation.h"
 #include "rgbdi/io/mrpt_conversions.h"
 #include "rgbdi/map/map_directory.h"
@@ -285,12 +285,12 @@ std::function<Eigen::Vector2d(const Eigen::Vector2d&)> SlamSystem::keypointsToSt
   RollingShutter rs = cfg_.camera.rollingShutter();
   rs.readout_s = p.state.rolling_shutter_readout_s;
   rs.rows = loop_camera_.height;
-  const estimator::CameraVelocity cam = estimator::cameraVelocity(
+  const CameraVelocity cam = cameraVelocity(
       cfg_.extrinsic.T_body_cam, p.state.T_world_body.rotation().transpose() * p.state.v_world,
       p.state.omega_body);
   std::vector<double> depths;
   for (const auto& f : p.features.features) depths.push_back(f.depth_m);
-  const double typical = estimator::typicalDepth(std::move(depths));
+  const double typical = typicalDepth(std::move(depths));
   return [this, rs, cam, typical](const Eigen::Vector2d& uv) {
     return estimator::pixelAtReferenceTime(uv, loop_camera_, rs, cam.omega_cam, cam.v_cam, typical);
   };

@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "rgbdi/common/cpu_clock.h"
+#include "rgbdi/common/motion_field.h"
 #include "rgbdi/imu/gyro_rotation.h"
 
 namespace rgbdi::system {
@@ -94,6 +95,9 @@ void VioSystem::track(const RgbdFrame& in, const frontend::PreparedImage* prepar
 frontend::CameraMotion VioSystem::cameraMotion(double t0, double t1) const {
   const double td = estimator_->timeOffset();
   const Eigen::Isometry3d& T_bc = cfg_.extrinsic.T_body_cam;
+  const Eigen::Matrix3d R_cb = T_bc.linear().transpose();
+  // The rate at this image's stamp, for the rolling-shutter shift of its rows.
+  const Eigen::Vector3d omega_body = imu::gyroRate(gyro_history_, t1 + td, estimator_->gyroBias());
   // Dead reckoning needs the velocity at t0: the estimate of the image at t0, when that image was
   // estimated before this one arrived (the IMU passed it) and has a pose.
   const bool velocity_known = cfg_.frontend.klt_predict_translation && newest_estimate_ &&
@@ -102,18 +106,26 @@ frontend::CameraMotion VioSystem::cameraMotion(double t0, double t1) const {
     const Eigen::Matrix3d R_body =
         imu::gyroRotation(gyro_history_, t0 + td, t1 + td, estimator_->gyroBias())
             .toRotationMatrix();
-    return frontend::CameraMotion(T_bc.linear().transpose() * R_body * T_bc.linear());
+    frontend::CameraMotion m(R_cb * R_body * T_bc.linear());
+    m.omega_cam = R_cb * omega_body;
+    return m;
   }
   const estimator::FrameEstimate& e = *newest_estimate_;
-  imu::BodyState start;
+  imu::BodyState start, end;
   start.q_world_body = Eigen::Quaterniond(e.T_world_body.linear());
   start.v_world = e.v_world;
   start.bias_gyr = e.bias_gyr;
   start.bias_acc = e.bias_acc;
-  const Eigen::Isometry3d T_b0_b1 = imu::deadReckonedMotion(
-      gyro_history_, e.t_imu, t1 + td, start, Eigen::Vector3d(0.0, 0.0, -cfg_.imu.gravity_m_s2));
+  const Eigen::Isometry3d T_b0_b1 =
+      imu::deadReckonedMotion(gyro_history_, e.t_imu, t1 + td, start,
+                              Eigen::Vector3d(0.0, 0.0, -cfg_.imu.gravity_m_s2), &end);
   const Eigen::Isometry3d T_c0_c1 = T_bc.inverse() * T_b0_b1 * T_bc;
-  return frontend::CameraMotion(T_c0_c1.linear(), T_c0_c1.translation());
+  frontend::CameraMotion m(T_c0_c1.linear(), T_c0_c1.translation());
+  const CameraVelocity c =
+      cameraVelocity(T_bc, end.q_world_body.conjugate() * end.v_world, omega_body);
+  m.omega_cam = c.omega_cam;
+  m.v_cam = c.v_cam;
+  return m;
 }
 
 void VioSystem::endOfStream() {

@@ -32,6 +32,11 @@ struct CameraMotion {
   /// [m] this image's camera centre in the previous image's camera frame (dead reckoning from
   /// the estimated velocity); absent: the rotation alone predicts (points taken as far away).
   std::optional<Eigen::Vector3d> p_previous_current;
+  /// [rad/s] the camera's angular velocity at this image's stamp, in its frame (the gyroscope at
+  /// the stamp): what moves a rolling-shutter row's observation to the stamp.
+  std::optional<Eigen::Vector3d> omega_cam;
+  /// [m/s] the camera centre's velocity at this image's stamp, in its frame (dead reckoning).
+  std::optional<Eigen::Vector3d> v_cam;
 };
 
 /// Tracks Shi-Tomasi corners with pyramidal KLT across consecutive colour images.
@@ -105,14 +110,16 @@ class FeatureTracker {
   /// Drops the tracks whose window straddles an occlusion boundary in depth_m_ (their places stay
   /// taken in `spacing` and in `occupied`, so no corner on the same edge replaces them at once).
   void dropOccluded(std::vector<Track>& tracks, std::vector<cv::Point2f>& occupied, int& dropped,
-                    double dt) const;
+                    double dt, const std::optional<CameraMotion>& motion) const;
   /// [px] where `t` is at the image's stamp, for the depth image: its pixel, moved back along its
   /// image velocity by its row's time under a rolling shutter (pixel velocity from fx, fy:
-  /// distortion neglected over the few pixels of the shift). The velocity of a tracked feature
-  /// is its tracked one (over `dt` [s]); a new feature's is the rotation's part of the motion
-  /// field, from `R_previous_current` (the gyro), and none without it.
+  /// distortion neglected over the few pixels of the shift). The velocity is the motion field
+  /// at the stamp from `motion`'s omega_cam and v_cam at the feature's last depth (a new
+  /// feature: the rotation's part); a tracked feature without either its tracked velocity
+  /// (over `dt` [s]); without omega_cam, a new feature's velocity is what R_previous_current
+  /// explains, and none without a motion.
   Eigen::Vector2d depthPixel(const Track& t, double dt,
-                             const std::optional<Eigen::Matrix3d>& R_previous_current) const;
+                             const std::optional<CameraMotion>& motion) const;
   /// Tops `tracks` up to max_features with new corners away from `occupied` once at least
   /// detect_min_missing are missing (corner response from `derivatives`, the base image's CV_16SC2
   /// Scharr derivatives); with depth, corners on occlusion boundaries are refused and the next

@@ -28,8 +28,14 @@ struct BodyState {
 /// velocity at t0) with the buffer's rates and specific forces minus the biases and gravity
 /// `g_world` [m/s^2] (e.g. (0, 0, -9.81) in a z-up world); samples are taken as
 /// gyroRotation takes them (mean of consecutive samples, the nearest one held outside the
-/// buffered span). Identity when the buffer is empty or t1 <= t0.
+/// buffered span). Identity when the buffer is empty or t1 <= t0. `end` (optional) receives the
+/// state at t1 (attitude and velocity; the biases of `start`).
 Eigen::Isometry3d deadReckonedMotion(const ImuBuffer& buffer, double t0, double t1,
-                                     const BodyState& start, const Eigen::Vector3d& g_world);
+                                     const BodyState& start, const Eigen::Vector3d& g_world,
+                                     BodyState* end = nullptr);
+
+/// [rad/s] The body's rate at t from the buffer minus `bias_gyr`: interpolated inside the
+/// buffered span, the nearest sample's outside it (as gyroRotation holds it); zero when empty.
+Eigen::Vector3d gyroRate(const ImuBuffer& buffer, double t, const Eigen::Vector3d& bias_gyr);
 
 }  // namespace rgbdi::imu

@@ -1,4 +1,5 @@
-// Image-plane velocity of a static point seen by a moving camera (the motion field).
+// Image-plane velocity of a static point seen by a moving camera (the motion field): the
+// estimator's time-offset and rolling-shutter shifts and the front end's depth reading use it.
 //
 // The time-offset correction of the reprojection factor needs each observation's image velocity.
 // Differencing two tracked positions (what the reference does) correlates the velocity with the
@@ -12,7 +13,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-namespace rgbdi::estimator {
+namespace rgbdi {
 
 /// d(xn)/dt [1/s] of a static point at normalised position xn and depth `depth_m` (along the
 /// optical axis) for a camera with angular velocity omega_cam [rad/s] and linear velocity v_cam
@@ -36,4 +37,4 @@ CameraVelocity cameraVelocity(const Eigen::Isometry3d& T_body_cam, const Eigen::
 /// own depth is unknown (the translational term only needs a rough one).
 double typicalDepth(std::vector<double> depths_m);
 
-}  // namespace rgbdi::estimator
+}  // namespace rgbdi

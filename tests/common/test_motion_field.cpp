@@ -3,11 +3,10 @@
 
 #include <random>
 
+#include "rgbdi/common/motion_field.h"
 #include "rgbdi/common/so3.h"
-#include "rgbdi/estimator/motion_field.h"
 
 using namespace rgbdi;
-using namespace rgbdi::estimator;
 
 namespace {
 

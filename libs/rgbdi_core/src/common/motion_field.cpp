@@ -1,8 +1,8 @@
-#include "rgbdi/estimator/motion_field.h"
+#include "rgbdi/common/motion_field.h"
 
 #include <algorithm>
 
-namespace rgbdi::estimator {
+namespace rgbdi {
 
 Eigen::Vector2d motionFieldVelocity(const Eigen::Vector2d& xn, double depth_m,
                                     const Eigen::Vector3d& omega_cam,
@@ -38,4 +38,4 @@ double typicalDepth(std::vector<double> depths_m) {
   return depths_m[depths_m.size() / 2];
 }
 
-}  // namespace rgbdi::estimator
+}  // namespace rgbdi
