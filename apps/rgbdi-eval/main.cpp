@@ -39,6 +39,7 @@ const char* const kUsage =
     "  --navmap-sloped-deg  true slope from which free ground counts as a ramp (default 2)\n"
     "  --navmap-diff    PNG of the comparison: agreeing cells white (free) and black (occupied),\n"
     "                   true free estimated occupied red, true occupied estimated free blue\n"
+    "                   (lighter where within one cell of a true boundary: tolerated)\n"
     "  --version        print the version\n"
     "  -h, --help       this help\n"
     "Options take their value as '--opt VALUE' or '--opt=VALUE'. Status 3 is not used by this "
@@ -141,10 +142,12 @@ int main(int argc, char** argv) {
                                               args.navmap_diff);
       std::ostringstream os;
       os << std::fixed << std::setprecision(1) << "navmap: observed " << c.observed << " of "
-         << c.true_known << " known true cells; free " << 100 * c.freeRecall() << " %, occupied "
-         << 100 * c.occupiedRecall() << " %, driven free " << 100 * c.drivenFree()
-         << " %, ramps free " << 100 * c.slopedFree() << " %, edges/holes occupied "
-         << 100 * c.edgesOccupied() << " %; ground height RMSE " << std::setprecision(3)
+         << c.true_known << " known true cells; free " << 100 * c.freeRecall() << " % ("
+         << 100 * c.freeRecallTolerant() << " % within one cell), occupied "
+         << 100 * c.occupiedRecall() << " % (" << 100 * c.occupiedRecallTolerant()
+         << " %), driven free " << 100 * c.drivenFree() << " %, ramps free " << 100 * c.slopedFree()
+         << " %, edges/holes occupied " << 100 * c.edgesOccupied() << " % ("
+         << 100 * c.edgesOccupiedTolerant() << " %); ground height RMSE " << std::setprecision(3)
          << c.height_rmse_m << " m (bias " << c.height_bias_m << " m) over " << c.height_cells
          << " cells\n";
       report += os.str();

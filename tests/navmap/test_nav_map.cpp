@@ -199,6 +199,53 @@ TEST(NavMap, HoleIsNotTraversableAndItsRimIsAnEdge) {
   EXPECT_NEAR(m.ground_z_m[cellAt(m, 1.15, 0.45)], -0.3, 1e-6);
 }
 
+TEST(NavMap, AHoleWallSeenOnlyAFewCentimetresDownIsADropNotFloor) {
+  // The hole x in [1.0, 1.3), y in [0.3, 0.6): its bottom unseen (as from a camera 0.35 m up, 2-3 m
+  // away), only its far wall (the cells x in [1.25, 1.3)) seen from the floor 8 cm down. A 6 cm
+  // step beside it (y in [1.0, 1.5)) shows its riser going up from the floor, and a 6 cm step
+  // down (y in [-1.0, -0.5)) its face and the lower floor at its foot.
+  std::vector<Eigen::Vector3f> pts;
+  addFlat(pts, -1.0, 3.0, -1.0, 2.0, 0.0);
+  pts.erase(std::remove_if(pts.begin(), pts.end(),
+                           [](const Eigen::Vector3f& p) {
+                             return (p.x() > 1.0 && p.x() < 1.3 && p.y() > 0.3 && p.y() < 0.6) ||
+                                    (p.x() > 1.5 && p.x() < 2.0 && p.y() > 1.0 && p.y() < 1.5) ||
+                                    (p.x() > 1.5 && p.x() < 2.0 && p.y() > -1.0 && p.y() < -0.5);
+                           }),
+            pts.end());
+  addColumn(pts, 1.25, 1.3, 0.3, 0.6, -0.08, 0.0);
+  addColumn(pts, 1.5, 1.55, 1.0, 1.5, 0.0, 0.06);
+  addFlat(pts, 1.55, 2.0, 1.0, 1.5, 0.06);
+  addColumn(pts, 1.5, 1.55, -1.0, -0.5, -0.06, 0.0);  // the face, with the lower floor at its foot
+  addFlat(pts, 1.5, 2.0, -1.0, -0.5, -0.06);
+  const auto path = straightPath(0.0, 2.0, 0.0, 0.3);
+  const NavMap m = buildNavMap(pts, path, NavMapOptions{});
+  // The wall's cells: lowest surface the mean of the points within 4 cm of the 3rd lowest
+  // (-8..-4 cm: -6 cm), points up to 0: a 6 cm rise from 6 cm below the floor.
+  EXPECT_NEAR(m.ground_z_m[cellAt(m, 1.275, 0.45)], -0.06, 1e-6);
+  EXPECT_EQ(stateAt(m, 1.275, 0.45), CellState::kStepEdge);
+  EXPECT_EQ(stateAt(m, 1.325, 0.45), CellState::kStepEdge);  // the rim beyond, 6 cm above
+  EXPECT_EQ(stateAt(m, 1.375, 0.45), CellState::kFree);
+  EXPECT_EQ(stateAt(m, 1.15, 0.45), CellState::kUnknown);  // the hole's inside: unseen
+  // The wall (6 cells) and its rim: the 18 cells around it less the 6 inside the hole.
+  EXPECT_EQ(m.count(CellState::kStepEdge), 6u + 12u);
+  // The riser's lowest surface is the floor (the mean of 0..4 cm: 2 cm): not below the robot's
+  // ground, not a drop; the step is climbable.
+  EXPECT_EQ(stateAt(m, 1.525, 1.25), CellState::kFree);
+  EXPECT_EQ(stateAt(m, 1.575, 1.25), CellState::kFree);
+  // The step down: its face's lowest surface (-4.3 cm, 4 cm of rise) is the lower floor's level
+  // (-6 cm), seen beside it: a step the robot climbs, not a drop.
+  EXPECT_NEAR(m.ground_z_m[cellAt(m, 1.525, -0.75)], -0.0433333, 1e-6);
+  EXPECT_EQ(stateAt(m, 1.525, -0.75), CellState::kFree);
+  EXPECT_EQ(stateAt(m, 1.575, -0.75), CellState::kFree);
+  // Without the test (drop_face_min_rise_m = 0) the wall joins the floor's plateau as free.
+  NavMapOptions off;
+  off.drop_face_min_rise_m = 0.0;
+  const NavMap plain = buildNavMap(pts, path, off);
+  EXPECT_EQ(stateAt(plain, 1.275, 0.45), CellState::kFree);
+  EXPECT_EQ(plain.count(CellState::kStepEdge), 0u);
+}
+
 TEST(NavMap, TableLegsAreObstaclesAndTheFloorUnderItsTopIsFree) {
   std::vector<Eigen::Vector3f> pts;
   addFlat(pts, -1.0, 3.0, -1.0, 2.0, 0.0);
@@ -310,4 +357,17 @@ TEST(NavMap, RefusesAnEmptyPathAndInvalidOptions) {
   NavMapOptions o;
   o.clearance_height_m = 0.05;  // below max_step_m
   EXPECT_THROW(buildNavMap({}, straightPath(0, 1, 0, 0.3), o), rgbdi::ConfigError);
+  NavMapOptions rise;
+  rise.drop_face_min_rise_m = 0.12;  // above max_step_m: such points are obstacles
+  try {
+    rise.validate();
+    FAIL() << "no error";
+  } catch (const rgbdi::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("drop_face_min_rise_m: must be at most max_step_m"),
+              std::string::npos)
+        << e.what();
+  }
+  NavMapOptions depth;
+  depth.drop_face_min_depth_m = -0.01;
+  EXPECT_THROW(depth.validate(), rgbdi::ConfigError);
 }

@@ -18,7 +18,8 @@ namespace {
 
 /// A room seen with 1 cm height noise around a path along x from -4 m to 4 m (over several
 /// 64-cell tiles, negative coordinates too): floor, a 20 cm step up, a 30 cm deep hole, a ramp
-/// of 15 deg, a box, a table top 0.75 m high, a wall, and points exactly on cell edges.
+/// of 15 deg, a box, a table top 0.75 m high, a wall, a hole's wall seen only 8 cm down (drop
+/// faces, NavMapOptions::drop_face_min_rise_m), and points exactly on cell edges.
 std::vector<Eigen::Vector3f> scene(std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> ux(-5.0f, 5.0f), uy(-2.0f, 2.0f), unit(0.0f, 1.0f);
@@ -39,6 +40,8 @@ std::vector<Eigen::Vector3f> scene(std::uint32_t seed) {
     // a wall at y = 2
     p.emplace_back(ux(rng), 2.0f + 0.02f * unit(rng), 2.0f * unit(rng));
   }
+  for (int k = 0; k < 400; ++k)  // a wall going down from the floor at x = -2, seen 8 cm down
+    p.emplace_back(-2.0f + 0.02f * unit(rng), 0.5f + 0.5f * unit(rng), -0.08f * unit(rng));
   for (int k = -20; k <= 20; ++k)  // on cell edges, where binning is the most fragile
     for (int j = 0; j < 3; ++j) p.emplace_back(0.05f * k, 0.05f * j, 0.001f * j);
   return p;
@@ -102,6 +105,11 @@ TEST(NavMapUpdater, KeyframeByKeyframeEqualsTheFullBuildWhileThePathGrows) {
   for (CellState s : {CellState::kFree, CellState::kObstacle, CellState::kStepEdge,
                       CellState::kUnknown, CellState::kLowered})
     EXPECT_GT(m.count(s), 0u) << toString(s);
+  // ... drop faces among the step edges.
+  NavMapOptions no_drops;
+  no_drops.drop_face_min_rise_m = 0.0;
+  EXPECT_GT(m.count(CellState::kStepEdge),
+            buildNavMap(all, full_path, no_drops).count(CellState::kStepEdge) + 5);
 }
 
 TEST(NavMapUpdater, IgnoresNonFinitePointsAsTheFullBuildDoes) {

@@ -99,3 +99,64 @@ TEST(NavMapCompare, KnownDisagreementsAreCountedExactly) {
   EXPECT_NEAR(c.height_rmse_m, 0.02, 1e-6);
   EXPECT_NEAR(c.height_bias_m, 0.02, 1e-6);
 }
+
+namespace {
+
+/// Cell index of the point (x, y) in `m`'s grid.
+std::size_t cellAt(const NavMap& m, double x, double y) {
+  int ix = 0, iy = 0;
+  EXPECT_TRUE(m.grid.cellOf(x, y, &ix, &iy));
+  return m.grid.index(ix, iy);
+}
+
+}  // namespace
+
+TEST(NavMapCompare, AWorldShiftedByAQuarterCellIsRightWithinOneCell) {
+  // The estimate saw the world a quarter cell (12.5 mm) off in x and y: the box's faces now lie
+  // in the cells beyond the true ones, so its outer ring of cells is an obstacle in the estimate
+  // and free in the truth. Strictly those are misses; within one cell of the true face they are
+  // right, and every figure is 100 %.
+  const NavMap truth = floorWithBox(Eigen::Vector3d::Zero());
+  const NavMap est = floorWithBox(Eigen::Vector3d(0.0125, 0.0125, 0.0));
+  const NavMapComparison c = compareNavMaps(est, truth, Eigen::Isometry3d::Identity(), 2.0);
+  // The true box: cells x, y in [0.6, 0.7) (2 x 2); the estimate's: [0.6, 0.75) (3 x 3).
+  EXPECT_EQ(truth.state[cellAt(truth, 0.725, 0.725)], CellState::kFree);
+  EXPECT_EQ(est.state[cellAt(est, 0.725, 0.725)], CellState::kObstacle);
+  EXPECT_LT(c.free_as_free, c.true_free);
+  EXPECT_EQ(c.true_free - c.free_as_free, 5u);  // the estimate's extra L of 5 cells
+  EXPECT_EQ(c.free_tolerated, 5u);
+  EXPECT_EQ(c.occupied_as_occupied, c.true_occupied);
+  EXPECT_DOUBLE_EQ(c.freeRecallTolerant(), 1.0);
+  EXPECT_DOUBLE_EQ(c.occupiedRecallTolerant(), 1.0);
+  EXPECT_EQ(c.toJson()["free_recall_tolerant"].get<double>(), 1.0);
+}
+
+TEST(NavMapCompare, OnlyBoundaryDisagreementsWithinOneCellAreTolerated) {
+  const NavMap truth = floorWithBox(Eigen::Vector3d::Zero());
+  ASSERT_EQ(truth.state[cellAt(truth, 0.625, 0.625)], CellState::kObstacle);
+  ASSERT_EQ(truth.state[cellAt(truth, 0.675, 0.675)], CellState::kObstacle);
+  // Obstacles in front of the box: the free cell next to its face (a miss strictly, tolerated)
+  // and the one two cells from it (a miss in both).
+  NavMap est = truth;
+  est.state[cellAt(est, 0.575, 0.625)] = CellState::kObstacle;
+  est.state[cellAt(est, 0.525, 0.675)] = CellState::kObstacle;
+  NavMapComparison c = compareNavMaps(est, truth, Eigen::Isometry3d::Identity(), 2.0);
+  EXPECT_EQ(c.free_as_free, c.true_free - 2);
+  EXPECT_EQ(c.free_tolerated, 1u);
+  EXPECT_EQ(c.true_free - c.free_as_free - c.free_tolerated, 1u);
+
+  // One box cell estimated free with the other three still obstacles: tolerated.
+  est = truth;
+  est.state[cellAt(est, 0.625, 0.625)] = CellState::kFree;
+  c = compareNavMaps(est, truth, Eigen::Isometry3d::Identity(), 2.0);
+  EXPECT_EQ(c.occupied_as_occupied, c.true_occupied - 1);
+  EXPECT_EQ(c.occupied_tolerated, 1u);
+  EXPECT_DOUBLE_EQ(c.occupiedRecallTolerant(), 1.0);
+
+  // The whole box missed: no obstacle within one cell, a miss in both.
+  for (double x : {0.625, 0.675})
+    for (double y : {0.625, 0.675}) est.state[cellAt(est, x, y)] = CellState::kFree;
+  c = compareNavMaps(est, truth, Eigen::Isometry3d::Identity(), 2.0);
+  EXPECT_EQ(c.occupied_as_occupied, c.true_occupied - 4);
+  EXPECT_EQ(c.occupied_tolerated, 0u);
+}

@@ -76,6 +76,51 @@ TEST(NavMapFiles, RosMapRoundTripsCellByCell) {
   fs::remove_all(dir);
 }
 
+TEST(NavMapFiles, RosMapReadWithMapServerSemanticsGivesTheGridBack) {
+  // map_server's image_loader (ROS 1 map_server, Nav2 map_io; map_server itself is not
+  // installable here): pixel value v, with negate p = v / 255 else p = (255 - v) / 255;
+  // occupied (100) when p > occupied_thresh, free (0) when p < free_thresh, else unknown (-1)
+  // in trinary mode; image row r is map row height - 1 - r; origin = the lower-left pixel's
+  // outer corner. Decoded here independently of readRosMap with OpenCV.
+  const NavMap m = sampleMap();
+  const std::string dir = tempDir("rossemantics");
+  writeRosMap(m, dir + "/map.yaml", dir + "/map.pgm");
+  const cv::Mat image = cv::imread(dir + "/map.pgm", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(image.type(), CV_8UC1);
+  ASSERT_EQ(image.cols, m.grid.width);
+  ASSERT_EQ(image.rows, m.grid.height);
+  auto mapServerValue = [&](int x, int map_row) {  // negate: 0 (as written)
+    const double v = image.at<unsigned char>(image.rows - 1 - map_row, x);
+    const double p = (255.0 - v) / 255.0;
+    return p > 0.65 ? kOccOccupied : (p < 0.196 ? kOccFree : kOccUnknown);
+  };
+  for (int y = 0; y < m.grid.height; ++y)
+    for (int x = 0; x < m.grid.width; ++x)
+      ASSERT_EQ(mapServerValue(x, y), m.occupancy(m.grid.index(x, y))) << x << " " << y;
+  // The origin places the cells in the world: the box at (0.625, 0.625) is occupied, the path's
+  // start (0, 0) free.
+  const RosMap r = readRosMap(dir + "/map.yaml");
+  auto at = [&](double wx, double wy) {
+    const int x = static_cast<int>(std::floor((wx - r.grid.origin_x_m) / r.grid.cell_size_m));
+    const int y = static_cast<int>(std::floor((wy - r.grid.origin_y_m) / r.grid.cell_size_m));
+    return mapServerValue(x, y);
+  };
+  EXPECT_EQ(at(0.625, 0.625), kOccOccupied);
+  EXPECT_EQ(at(0.0, 0.0), kOccFree);
+  // The same grid written negated (negate: 1, pixels inverted) reads back the same.
+  cv::Mat inverted = 255 - image;
+  ASSERT_TRUE(cv::imwrite(dir + "/neg.pgm", inverted));
+  std::ifstream yaml_in(dir + "/map.yaml");
+  std::string yaml((std::istreambuf_iterator<char>(yaml_in)), {});
+  yaml.replace(yaml.find("image: map.pgm"), 14, "image: neg.pgm");
+  yaml.replace(yaml.find("negate: 0"), 9, "negate: 1");
+  std::ofstream(dir + "/neg.yaml") << yaml;
+  const RosMap negated = readRosMap(dir + "/neg.yaml");
+  EXPECT_TRUE(negated.negate);
+  EXPECT_EQ(negated.occupancy, r.occupancy);
+  fs::remove_all(dir);
+}
+
 TEST(NavMapFiles, RosMapReaderNamesTheFileAndKey) {
   const std::string dir = tempDir("rosbad");
   std::ofstream(dir + "/bad.yaml") << "image: x.pgm\nresolution: abc\norigin: [0, 0, 0]\n";

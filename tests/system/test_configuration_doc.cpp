@@ -484,6 +484,8 @@ const std::vector<Field> kFields = {
     {"navmap", "path_ground_min_fraction", [](const Defaults& d) { return text(d.system.navmap.path_ground_min_fraction); }},
     {"navmap", "max_depth_m", [](const Defaults& d) { return text(d.system.navmap.max_depth_m); }},
     {"navmap", "refresh_interval_s", [](const Defaults& d) { return text(d.system.navmap.refresh_interval_s); }},
+    {"navmap", "drop_face_min_rise_m", [](const Defaults& d) { return text(d.system.navmap.drop_face_min_rise_m); }},
+    {"navmap", "drop_face_min_depth_m", [](const Defaults& d) { return text(d.system.navmap.drop_face_min_depth_m); }},
     {"mapping", "grid_step_px", [](const Defaults& d) { return text(d.system.mapping.grid_step_px); }},
     {"mapping", "u_min_px", [](const Defaults& d) { return text(d.system.mapping.u_min_px); }},
     {"mapping", "u_max_px", [](const Defaults& d) { return text(d.system.mapping.u_max_px); }},

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "navmap/cell_points.h"
+#include "navmap/drop_faces.h"
 #include "navmap/layer_reuse.h"
 #include "navmap/nav_map_stages.h"
 #include "navmap/path_cells.h"
@@ -255,6 +256,8 @@ CellSurface cellSurface(const float* first, const float* last, const NavMapOptio
   const std::size_t obstacle_points = static_cast<std::size_t>(std::upper_bound(first, last, hi) -
                                                                std::upper_bound(first, last, lo));
   c.obstacle = obstacle_points >= static_cast<std::size_t>(o.min_obstacle_points);
+  const float* top = std::upper_bound(first, last, lo);
+  if (top != first) c.rise_m = *(top - 1) - h;
   return c;
 }
 
@@ -286,6 +289,7 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
   NavMap m = detail::startNavMap(path, o, grid, &near);
   const detail::CellPoints cells(points, grid);
   std::vector<std::uint8_t> obstacle(grid.cellCount(), 0);
+  std::vector<float> rise(grid.cellCount(), 0.0f);
   // Lowest surface of every cell within range.
   for (std::size_t i = 0; i < grid.cellCount(); ++i) {
     if (!(near.distance_m[i] <= o.range_m)) continue;
@@ -293,16 +297,17 @@ NavMap buildNavMap(const std::vector<Eigen::Vector3f>& points,
     m.ground_z_m[i] = c.ground_z_m;
     m.ground_sigma_m[i] = c.sigma_m;
     obstacle[i] = c.obstacle ? 1 : 0;
+    rise[i] = c.rise_m;
   }
-  detail::finishNavMap(m, near, obstacle, path, o);
+  detail::finishNavMap(m, near, obstacle, rise, path, o);
   return m;
 }
 
 namespace detail {
 
 void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uint8_t>& obstacle,
-                  const std::vector<Eigen::Vector3d>& path, const NavMapOptions& o,
-                  LayerCache* cache) {
+                  const std::vector<float>& rise, const std::vector<Eigen::Vector3d>& path,
+                  const NavMapOptions& o, LayerCache* cache) {
   const GridGeometry& grid = m.grid;
   const std::size_t n = grid.cellCount();
   LatticeShift shift;
@@ -375,6 +380,7 @@ void finishNavMap(NavMap& m, const NearestPose& near, const std::vector<std::uin
       else
         m.state[i] = CellState::kFree;
     }
+  detail::markDropFaces(m, rise, reference, o);
   classifyPlateaus(m, reference, o.max_step_m);
   // Where the robot drove it could drive.
   for (std::size_t i = 0; i < n; ++i)

@@ -72,6 +72,7 @@ void NavMapUpdater::addPoints(const std::vector<Eigen::Vector3f>& points) {
     cell->ground_z_m = s.ground_z_m;
     cell->sigma_m = s.sigma_m;
     cell->obstacle = s.obstacle;
+    cell->rise_m = s.rise_m;
     cell->touched = false;
   }
 }
@@ -85,6 +86,7 @@ NavMap NavMapUpdater::build(const std::vector<Eigen::Vector3d>& path) {
   detail::NearestPose near;
   NavMap m = detail::startNavMap(path, options_, grid, &near);
   std::vector<std::uint8_t> obstacle(grid.cellCount(), 0);
+  std::vector<float> rise(grid.cellCount(), 0.0f);
   for (const auto& [key, tile] : tiles_) {
     const std::int64_t cx = tileX(key) * kTileSide - kx0, cy = tileY(key) * kTileSide - ky0;
     if (cx >= grid.width || cy >= grid.height || cx + kTileSide <= 0 || cy + kTileSide <= 0)
@@ -101,10 +103,11 @@ NavMap NavMapUpdater::build(const std::vector<Eigen::Vector3d>& path) {
         m.ground_z_m[i] = cell.ground_z_m;
         m.ground_sigma_m[i] = cell.sigma_m;
         obstacle[i] = cell.obstacle ? 1 : 0;
+        rise[i] = cell.rise_m;
       }
     }
   }
-  detail::finishNavMap(m, near, obstacle, path, options_, cache_.get());
+  detail::finishNavMap(m, near, obstacle, rise, path, options_, cache_.get());
   return m;
 }
 

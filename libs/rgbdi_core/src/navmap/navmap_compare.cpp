@@ -9,18 +9,52 @@
 namespace rgbdi::navmap {
 namespace {
 
-/// The estimate's state at a true cell's centre (unknown outside the estimate's grid).
-CellState estimatedState(const NavMap& est, const NavMap& truth, int ix, int iy,
-                         const Eigen::Isometry3d& T_est_truth, std::size_t* j) {
+bool isOccupied(CellState s) { return s != CellState::kFree && s != CellState::kUnknown; }
+
+/// Where a true cell's centre falls in the estimate: its cell (ex, ey) and state (unknown
+/// outside the estimate's grid, ex = ey = -1).
+struct EstimateSample {
+  CellState state = CellState::kUnknown;
+  int ex = -1, ey = -1;
+  std::size_t index = 0;
+};
+
+EstimateSample sampleEstimate(const NavMap& est, const NavMap& truth, int ix, int iy,
+                              const Eigen::Isometry3d& T_est_truth) {
   const std::size_t i = truth.grid.index(ix, iy);
   const Eigen::Vector2d centre = truth.grid.centre(ix, iy);
   const float ht = truth.ground_z_m[i];
   const Eigen::Vector3d p_est =
       T_est_truth * Eigen::Vector3d(centre.x(), centre.y(), std::isfinite(ht) ? ht : 0.0);
-  int ex = 0, ey = 0;
-  if (!est.grid.cellOf(p_est.x(), p_est.y(), &ex, &ey)) return CellState::kUnknown;
-  *j = est.grid.index(ex, ey);
-  return est.state[*j];
+  EstimateSample s;
+  if (!est.grid.cellOf(p_est.x(), p_est.y(), &s.ex, &s.ey)) return s;
+  s.index = est.grid.index(s.ex, s.ey);
+  s.state = est.state[s.index];
+  return s;
+}
+
+/// Whether one of the 8 neighbours of (ix, iy) in `map` is in a state `wanted` accepts.
+template <typename Wanted>
+bool anyNeighbour(const NavMap& map, int ix, int iy, Wanted wanted) {
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if ((dx != 0 || dy != 0) && map.grid.contains(ix + dx, iy + dy) &&
+          wanted(map.state[map.grid.index(ix + dx, iy + dy)]))
+        return true;
+  return false;
+}
+
+/// A strict disagreement the tolerant figures accept (header): true free estimated occupied
+/// next to a true obstacle, or true occupied estimated free next to true free ground while the
+/// estimate has an obstacle one cell off.
+bool toleratedDisagreement(const NavMap& est, const NavMap& truth, int ix, int iy,
+                           const EstimateSample& e) {
+  const CellState t = truth.state[truth.grid.index(ix, iy)];
+  if (t == CellState::kFree && isOccupied(e.state)) return anyNeighbour(truth, ix, iy, isOccupied);
+  if (isOccupied(t) && e.state == CellState::kFree)
+    return anyNeighbour(truth, ix, iy, [](CellState s) { return s == CellState::kFree; }) &&
+           anyNeighbour(est, e.ex, e.ey, isOccupied);
+  return false;
 }
 
 /// Inside the true footprint: the cell and its 4 neighbours driven. The footprint's border cells
@@ -49,8 +83,10 @@ NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
       const CellState t = truth.state[i];
       const Eigen::Vector2d centre = g.centre(ix, iy);
       const float ht = truth.ground_z_m[i];
-      std::size_t j = 0;
-      const CellState e = estimatedState(est, truth, ix, iy, T_est_truth, &j);
+      const EstimateSample sample = sampleEstimate(est, truth, ix, iy, T_est_truth);
+      const CellState e = sample.state;
+      const std::size_t j = sample.index;
+      const bool tolerated = toleratedDisagreement(est, truth, ix, iy, sample);
       if (insideDriven(truth, ix, iy)) {
         ++c.true_driven;
         if (e == CellState::kFree) ++c.driven_as_free;
@@ -63,6 +99,7 @@ NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
       if (t == CellState::kFree) {
         ++c.true_free;
         if (e == CellState::kFree) ++c.free_as_free;
+        if (tolerated) ++c.free_tolerated;
         if (truth.slope_deg[i] > sloped_min_deg) {
           ++c.true_sloped;
           if (e == CellState::kFree) ++c.sloped_as_free;
@@ -81,9 +118,11 @@ NavMapComparison compareNavMaps(const NavMap& est, const NavMap& truth,
       } else {
         ++c.true_occupied;
         if (e != CellState::kFree) ++c.occupied_as_occupied;
+        if (tolerated) ++c.occupied_tolerated;
         if (t == CellState::kStepEdge || t == CellState::kLowered) {
           ++c.true_edges;
           if (e != CellState::kFree) ++c.edges_as_occupied;
+          if (tolerated) ++c.edges_tolerated;
         }
       }
     }
@@ -108,6 +147,13 @@ nlohmann::json NavMapComparison::toJson() const {
   j["sloped_free"] = slopedFree();
   j["edge_cells"] = true_edges;
   j["edges_occupied"] = edgesOccupied();
+  // Tolerant: boundary disagreements within one cell accepted (navmap_compare.h).
+  j["free_tolerated_cells"] = free_tolerated;
+  j["free_recall_tolerant"] = freeRecallTolerant();
+  j["occupied_tolerated_cells"] = occupied_tolerated;
+  j["occupied_recall_tolerant"] = occupiedRecallTolerant();
+  j["edges_tolerated_cells"] = edges_tolerated;
+  j["edges_occupied_tolerant"] = edgesOccupiedTolerant();
   j["height_cells"] = height_cells;
   j["height_rmse_m"] = height_rmse_m;
   j["height_bias_m"] = height_bias_m;
@@ -129,18 +175,23 @@ void writeComparisonPicture(const NavMap& est, const NavMap& truth,
   for (int iy = 0; iy < g.height; ++iy)
     for (int ix = 0; ix < g.width; ++ix) {
       const std::size_t i = g.index(ix, iy);
-      std::size_t j = 0;
-      const CellState e = estimatedState(est, truth, ix, iy, T_est_truth, &j);
+      const EstimateSample sample = sampleEstimate(est, truth, ix, iy, T_est_truth);
+      const CellState e = sample.state;
       const CellState t = truth.state[i];
+      const bool tolerated = toleratedDisagreement(est, truth, ix, iy, sample);
       cv::Vec3b& px = image.at<cv::Vec3b>(g.height - 1 - iy, ix);  // BGR
       if (truth.driven[i] && e != CellState::kFree)
         px = cv::Vec3b(0, 170, 0);
       else if (t == CellState::kUnknown || e == CellState::kUnknown)
         continue;
       else if (t == CellState::kFree)
-        px = e == CellState::kFree ? cv::Vec3b(255, 255, 255) : cv::Vec3b(0, 0, 230);
+        px = e == CellState::kFree ? cv::Vec3b(255, 255, 255)
+             : tolerated           ? cv::Vec3b(160, 160, 255)
+                                   : cv::Vec3b(0, 0, 230);
       else
-        px = e == CellState::kFree ? cv::Vec3b(230, 0, 0) : cv::Vec3b(0, 0, 0);
+        px = e != CellState::kFree ? cv::Vec3b(0, 0, 0)
+             : tolerated           ? cv::Vec3b(255, 190, 150)
+                                   : cv::Vec3b(230, 0, 0);
     }
   std::vector<unsigned char> png;
   if (!cv::imencode(".png", image, png)) throw IoError(path + ": cannot encode the PNG");

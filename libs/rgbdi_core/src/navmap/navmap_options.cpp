@@ -45,6 +45,10 @@ const std::vector<DoubleKey>& doubleKeys() {
       {"max_depth_m", [](NavMapOptions& o) -> double& { return o.max_depth_m; }, 0.1, 100.0},
       {"refresh_interval_s", [](NavMapOptions& o) -> double& { return o.refresh_interval_s; }, 0.0,
        86400.0},
+      {"drop_face_min_rise_m", [](NavMapOptions& o) -> double& { return o.drop_face_min_rise_m; },
+       0.0, 5.0},
+      {"drop_face_min_depth_m", [](NavMapOptions& o) -> double& { return o.drop_face_min_depth_m; },
+       0.0, 5.0},
   };
   return keys;
 }
@@ -61,6 +65,9 @@ void checkConsistency(const NavMapOptions& o, Fail&& fail) {
     fail("clearance_height_m",
          "must be larger than max_step_m (the band between is the obstacle band)");
   if (o.range_m < o.cell_size_m) fail("range_m", "must be at least cell_size_m");
+  // The rise is measured within max_step_m of the lowest surface (higher points are obstacles).
+  if (o.drop_face_min_rise_m > o.max_step_m)
+    fail("drop_face_min_rise_m", "must be at most max_step_m (0 = off)");
 }
 
 }  // namespace

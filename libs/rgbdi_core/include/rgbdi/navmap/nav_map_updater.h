@@ -50,6 +50,7 @@ class NavMapUpdater {
     std::vector<float> z;  ///< heights [m], ascending
     float ground_z_m = 0.0f;
     float sigma_m = 0.0f;
+    float rise_m = 0.0f;  ///< [m] CellSurface::rise_m
     bool obstacle = false;
     bool touched = false;  ///< points added since the cell was last derived
   };

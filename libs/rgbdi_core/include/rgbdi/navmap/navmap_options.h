@@ -44,6 +44,16 @@ struct NavMapOptions {
   /// [s] live runs rewrite the maps at this wall-clock period (and after each loop correction);
   /// 0 = at the end only
   double refresh_interval_s = 10.0;
+  /// [m] a cell whose points rise at least this far above its lowest surface (within
+  /// max_step_m of it) while that surface lies drop_face_min_depth_m or more below the robot's
+  /// ground is the top of a face going down (a hole's or a drop's wall seen only a few
+  /// centimetres down), not floor: a step edge, and so are its neighbours standing that far
+  /// above it (the rim). A floor shows points at one height. 0 = off
+  double drop_face_min_rise_m = 0.03;
+  /// [m] how far below the robot's ground (the reference ground of the cell) the lowest surface
+  /// of such a face must lie; a riser going up from the floor (its lowest surface the floor)
+  /// is not a drop
+  double drop_face_min_depth_m = 0.02;
 
   /// Throws ConfigError naming the key when a value is outside its range or inconsistent.
   void validate() const;
