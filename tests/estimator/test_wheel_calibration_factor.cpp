@@ -121,8 +121,8 @@ TEST(WheelCalibrationFactor, PlanarJacobiansMatchNumeric) {
   EXPECT_GT(pre->cutRates().v_start.norm(), 0.3);  // the slopes at the cuts are there
   EXPECT_NE(pre->cutRates().w_start, pre->cutRates().w_end);
   const WheelCalibrationFactor f(*pre, bodyToWheel(0.0));
-  const Params base = {poseBlock(drive.wheelPose(2.0)), poseBlock(drive.wheelPose(3.4)), {1.0},
-                       {1.0}, {0.0}, {0.0}};
+  const Params base = {
+      poseBlock(drive.wheelPose(2.0)), poseBlock(drive.wheelPose(3.4)), {1.0}, {1.0}, {0.0}, {0.0}};
   std::mt19937_64 rng(11);
   for (int trial = 0; trial < 5; ++trial) expectJacobiansMatch(f, randomParams(rng, base));
 }
@@ -140,9 +140,13 @@ TEST(WheelCalibrationFactor, ThreeDJacobiansMatchNumeric) {
   }
   const WheelPreintegration pre(d, a, WheelNoise(), R);
   const WheelCalibrationFactor f(pre, bodyToWheel(0.0));
-  const Params base = {poseBlock(Eigen::Isometry3d::Identity()),
-                       poseBlock(Eigen::Translation3d(0.5, 0.1, 0.05) * Eigen::Isometry3d::Identity()),
-                       {1.0}, {1.0}, {0.0}, {0.0}};
+  const Params base = {
+      poseBlock(Eigen::Isometry3d::Identity()),
+      poseBlock(Eigen::Translation3d(0.5, 0.1, 0.05) * Eigen::Isometry3d::Identity()),
+      {1.0},
+      {1.0},
+      {0.0},
+      {0.0}};
   std::mt19937_64 rng(12);
   for (int trial = 0; trial < 5; ++trial) expectJacobiansMatch(f, randomParams(rng, base));
   const CalibratedWheelMotion m = pre.calibratedMotion(1.0, 1.0, 0.0, 0.05);
@@ -247,7 +251,10 @@ TEST(WheelCalibrationFactor, AtZeroCorrectionItIsTheWheelFactor) {
   ASSERT_TRUE(pre.has_value());
   const Params p = {poseBlock(drive.wheelPose(4.0)),
                     poseBlock(Eigen::Translation3d(0.01, 0.0, 0.0) * drive.wheelPose(5.0)),
-                    {1.01}, {0.98}, {0.0}, {0.0}};
+                    {1.01},
+                    {0.98},
+                    {0.0},
+                    {0.0}};
   const Eigen::Matrix<double, 6, 1> a = WheelCalibrationFactor(*pre, bodyToWheel(0.0))
                                             .error(p[0].data(), p[1].data(), 1.01, 0.98, 0.0, 0.0);
   const Eigen::Matrix<double, 6, 1> b =

@@ -14,9 +14,7 @@ Eigen::Matrix3d rotZ(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::Un
 
 WheelCalibrationFactor::WheelCalibrationFactor(const WheelPreintegration& preintegration,
                                                const Eigen::Isometry3d& T_body_wheel)
-    : preint_(preintegration),
-      R_bw0_(T_body_wheel.rotation()),
-      p_bw_(T_body_wheel.translation()) {}
+    : preint_(preintegration), R_bw0_(T_body_wheel.rotation()), p_bw_(T_body_wheel.translation()) {}
 
 Vector6d WheelCalibrationFactor::error(const double* pose_a, const double* pose_b, double s_v,
                                        double s_w, double yaw, double td) const {
@@ -48,7 +46,8 @@ bool WheelCalibrationFactor::evaluate(double const* const* parameters, double* r
   // y = R_a^T (p_b + R_b p_bw - p_a): the wheel origin at b in body frame a.
   const Eigen::Vector3d y = Ra.transpose() * (pb + Rb * p_bw_ - pa);
   const Eigen::Vector3d r_p = R_bw.transpose() * (y - p_bw_) - m.dp;
-  const Eigen::Matrix3d E = rotZ(m.dyaw).transpose() * R_bw.transpose() * Ra.transpose() * Rb * R_bw;
+  const Eigen::Matrix3d E =
+      rotZ(m.dyaw).transpose() * R_bw.transpose() * Ra.transpose() * Rb * R_bw;
   const Eigen::Vector3d r_theta = logSO3(E);
   const Vector6d w = weighted ? preint_.sqrtInformation() : Vector6d::Ones();
   Eigen::Map<Vector6d> out(residuals);
