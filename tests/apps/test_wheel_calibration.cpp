@@ -37,10 +37,10 @@ nlohmann::json slam(const std::string& seq, const std::string& wheel) {
     o << in.rdbuf() << "\n[wheel]\nenable = true\n" << wheel;
   }
   std::string log;
-  const int rc = runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " +
-                                config + " --gt " + seq + "/groundtruth.tum --out " + out +
-                                " --quiet --no-loop",
-                            &log);
+  const int rc =
+      runCommand(binDir() + "/rgbdi-slam --input " + seq + "/sequence.rawlog --config " + config +
+                     " --gt " + seq + "/groundtruth.tum --out " + out + " --quiet --no-loop",
+                 &log);
   EXPECT_EQ(rc, 0) << log;
   std::ifstream f(out + "/summary.json");
   return nlohmann::json::parse(f);
@@ -63,11 +63,11 @@ TEST(WheelCalibration, ATenDegreeWrongExtrinsicYawIsLearnt) {
   const auto& w = learnt["wheel"];
   EXPECT_TRUE(w["extrinsic_yaw_estimated"].get<bool>());
   EXPECT_FALSE(w["time_offset_estimated"].get<bool>());
-  // Measured: -9.98 deg after 20 s; the radius as without the yaw error (1.0294).
+  // Measured: -9.99 deg after 20 s; the radius as without the yaw error (1.0294).
   EXPECT_NEAR(w["extrinsic_yaw_correction_rad"].get<double>(), -a, 0.5 * M_PI / 180.0) << w.dump();
   EXPECT_NEAR(w["scale_forward"].get<double>(), 1.03, 0.003 * 1.03) << w.dump();
   EXPECT_EQ(w["time_offset_s"].get<double>(), 0.0);
   EXPECT_EQ(right["wheel"]["extrinsic_yaw_correction_rad"].get<double>(), 0.0);
-  // Measured: the same odometry ATE as with the right extrinsic (4.23 mm).
+  // Measured: 4.19 mm, with the right extrinsic 4.20 mm.
   EXPECT_LE(ate(learnt), ate(right) + 2e-4) << ate(learnt) << " vs " << ate(right);
 }
