@@ -85,7 +85,7 @@ void SlidingWindowEstimator::feedWheel(const WheelOdometrySample& w) {
   wheels.add(w);
   // Nothing before the oldest frame is needed (without frames: nothing before the newest).
   const FrameWindow& window = parts_->window.frames;
-  wheels.trimBefore(window.empty() ? w.t + opt_.wheel.time_offset_s : window.front().t, opt_.wheel);
+  wheels.trimBefore(window.empty() ? w.t + wheels.time_offset[0] : window.front().t, opt_.wheel);
 }
 
 double SlidingWindowEstimator::latestImuTime() const {
@@ -225,11 +225,11 @@ bool SlidingWindowEstimator::track(const frontend::FeatureFrame& frame, double t
   // With the wheels fused and their readings up to this frame, blind frames are carried by the
   // IMU and the wheels for up to [wheel] max_blind_s.
   const WheelOptions& wheel_opt = opt_.wheel;
-  const bool wheels_carry = out.blind && wheel_opt.enable &&
-                            wheel_opt.max_blind_s > opt_.fail_max_blind_s &&
-                            !parts_->window.wheels.readings.empty() &&
-                            parts_->window.wheels.readings.back().t + wheel_opt.time_offset_s >=
-                                t - wheel_opt.reading_lag_s;
+  const bool wheels_carry =
+      out.blind && wheel_opt.enable && wheel_opt.max_blind_s > opt_.fail_max_blind_s &&
+      !parts_->window.wheels.readings.empty() &&
+      parts_->window.wheels.readings.back().t + parts_->window.wheels.time_offset[0] >=
+          t - wheel_opt.reading_lag_s;
   const double max_blind_s = wheels_carry ? wheel_opt.max_blind_s : opt_.fail_max_blind_s;
   if (!out.blind) {
     last_sighted_t_ = frame.t;
@@ -408,6 +408,8 @@ void SlidingWindowEstimator::marginaliseAndSlide(bool newest_but_one_is_keyframe
   }
   stats_.wheel_scale_v = wheels.scale_v[0];
   stats_.wheel_scale_w = wheels.scale_w[0];
+  stats_.wheel_extrinsic_yaw_rad = wheels.extrinsic_yaw[0];
+  stats_.wheel_time_offset_s = wheels.time_offset[0];
 }
 
 void SlidingWindowEstimator::reset(bool keep_anchor) {

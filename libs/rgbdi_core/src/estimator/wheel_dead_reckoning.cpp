@@ -43,11 +43,12 @@ std::optional<DeadReckoning> wheelInertialDeadReckoning(const WindowWheels& whee
                                                         const Eigen::Vector3d& p0,
                                                         const Eigen::Quaterniond& q0, double t) {
   const auto& r = wheels.readings;
-  const auto stamp = [&](std::size_t i) { return r[i].t + opt.time_offset_s; };
+  const auto stamp = [&](std::size_t i) { return r[i].t + wheels.time_offset[0]; };
   if (r.empty() || !(t >= t0) || stamp(0) > t0 || stamp(r.size() - 1) < t - opt.reading_lag_s)
     return std::nullopt;
-  const Eigen::Matrix3d R_bw = opt.T_body_wheel.rotation();
-  const Eigen::Vector3d p_bw = opt.T_body_wheel.translation();
+  const Eigen::Isometry3d T_bw = wheels.T_body_wheel(opt);
+  const Eigen::Matrix3d R_bw = T_bw.rotation();
+  const Eigen::Vector3d p_bw = T_bw.translation();
   GyroOrientation orientation(imu, bg, t0, q0);
   Eigen::Vector3d p_wheel = p0 + q0 * p_bw;
   const double s_v = wheels.scale_v[0];

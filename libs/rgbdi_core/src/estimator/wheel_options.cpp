@@ -1,5 +1,6 @@
 #include "rgbdi/estimator/wheel_options.h"
 
+#include <cmath>
 #include <sstream>
 
 namespace rgbdi::estimator {
@@ -43,6 +44,16 @@ WheelOptions WheelOptions::load(IniReader& ini) {
   n.min_sigma_rad = ini.getDouble(s, "min_sigma_rad", n.min_sigma_rad, 1e-6, 10.0);
   o.estimate_scale = ini.getBool(s, "estimate_scale", o.estimate_scale);
   o.scale_prior_sigma = ini.getDouble(s, "scale_prior_sigma", o.scale_prior_sigma, 1e-6, 10.0);
+  o.estimate_extrinsic_yaw = ini.getBool(s, "estimate_extrinsic_yaw", o.estimate_extrinsic_yaw);
+  o.extrinsic_yaw_prior_sigma_rad = ini.getDouble(s, "extrinsic_yaw_prior_sigma_rad",
+                                                  o.extrinsic_yaw_prior_sigma_rad, 1e-6, 10.0);
+  o.extrinsic_yaw_max_rad =
+      ini.getDouble(s, "extrinsic_yaw_max_rad", o.extrinsic_yaw_max_rad, 0.0, M_PI);
+  o.estimate_time_offset = ini.getBool(s, "estimate_time_offset", o.estimate_time_offset);
+  o.time_offset_prior_sigma_s =
+      ini.getDouble(s, "time_offset_prior_sigma_s", o.time_offset_prior_sigma_s, 1e-6, 10.0);
+  o.time_offset_max_change_s =
+      ini.getDouble(s, "time_offset_max_change_s", o.time_offset_max_change_s, 0.0, 1.0);
   o.gate_chi2 = ini.getDouble(s, "gate_chi2", o.gate_chi2, 0.0, 1e9);
   o.max_blind_s = ini.getDouble(s, "max_blind_s", o.max_blind_s, 0.0, 3600.0);
   o.reading_lag_s = ini.getDouble(s, "reading_lag_s", o.reading_lag_s, 0.0, 10.0);

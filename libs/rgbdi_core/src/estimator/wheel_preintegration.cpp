@@ -129,7 +129,68 @@ std::optional<WheelPreintegration> WheelPreintegration::between(
     a.push_back(q.yaw - p.yaw);
     if (rotation) R.push_back(rotation->at(times[k - 1]));
   }
-  return WheelPreintegration(std::move(d), std::move(a), noise, std::move(R));
+  WheelPreintegration out(std::move(d), std::move(a), noise, std::move(R));
+  out.cut_time_offset_s_ = time_offset_s;
+  // The slopes of the interpolation at the two cuts: the segment each one is interpolated in
+  // (beyond the newest reading: the last one, whose rate goes on).
+  const auto rateOf = [&](std::size_t seg, double yaw_at_cut, Eigen::Vector2d* v, double* w) {
+    if (last == 0) return;
+    seg = std::min(seg, last - 1);
+    const double dt = stamp(seg + 1) - stamp(seg);
+    if (!(dt > 0.0)) return;
+    const Pose2 p = unwrapped(readings[seg], yaw_at_cut);
+    const Pose2 q = unwrapped(readings[seg + 1], p.yaw);
+    *v = rot2(-yaw_at_cut) * Eigen::Vector2d(q.x - p.x, q.y - p.y) / dt;
+    *w = (q.yaw - p.yaw) / dt;
+  };
+  rateOf(i0, poses.front().yaw, &out.rates_.v_start, &out.rates_.w_start);
+  rateOf(i - 1, poses.back().yaw, &out.rates_.v_end, &out.rates_.w_end);
+  return out;
+}
+
+CalibratedWheelMotion WheelPreintegration::calibratedMotion(double s_v, double s_w, double yaw,
+                                                            double dtd) const {
+  CalibratedWheelMotion m;
+  m.ddp_dyaw.setZero();
+  m.ddp_dtd.setZero();
+  if (threeD()) {
+    // R_k(yaw) = Rz(-yaw) R_k0 Rz(yaw): the gyroscope's rotation seen in the corrected frame.
+    const Eigen::Matrix3d Rz = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).matrix();
+    const Eigen::Vector3d ez = Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d S = Eigen::Vector3d::Zero(), dS = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < d_.size(); ++k) {
+      const Eigen::Vector3d dk = Rz * Eigen::Vector3d(d_[k].x(), d_[k].y(), 0.0);
+      S += R_[k] * dk;
+      dS += R_[k] * ez.cross(dk);
+    }
+    const Eigen::Vector3d u = Rz.transpose() * S;
+    m.dp = s_v * u;
+    m.ddp_dsv = u;
+    m.ddp_dsw.setZero();
+    m.ddp_dyaw = s_v * (-ez.cross(u) + Rz.transpose() * dS);
+    m.dyaw = s_w * phi_end_;
+    m.ddyaw_dsw = phi_end_;
+    return m;
+  }
+  // Planar: dp = s_v (p1 + dtd c1), c1 = v_a + s_w w_a J p1 - R(s_w phi_n) v_b, p1 = dp / s_v.
+  Eigen::Vector2d p1, dp1_dsw;
+  delta(1.0, s_w, &p1, nullptr, &dp1_dsw);
+  const Eigen::Matrix2d J = (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished();
+  const WheelCutRates& r = rates_;
+  const Eigen::Matrix2d Rn = rot2(s_w * phi_end_);
+  const Eigen::Vector2d c1 = r.v_start + s_w * r.w_start * (J * p1) - Rn * r.v_end;
+  const Eigen::Vector2d dc1_dsw =
+      r.w_start * (J * p1) + s_w * r.w_start * (J * dp1_dsw) - phi_end_ * (J * Rn * r.v_end);
+  const auto lift = [](const Eigen::Vector2d& v) { return Eigen::Vector3d(v.x(), v.y(), 0.0); };
+  m.dp = lift(s_v * (p1 + dtd * c1));
+  m.ddp_dsv = lift(p1 + dtd * c1);
+  m.ddp_dsw = lift(s_v * (dp1_dsw + dtd * dc1_dsw));
+  m.ddp_dtd = lift(s_v * c1);
+  const double dw = r.w_start - r.w_end;
+  m.dyaw = s_w * (phi_end_ + dtd * dw);
+  m.ddyaw_dsw = phi_end_ + dtd * dw;
+  m.ddyaw_dtd = s_w * dw;
+  return m;
 }
 
 void WheelPreintegration::motion(double s_v, double s_w, Eigen::Vector3d* dp, double* dyaw,

@@ -10,6 +10,7 @@
 #include "rgbdi/estimator/rolling_shutter_reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/wheel_calibration_factor.h"
 #include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 
@@ -25,6 +26,8 @@ std::set<const double*> constantBlocks(WindowState& state, const WindowCostModel
     constant.insert(state.wheels.scale_v);
     constant.insert(state.wheels.scale_w);
   }
+  if (!model.wheel.estimate_extrinsic_yaw) constant.insert(state.wheels.extrinsic_yaw);
+  if (!model.wheel.estimate_time_offset) constant.insert(state.wheels.time_offset);
   return constant;
 }
 
@@ -77,9 +80,29 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
             : WheelVerdict::Consistent;
     if (pre) wheels.count(verdict, s0.t, window[1].t);
     if (pre && verdict == WheelVerdict::Consistent) {
-      info->add({std::make_shared<WheelFactor>(*pre, model.wheel.T_body_wheel),
-                 nullptr,
-                 {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w}});
+      const WheelOptions& wo = model.wheel;
+      if (wo.calibrating())
+        info->add({std::make_shared<WheelCalibrationFactor>(*pre, wo.T_body_wheel),
+                   nullptr,
+                   {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w, wheels.extrinsic_yaw,
+                    wheels.time_offset}});
+      else
+        info->add({std::make_shared<WheelFactor>(*pre, wo.T_body_wheel),
+                   nullptr,
+                   {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w}});
+      if (wo.calibrating() && wheels.calib_prior_pending) {
+        if (wo.estimate_extrinsic_yaw)
+          info->add({std::make_shared<ScalarPrior>(wheels.prior_mean_yaw,
+                                                   wo.extrinsic_yaw_prior_sigma_rad),
+                     nullptr,
+                     {wheels.extrinsic_yaw}});
+        if (wo.estimate_time_offset)
+          info->add(
+              {std::make_shared<ScalarPrior>(wheels.prior_mean_td, wo.time_offset_prior_sigma_s),
+               nullptr,
+               {wheels.time_offset}});
+        wheels.calib_prior_pending = false;
+      }
       if (model.wheel.estimate_scale && wheels.scale_prior_pending) {
         info->add(
             {std::make_shared<ScalarPrior>(wheels.prior_mean_v, model.wheel.scale_prior_sigma),

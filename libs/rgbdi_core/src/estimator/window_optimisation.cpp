@@ -11,6 +11,7 @@
 #include "rgbdi/estimator/ground_plane_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
+#include "rgbdi/estimator/wheel_calibration_factor.h"
 #include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 #include "rgbdi/imu/preintegration.h"
@@ -92,12 +93,19 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     solver.addFrameBlock(s.pose, 7);
     solver.addFrameBlock(s.sb, 9);
   }
+  // The online calibration likewise (constants when not estimated).
+  const WheelOptions& wo = model_.wheel;
+  const bool wheel_calib =
+      wo.enable && wo.calibrating() &&
+      (!wheel_intervals.empty() || (state.prior && !wheels.calib_prior_pending));
   if (model_.estimate_time_offset) solver.addFrameBlock(td, 1);
   if (model_.estimate_readout) solver.addFrameBlock(readout, 1);
   if (wheel_scales) {
     solver.addFrameBlock(wheels.scale_v, 1);
     solver.addFrameBlock(wheels.scale_w, 1);
   }
+  if (wheel_calib && wo.estimate_extrinsic_yaw) solver.addFrameBlock(wheels.extrinsic_yaw, 1);
+  if (wheel_calib && wo.estimate_time_offset) solver.addFrameBlock(wheels.time_offset, 1);
   if (state.prior) solver.addPrior(state.prior);
   // Gauge: hold position and yaw of the oldest pose (the prior carries no information on them).
   add(new GaugePrior(window.front().pose, kGaugeStiffness), nullptr, {window.front().pose});
@@ -123,9 +131,16 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     }
     add(new imu::ImuFactor(b.preint.get(), model_.g_world), nullptr, {a.pose, a.sb, b.pose, b.sb});
   }
-  for (const auto& [k, pre] : wheel_intervals)
+  for (const auto& [k, pre] : wheel_intervals) {
+    if (wo.calibrating()) {
+      add(new WheelCalibrationFactor(pre, wo.T_body_wheel), nullptr,
+          {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w, wheels.extrinsic_yaw,
+           wheels.time_offset});
+      continue;
+    }
     add(new WheelFactor(pre, model_.wheel.T_body_wheel), nullptr,
         {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w});
+  }
   if (model_.wheel.enable && model_.wheel.ground_plane_sigma_m > 0.0) {
     // The flat floor, where the state agrees with it (a ramp or a bump switches it off).
     const WheelOptions& w = model_.wheel;
@@ -147,6 +162,14 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
         {wheels.scale_v});
     add(new ScalarPrior(wheels.prior_mean_w, model_.wheel.scale_prior_sigma), nullptr,
         {wheels.scale_w});
+  }
+  if (wheel_calib && wheels.calib_prior_pending) {
+    if (wo.estimate_extrinsic_yaw)
+      add(new ScalarPrior(wheels.prior_mean_yaw, wo.extrinsic_yaw_prior_sigma_rad), nullptr,
+          {wheels.extrinsic_yaw});
+    if (wo.estimate_time_offset)
+      add(new ScalarPrior(wheels.prior_mean_td, wo.time_offset_prior_sigma_s), nullptr,
+          {wheels.time_offset});
   }
   const int newest = static_cast<int>(window.size()) - 1;
   WindowUpdate update;
@@ -197,6 +220,7 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
   for (auto& s : window) s.setPose(s.p(), s.q());  // keep quaternions exactly unit
   // The readout's bounds: a weakly excited estimate (straight driving) cannot run away.
   if (model_.estimate_readout) readout[0] = std::clamp(readout[0], 0.0, model_.readout_max_s);
+  if (wheel_calib) wheels.clampCalibration(wo);
   return update;
 }
 

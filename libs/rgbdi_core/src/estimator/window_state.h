@@ -23,7 +23,9 @@ struct StartPrior {
 
 struct WindowState {
   WindowState(const EstimatorOptions& opt, const ImuOptions& imu, double time_offset_s)
-      : frames(opt, imu), time_offset{time_offset_s}, readout{0.0} {}
+      : frames(opt, imu), time_offset{time_offset_s}, readout{0.0} {
+    wheels.init(opt.wheel);
+  }
 
   FrameWindow frames;
   std::shared_ptr<MarginalizationInfo> prior;  ///< null until the first marginalisation

@@ -4,6 +4,7 @@
 // intervals that left the window.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <deque>
 #include <optional>
 #include <vector>
@@ -26,6 +27,12 @@ struct WindowWheels {
   /// carries it; pending again whenever that prior is dropped (reset, failed marginalisation).
   bool scale_prior_pending = true;
   double prior_mean_v = 1.0, prior_mean_w = 1.0;
+  /// Online calibration ([wheel] estimate_extrinsic_yaw, estimate_time_offset): parameter blocks
+  /// of the solve and the marginalisation prior like the scales; constants when not estimated.
+  double extrinsic_yaw[1] = {0.0};  ///< [rad] correction about the wheel frame's z
+  double time_offset[1] = {0.0};    ///< [s] t_imu = t_wheel + this (init(): the configured one)
+  bool calib_prior_pending = true;  ///< as scale_prior_pending, for the two above
+  double prior_mean_yaw = 0.0, prior_mean_td = 0.0;
   int intervals_used = 0;  ///< intervals marginalised with their wheel factor
   int intervals_gap = 0;   ///< intervals marginalised without readings covering them
   /// Intervals marginalised without their factor because it disagreed with the window's states.
@@ -41,6 +48,13 @@ struct WindowWheels {
   std::optional<double> ground_z;
   int ground_plane_used = 0, ground_plane_gated = 0;  ///< frame constraints (summed over updates)
 
+  /// Starts from the configuration (the time offset and its prior mean).
+  void init(const WheelOptions& opt);
+  /// The wheel frame in the body frame: the configured one, turned by the learnt yaw when it is
+  /// estimated (exactly the configured one otherwise).
+  Eigen::Isometry3d T_body_wheel(const WheelOptions& opt) const;
+  /// Clamps the calibration to its bounds (after a solve).
+  void clampCalibration(const WheelOptions& opt);
   /// Appends a reading (older than the newest one or not finite: ignored).
   void add(const WheelOdometrySample& w);
   /// The readings between window frames a and b pre-integrated (in 3-D with b's gyroscope
@@ -55,15 +69,14 @@ struct WindowWheels {
   WheelVerdict check(const WheelPreintegration& pre, const double* pose_a, const double* pose_b,
                      double t_a, double t_b, const WheelOptions& opt) const;
   /// The encoder ticks of each wheel over [t_a, t_b] (readings around it); false without ticks.
-  bool tickIncrements(double t_a, double t_b, const WheelOptions& opt, std::int64_t* left,
-                      std::int64_t* right) const;
+  bool tickIncrements(double t_a, double t_b, std::int64_t* left, std::int64_t* right) const;
   /// Counts the verdict of the interval [t_a, t_b] that leaves the window (a left-out one joins
   /// or starts an episode).
   void count(WheelVerdict v, double t_a, double t_b);
   /// Drops the readings that no interval starting at IMU-clock time t or later needs.
   void trimBefore(double t, const WheelOptions& opt);
-  /// The marginalisation prior was dropped: the scales' prior becomes pending again, around
-  /// their present values (nothing changes when it is pending already).
+  /// The marginalisation prior was dropped: the priors of the scales and of the calibration
+  /// become pending again, around their present values (nothing changes for a pending one).
   void priorDropped();
 };
 

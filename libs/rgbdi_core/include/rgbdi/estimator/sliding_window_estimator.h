@@ -107,6 +107,10 @@ struct EstimatorStats {
   };
   std::vector<WheelFaultEpisode> wheel_fault_episodes;
   double wheel_scale_v = 1.0, wheel_scale_w = 1.0;
+  /// [rad] the learnt correction about the wheel frame's z to the configured extrinsic; [s] the
+  /// wheel time offset (the configured ones unless [wheel] estimate_extrinsic_yaw /
+  /// estimate_time_offset).
+  double wheel_extrinsic_yaw_rad = 0.0, wheel_time_offset_s = 0.0;
 };
 
 class SlidingWindowEstimator : public mrpt::system::COutputLogger {

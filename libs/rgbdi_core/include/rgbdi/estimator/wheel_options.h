@@ -22,6 +22,20 @@ struct WheelOptions {
   /// [unitless] sigma of the prior that holds each scale factor at 1 until the marginalisation
   /// prior carries what the window learnt about it.
   double scale_prior_sigma = 0.05;
+  /// Estimate a correction to the extrinsic's yaw about the wheel frame's z online
+  /// (R_body_wheel = configured * Rz(correction)), doc/wheels.md "Online calibration".
+  bool estimate_extrinsic_yaw = false;
+  /// [rad] sigma of the prior holding that correction at 0 until the marginalisation prior
+  /// carries what the window learnt about it.
+  double extrinsic_yaw_prior_sigma_rad = 0.2;
+  /// [rad] bound of |correction|: the estimate is clamped to it after every solve.
+  double extrinsic_yaw_max_rad = 0.5;
+  /// Estimate the wheel time offset (time_offset_s is then its prior mean and starting value).
+  bool estimate_time_offset = false;
+  /// [s] sigma of its prior around time_offset_s.
+  double time_offset_prior_sigma_s = 0.1;
+  /// [s] bound of |estimate - time_offset_s|: clamped after every solve.
+  double time_offset_max_change_s = 0.3;
   /// [unitless] an interval whose wheel factor, at the window's states of its two frames (what
   /// the IMU and vision say), has a squared normalised error above this is left out (slip, a
   /// stuck wheel, a lifted robot); 0 = every interval is used.
@@ -51,6 +65,9 @@ struct WheelOptions {
   /// [unitless] a frame whose state is farther from the plane than this squared Mahalanobis
   /// distance (3 dof) gets no constraint in that update: ramps, bumps, steps switch it off.
   double ground_plane_gate_chi2 = 11.3;
+
+  /// True when the extrinsic yaw or the time offset is estimated (WheelCalibrationFactor).
+  bool calibrating() const { return estimate_extrinsic_yaw || estimate_time_offset; }
 
   /// Reads [wheel]; throws ConfigError on a value out of range or a matrix that is no rotation.
   static WheelOptions load(IniReader& ini);

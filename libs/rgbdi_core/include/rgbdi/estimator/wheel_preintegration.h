@@ -44,6 +44,20 @@ struct WheelNoise {
   double min_sigma_rad = 0.002;             ///< [rad] floor of every rotation sigma
 };
 
+/// The wheel frame's velocity where an interval is cut (the slope of the interpolation there):
+/// forward/lateral [m/s] in the wheel frame at that time, and yaw rate [rad/s].
+struct WheelCutRates {
+  Eigen::Vector2d v_start = Eigen::Vector2d::Zero(), v_end = Eigen::Vector2d::Zero();
+  double w_start = 0.0, w_end = 0.0;
+};
+
+/// The motion with the online calibration (WheelCalibrationFactor): translation and yaw of the
+/// wheel frame at b in the one at a, and their derivatives.
+struct CalibratedWheelMotion {
+  Eigen::Vector3d dp, ddp_dsv, ddp_dsw, ddp_dyaw, ddp_dtd;
+  double dyaw = 0.0, ddyaw_dsw = 0.0, ddyaw_dtd = 0.0;
+};
+
 /// The gyroscope for 3-D pre-integration: its samples over the interval (time order; the rate of
 /// a sample is held until the next one, the first one's before it), its bias and the wheel frame's
 /// rotation in the body frame.
@@ -74,6 +88,19 @@ class WheelPreintegration {
   /// d dp / d s_w if asked (zero in 3-D: the directions come from the gyroscope).
   void motion(double s_v, double s_w, Eigen::Vector3d* dp, double* dyaw,
               Eigen::Vector3d* ddp_dsw = nullptr) const;
+  /// The motion at scales (s_v, s_w), with a correction `yaw` [rad] about the wheel frame's z to
+  /// the extrinsic the gyroscope's directions were computed with (3-D only: the planar motion
+  /// does not depend on it) and the wheel time offset changed by `dtd` [s] since the cut
+  /// (planar only, to first order: the interval's wheel times move by -dtd, so the start gains
+  /// the motion at the start's rate and the end loses the motion at the end's rate, as VINS
+  /// corrects the camera's features by their velocity times the change of its td). 3-D intervals
+  /// do not depend on dtd: they follow the estimate only when they are cut again.
+  CalibratedWheelMotion calibratedMotion(double s_v, double s_w, double yaw, double dtd) const;
+  /// The rates at the cut times (zero when made from increments; set by between()).
+  const WheelCutRates& cutRates() const { return rates_; }
+  void setCutRates(const WheelCutRates& r) { rates_ = r; }
+  /// [s] the wheel time offset the readings were cut with.
+  double cutTimeOffset() const { return cut_time_offset_s_; }
   /// The planar part of motion(): translation (x, y) and yaw.
   void delta(double s_v, double s_w, Eigen::Vector2d* dp, double* dyaw,
              Eigen::Vector2d* ddp_dsw = nullptr) const;
@@ -94,6 +121,8 @@ class WheelPreintegration {
   double phi_end_ = 0.0;
   double distance_ = 0.0;
   Eigen::Matrix<double, 6, 1> sqrt_info_;
+  WheelCutRates rates_;
+  double cut_time_offset_s_ = 0.0;
 };
 
 }  // namespace rgbdi::estimator
