@@ -37,7 +37,8 @@ struct WindowWheels {
     WheelVerdict verdict = WheelVerdict::Slip;
   };
   std::vector<Episode> episodes;
-  /// [m] the ground plane's height (world z of the wheel frame where the constraint began).
+  /// [m] the present ground plane's height (world z of the wheel frame where the level stretch
+  /// began); none before the first level frame and after a frame off the plane.
   std::optional<double> ground_z;
   int ground_plane_used = 0, ground_plane_gated = 0;  ///< frame constraints (summed over updates)
 

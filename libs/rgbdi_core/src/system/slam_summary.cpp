@@ -266,6 +266,7 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
                   {"scale_forward", st.wheel_scale_v},
                   {"scale_yaw_rate", st.wheel_scale_w},
                   {"scale_estimated", cfg.estimator.wheel.estimate_scale},
+                  {"initialisations", st.wheel_initialisations},
                   {"left_out_episodes", wheelEpisodes(st, have_t ? run.stream_t0 : 0.0)}};
   if (cfg.estimator.wheel.enable && cfg.estimator.wheel.ground_plane_sigma_m > 0.0)
     s["wheel"]["ground_plane"] = {{"frames_used", st.ground_plane_used},

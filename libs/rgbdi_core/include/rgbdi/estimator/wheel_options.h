@@ -51,6 +51,18 @@ struct WheelOptions {
   /// [unitless] a frame whose state is farther from the plane than this squared Mahalanobis
   /// distance (3 dof) gets no constraint in that update: ramps, bumps, steps switch it off.
   double ground_plane_gate_chi2 = 11.3;
+  /// Start from the wheels (rgbdi/estimator/wheel_start.h): the first frame that sees gets its
+  /// attitude, velocity and gyroscope bias from the wheels and the IMU over the last
+  /// start_window_s when the static start cannot start (the body moves, or vibrates).
+  bool start_from_wheels = true;
+  /// [s] the window of wheel readings and IMU samples the start uses.
+  double start_window_s = 0.4;
+  /// [m/s^2] gravity from the window's two halves may differ by this, and |gravity| from g.
+  double start_max_gravity_dev_m_s2 = 0.3;
+  /// [rad/s] gyro rate the wheels' yaw rate does not explain (the bias, or slip) at most this.
+  double start_max_rate_dev_rad_s = 0.03;
+  /// [m/s] prior sigma of the start's velocity (the wheels' speed).
+  double start_velocity_sigma_m_s = 0.05;
 
   /// Reads [wheel]; throws ConfigError on a value out of range or a matrix that is no rotation.
   static WheelOptions load(IniReader& ini);
