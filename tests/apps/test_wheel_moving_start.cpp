@@ -55,16 +55,17 @@ TEST(WheelMovingStart, TheFirstFrameThatSeesGetsItsPoseFromTheWheels) {
   EXPECT_EQ(depth["wheel"]["initialisations"].get<int>(), 1);
   EXPECT_EQ(depth["resets"].get<int>(), 0);
   EXPECT_LT(depth["first_pose_time_s"].get<double>(), kBlackout_s + 0.5 * kFramePeriod_s);
-  // Measured 5.9 mm.
-  EXPECT_LT(depth["evaluation_odometry"]["ate_rmse"].get<double>(), 0.012);
+  // Measured 3.0 mm.
+  EXPECT_LT(depth["evaluation_odometry"]["ate_rmse"].get<double>(), 0.006);
 
   const nlohmann::json mono = slam(seq, "", "--no-depth");
   EXPECT_EQ(mono["wheel"]["initialisations"].get<int>(), 1);
   EXPECT_LT(mono["first_pose_time_s"].get<double>(), kBlackout_s + 0.5 * kFramePeriod_s);
-  // Measured 60 mm: the wheels' metric speed instead of the SfM's scale.
-  EXPECT_LT(mono["evaluation_odometry"]["ate_rmse"].get<double>(), 0.15);
+  // Measured 5.5 mm: the wheels' metric speed instead of the SfM's scale (unobservable at the
+  // circle's constant speed: the visual start waits for most of a 20 s run).
+  EXPECT_LT(mono["evaluation_odometry"]["ate_rmse"].get<double>(), 0.012);
 
-  // Without it the depth-aided moving start takes init_min_frames (5) frames.
+  // Without it the depth-aided moving start takes 9 frames (measured first pose 3.6 s).
   const nlohmann::json moving = slam(seq, "start_from_wheels = false\n", "");
   EXPECT_EQ(moving["wheel"]["initialisations"].get<int>(), 0);
   EXPECT_EQ(moving["moving_initialisations"].get<int>(), 1);

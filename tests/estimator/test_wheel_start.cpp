@@ -197,9 +197,11 @@ TEST(WheelInertialUp, SeesTheRampThatTheWindowStatesMayNot) {
   ASSERT_TRUE(up.has_value());
   EXPECT_LT((*up - d.R_world_body(1.0).transpose() * d.up).norm(), 1e-9);
   // The gate: the tilt alone is (sin 0.1 / 0.02)^2 = 24.9 > 11.3, off the plane, which ends.
-  std::optional<double> plane = 0.0;
+  GroundPlanes plane;
+  plane.current = 0.0;
+  plane.known = {0.0};
   EXPECT_FALSE(judgeGroundContact(up, 0.0, &plane, opt).has_value());
-  EXPECT_FALSE(plane.has_value());
+  EXPECT_FALSE(plane.current.has_value());
   // Turning on the level floor, its "up" is the wheel frame's: on the plane (a new one, at
   // the frame's height when there is none).
   Drive level;
@@ -210,34 +212,43 @@ TEST(WheelInertialUp, SeesTheRampThatTheWindowStatesMayNot) {
   const Eigen::Vector3d n = opt.T_body_wheel.rotation() * Eigen::Vector3d::UnitZ();
   EXPECT_LT(n.cross(up_level->normalized()).norm(), 1e-4);
   EXPECT_DOUBLE_EQ(judgeGroundContact(up_level, 0.08, &plane, opt).value(), 0.08);
-  EXPECT_DOUBLE_EQ(plane.value(), 0.08);
+  EXPECT_DOUBLE_EQ(plane.current.value(), 0.08);
 }
 
 TEST(GroundContact, HeightAndTiltAgainstTheGate) {
-  WheelOptions opt;  // sigma 0.01 m (set below), tilt 0.02 rad, gate 11.3
+  WheelOptions opt;  // tilt 0.02 rad, gate 11.3
   opt.ground_plane_sigma_m = 0.01;
   const std::optional<Eigen::Vector3d> upright = Eigen::Vector3d(0.0, 0.0, kG);
-  std::optional<double> plane;
+  GroundPlanes planes;
   // The first level frame starts the plane at its height.
-  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.2, &plane, opt).value(), 0.2);
+  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.2, &planes, opt).value(), 0.2);
   // 3 cm above it: chi2 9, on; 4 cm: 16, off, and the plane ends.
-  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.23, &plane, opt).value(), 0.2);
-  EXPECT_FALSE(judgeGroundContact(upright, 0.24, &plane, opt).has_value());
-  EXPECT_FALSE(plane.has_value());
-  // Tilted by 0.06 rad with 2 cm of height: (sin 0.06 / 0.02)^2 + 4 = 12.98 > 11.3, off;
-  // the same tilt alone (8.98) starts a plane.
+  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.23, &planes, opt).value(), 0.2);
+  EXPECT_FALSE(judgeGroundContact(upright, 0.24, &planes, opt).has_value());
+  EXPECT_FALSE(planes.current.has_value());
+  // Level at 0.24 m: 4 cm from the known plane (chi2 16): a new plane there.
+  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.24, &planes, opt).value(), 0.24);
+  // Tilted by 0.06 rad 2 cm above it: (sin 0.06 / 0.02)^2 + 4 = 12.98 > 11.3, off.
   const std::optional<Eigen::Vector3d> tilted =
       kG * Eigen::Vector3d(std::sin(0.06), 0.0, std::cos(0.06));
-  plane = 0.0;
-  EXPECT_FALSE(judgeGroundContact(tilted, 0.02, &plane, opt).has_value());
-  EXPECT_DOUBLE_EQ(judgeGroundContact(tilted, 0.02, &plane, opt).value(), 0.02);
+  EXPECT_FALSE(judgeGroundContact(tilted, 0.26, &planes, opt).has_value());
+  // Level again at 0.215 m: the nearest known plane is 0.2 (chi2 2.25, passes): the floor
+  // again, not a new plane; 0.235 m is nearer 0.24 (chi2 0.25): that one.
+  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.215, &planes, opt).value(), 0.2);
+  EXPECT_FALSE(judgeGroundContact(tilted, 0.26, &planes, opt).has_value());
+  EXPECT_DOUBLE_EQ(judgeGroundContact(upright, 0.235, &planes, opt).value(), 0.24);
+  EXPECT_EQ(planes.known, (std::vector<double>{0.2, 0.24}));
+  // The same 0.06 rad tilt alone (8.98) starts a plane where none is near.
+  planes = {};
+  EXPECT_DOUBLE_EQ(judgeGroundContact(tilted, 0.02, &planes, opt).value(), 0.02);
   // Without the wheel-inertial "up" (readings missing, |g| off): off.
-  EXPECT_FALSE(judgeGroundContact(std::nullopt, 0.02, &plane, opt).has_value());
-  EXPECT_FALSE(plane.has_value());
+  EXPECT_FALSE(judgeGroundContact(std::nullopt, 0.02, &planes, opt).has_value());
+  EXPECT_FALSE(planes.current.has_value());
   // No gate (0): every frame on the first plane.
   opt.ground_plane_gate_chi2 = 0.0;
-  EXPECT_DOUBLE_EQ(judgeGroundContact(std::nullopt, 0.5, &plane, opt).value(), 0.5);
-  EXPECT_DOUBLE_EQ(judgeGroundContact(tilted, 0.9, &plane, opt).value(), 0.5);
+  planes = {};
+  EXPECT_DOUBLE_EQ(judgeGroundContact(std::nullopt, 0.5, &planes, opt).value(), 0.5);
+  EXPECT_DOUBLE_EQ(judgeGroundContact(tilted, 0.9, &planes, opt).value(), 0.5);
 }
 
 }  // namespace

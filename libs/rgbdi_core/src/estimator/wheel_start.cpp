@@ -60,7 +60,7 @@ Eigen::Vector3d meanRate(const imu::ImuBuffer& imu, double t0, double t1) {
 struct WheelInertialWindow {
   const char* failure = nullptr;
   std::vector<OdoPose> odo;
-  double h = 0.0;                      ///< [s] the velocity spans
+  double h = 0.0;                          ///< [s] the velocity spans
   double t_a = 0.0, t_b = 0.0, t_c = 0.0;  ///< [s] their midpoints: first, last, middle
 };
 
@@ -112,8 +112,8 @@ Eigen::Vector3d gravityBetween(const imu::ImuBuffer& imu, double t0, double t1,
 }  // namespace
 
 WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings, double scale_v,
-                           double scale_w, const imu::ImuBuffer& imu, double t,
-                           double gravity_m_s2, const WheelOptions& opt) {
+                           double scale_w, const imu::ImuBuffer& imu, double t, double gravity_m_s2,
+                           const WheelOptions& opt) {
   const WheelInertialWindow w = makeWindow(readings, imu, t, opt);
   if (w.failure) return WheelStart::failed(w.failure);
   // Gyroscope bias: the rate the wheels' yaw rate does not explain.
@@ -146,9 +146,9 @@ WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings, doub
 }
 
 std::optional<Eigen::Vector3d> wheelInertialUp(const std::deque<WheelOdometrySample>& readings,
-                                               double scale_v, const imu::ImuBuffer& imu,
-                                               double t, const Eigen::Vector3d& bg,
-                                               double gravity_m_s2, const WheelOptions& opt) {
+                                               double scale_v, const imu::ImuBuffer& imu, double t,
+                                               const Eigen::Vector3d& bg, double gravity_m_s2,
+                                               const WheelOptions& opt) {
   const WheelInertialWindow w = makeWindow(readings, imu, t, opt);
   if (w.failure) return std::nullopt;
   const Eigen::Vector3d v_a = bodyVelocity(w, imu, w.t_a, bg, scale_v, opt);

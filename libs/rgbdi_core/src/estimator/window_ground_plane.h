@@ -1,6 +1,7 @@
 // The ground plane's gate over the window (doc/wheels.md "Ground plane"): every frame not judged
 // yet is judged (judgeGroundContact) on the wheel-inertial tilt at its time and its present
-// height, in time order, and keeps that verdict while it is in the window.
+// height, in time order, and keeps that verdict (the plane's height, or none) while it is in the
+// window.
 #pragma once
 
 #include "estimator/window_state.h"

@@ -43,9 +43,10 @@ struct WheelOptions {
   /// frame), "blind" (intervals across blind frames: metres in which a ramp breaks the plane),
   /// "always" (also skid steering: the tracks' yaw slips in every turn).
   std::string direction_from_gyro = "blind";
-  /// [m] soft ground-plane constraint of a flat-floor robot: every window frame's wheel frame
-  /// held on the horizontal plane it started on, with this sigma on its height (0 = off).
-  double ground_plane_sigma_m = 0.0;
+  /// [m] soft ground-plane constraint of a flat-floor robot: every window frame found on the
+  /// floor (ground_plane_gate.h) holds its wheel frame on that horizontal plane with this sigma on
+  /// its height (0 = off).
+  double ground_plane_sigma_m = 0.01;
   /// [rad] ... and this one on its tilt (roll, pitch).
   double ground_plane_tilt_sigma_rad = 0.02;
   /// [unitless] a frame whose state is farther from the plane than this squared Mahalanobis
