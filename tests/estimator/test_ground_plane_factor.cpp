@@ -67,14 +67,16 @@ TEST(GroundPlaneFactor, AnalyticJacobianMatchesNumeric) {
   }
 }
 
-TEST(WheelOptions, GroundPlaneKeysAreReadOffByDefaultAndBadValuesNamed) {
-  EXPECT_EQ(WheelOptions().ground_plane_sigma_m, 0.0);
+TEST(WheelOptions, GroundPlaneKeysAreReadOnByDefaultAndBadValuesNamed) {
+  EXPECT_EQ(WheelOptions().ground_plane_sigma_m, 0.01);
+  IniReader off = IniReader::fromText("[wheel]\nground_plane_sigma_m = 0\n", "w.ini");
+  EXPECT_EQ(WheelOptions::load(off).ground_plane_sigma_m, 0.0);
   IniReader on = IniReader::fromText(
-      "[wheel]\nground_plane_sigma_m = 0.01\nground_plane_tilt_sigma_rad = 0.03\n"
+      "[wheel]\nground_plane_sigma_m = 0.02\nground_plane_tilt_sigma_rad = 0.03\n"
       "ground_plane_gate_chi2 = 20\n",
       "w.ini");
   const WheelOptions o = WheelOptions::load(on);
-  EXPECT_EQ(o.ground_plane_sigma_m, 0.01);
+  EXPECT_EQ(o.ground_plane_sigma_m, 0.02);
   EXPECT_EQ(o.ground_plane_tilt_sigma_rad, 0.03);
   EXPECT_EQ(o.ground_plane_gate_chi2, 20.0);
   const std::string error =

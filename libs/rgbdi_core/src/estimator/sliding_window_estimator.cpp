@@ -13,6 +13,7 @@
 #include "estimator/visual_start.h"
 #include "estimator/wheel_dead_reckoning.h"
 #include "estimator/window_cost_model.h"
+#include "estimator/window_ground_plane.h"
 #include "estimator/window_marginalisation.h"
 #include "estimator/window_motion_field.h"
 #include "estimator/window_optimisation.h"
@@ -85,7 +86,11 @@ void SlidingWindowEstimator::feedWheel(const WheelOdometrySample& w) {
   wheels.add(w);
   // Nothing before the oldest frame is needed (without frames: nothing before the newest).
   const FrameWindow& window = parts_->window.frames;
-  wheels.trimBefore(window.empty() ? w.t + wheels.time_offset[0] : window.front().t, opt_.wheel);
+  double keep_from = window.empty() ? w.t + wheels.time_offset[0] : window.front().t;
+  // While starting, the start from the wheels looks back over its window.
+  if (status_ != EstimatorStatus::kTracking && opt_.wheel.start_from_wheels)
+    keep_from = std::min(keep_from, w.t + wheels.time_offset[0] - wheelStartHistory_s());
+  wheels.trimBefore(keep_from, opt_.wheel);
 }
 
 double SlidingWindowEstimator::latestImuTime() const {
@@ -126,8 +131,17 @@ void SlidingWindowEstimator::addSlot(const frontend::FeatureFrame& frame, double
   double keep_from = std::min(window.front().t, t - 2.0 * opt_.init_static_window_s);
   if (status_ != EstimatorStatus::kTracking && !parts_->static_start.empty())
     keep_from = std::min(keep_from, parts_->static_start.oldestFrameTime());
+  // The start from the wheels and the ground plane's gate look back over their window.
+  if (opt_.wheel.enable &&
+      ((status_ != EstimatorStatus::kTracking && opt_.wheel.start_from_wheels) ||
+       opt_.wheel.ground_plane_sigma_m > 0.0))
+    keep_from = std::min(keep_from, t - wheelStartHistory_s());
   parts_->imu.popOlderThan(keep_from);
   stats_.sum_ms_preintegration += last_preintegration_ms_;
+}
+
+double SlidingWindowEstimator::wheelStartHistory_s() const {
+  return opt_.wheel.start_window_s + opt_.wheel.reading_lag_s;
 }
 
 void SlidingWindowEstimator::countStartWait(const char* path, const char* why) {
@@ -154,6 +168,23 @@ bool SlidingWindowEstimator::tryStart(const frontend::FeatureFrame& frame, doubl
       return true;
     }
     countStartWait("static start: ", still.failure);
+  }
+  if (opt_.wheel.enable && opt_.wheel.start_from_wheels &&
+      static_cast<int>(frame.features.size()) >= opt_.fail_min_features) {
+    // Moving (or vibrating): the wheels know the velocity, so the IMU knows gravity.
+    const WindowWheels& wheels = state.wheels;
+    const WheelStart ws = solveWheelStart(wheels.readings, wheels.scale_v[0], wheels.scale_w[0],
+                                          parts_->imu, t, imu_opt_.gravity_m_s2, opt_.wheel);
+    if (!ws.failure) {
+      window.clear();
+      state.prior.reset();
+      state.wheels.priorDropped();
+      addSlot(frame, t, false);
+      adoptWheelStart(state, ws, p0, yaw0, opt_);
+      ++stats_.wheel_initialisations;
+      return true;
+    }
+    countStartWait("wheel start: ", ws.failure);
   }
   addSlot(frame, t, false);
   // Frames without (enough) depth, e.g. --no-depth: the visual SfM start.
@@ -352,6 +383,8 @@ FrameEstimate SlidingWindowEstimator::processFrame(const frontend::FeatureFrame&
 
 void SlidingWindowEstimator::optimise(FrameEstimate* out, bool single_step) {
   const double t0 = threadCpuSeconds();
+  if (opt_.wheel.enable && opt_.wheel.ground_plane_sigma_m > 0.0)
+    judgeNewFrames(parts_->window, parts_->imu, opt_.wheel, imu_opt_.gravity_m_s2);
   const WindowUpdate update = parts_->optimisation.run(parts_->window, single_step);
   if (opt_.estimate_rolling_shutter_readout) {
     // The observations to come are moved to their stamps with the new estimate.

@@ -66,6 +66,14 @@ WheelOptions WheelOptions::load(IniReader& ini) {
       ini.getDouble(s, "ground_plane_tilt_sigma_rad", o.ground_plane_tilt_sigma_rad, 1e-6, 10.0);
   o.ground_plane_gate_chi2 =
       ini.getDouble(s, "ground_plane_gate_chi2", o.ground_plane_gate_chi2, 0.0, 1e9);
+  o.start_from_wheels = ini.getBool(s, "start_from_wheels", o.start_from_wheels);
+  o.start_window_s = ini.getDouble(s, "start_window_s", o.start_window_s, 0.01, 10.0);
+  o.start_max_gravity_dev_m_s2 =
+      ini.getDouble(s, "start_max_gravity_dev_m_s2", o.start_max_gravity_dev_m_s2, 0.0, 100.0);
+  o.start_max_rate_dev_rad_s =
+      ini.getDouble(s, "start_max_rate_dev_rad_s", o.start_max_rate_dev_rad_s, 0.0, 100.0);
+  o.start_velocity_sigma_m_s =
+      ini.getDouble(s, "start_velocity_sigma_m_s", o.start_velocity_sigma_m_s, 1e-6, 100.0);
   return o;
 }
 

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "estimator/window_state.h"
+#include "rgbdi/estimator/ground_plane_factor.h"
 #include "rgbdi/estimator/reprojection_factor.h"
 #include "rgbdi/estimator/rolling_shutter_reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
@@ -117,6 +118,13 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
     } else if (!pre) {
       ++wheels.intervals_gap;
     }
+    // ... and what the floor told it about the leaving frame.
+    if (model.wheel.ground_plane_sigma_m > 0.0 && s0.ground_z)
+      info->add({std::make_shared<GroundPlaneFactor>(*s0.ground_z, model.wheel.ground_plane_sigma_m,
+                                                     model.wheel.ground_plane_tilt_sigma_rad,
+                                                     model.wheel.T_body_wheel),
+                 nullptr,
+                 {s0.pose}});
   }
   auto loss = std::make_shared<ceres::CauchyLoss>(model.cauchy_loss_sigma);
   const int newest = static_cast<int>(N);

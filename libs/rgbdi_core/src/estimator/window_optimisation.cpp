@@ -142,19 +142,17 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
         {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w});
   }
   if (model_.wheel.enable && model_.wheel.ground_plane_sigma_m > 0.0) {
-    // The flat floor, where the state agrees with it (a ramp or a bump switches it off).
+    // The flat floor, for the frames the gate found on it (window_ground_plane.h).
     const WheelOptions& w = model_.wheel;
-    if (!wheels.ground_z) wheels.ground_z = (window.front().T() * w.T_body_wheel).translation().z();
     for (auto& s : window) {
-      auto f = std::make_unique<GroundPlaneFactor>(*wheels.ground_z, w.ground_plane_sigma_m,
-                                                   w.ground_plane_tilt_sigma_rad, w.T_body_wheel);
-      if (w.ground_plane_gate_chi2 > 0.0 &&
-          f->squaredNormalised(s.pose) > w.ground_plane_gate_chi2) {
+      if (!s.ground_z) {
         ++wheels.ground_plane_gated;
         continue;
       }
       ++wheels.ground_plane_used;
-      add(f.release(), nullptr, {s.pose});
+      add(new GroundPlaneFactor(*s.ground_z, w.ground_plane_sigma_m, w.ground_plane_tilt_sigma_rad,
+                                w.T_body_wheel),
+          nullptr, {s.pose});
     }
   }
   if (wheel_scales && wheels.scale_prior_pending) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "rgbdi/frontend/feature_frame.h"
@@ -27,6 +28,10 @@ struct WindowSlot {
   /// Camera pose of this frame relative to the first frame of a moving initialisation (PnP).
   Eigen::Isometry3d T_c0_c = Eigen::Isometry3d::Identity();
   std::vector<frontend::FeatureObservation> raw_features;  ///< for the starts (PnP, SfM)
+  /// Ground plane ([wheel] ground_plane_sigma_m): judged once, when the frame is new; the height
+  /// [m] of the plane its wheel frame is held on, none when it is off the plane.
+  bool ground_judged = false;
+  std::optional<double> ground_z;
 
   Eigen::Vector3d p() const { return Eigen::Vector3d(pose[0], pose[1], pose[2]); }
   Eigen::Quaterniond q() const { return Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]); }

@@ -21,6 +21,23 @@ void adoptRestingStart(WindowState& state, const Stillness& still, const Eigen::
   prior.active = true;
 }
 
+void adoptWheelStart(WindowState& state, const WheelStart& start, const Eigen::Vector3d& p0,
+                     double yaw0, const EstimatorOptions& opt) {
+  const Eigen::Matrix3d R = attitudeFromGravity(start.up_body, yaw0);
+  WindowSlot& s = state.frames.front();
+  s.setPose(p0, Eigen::Quaterniond(R));
+  s.setV(R * start.v_body);
+  s.setBiases(Eigen::Vector3d::Zero(), start.bg);
+  StartPrior& prior = state.start_prior;
+  prior.mean.setZero();
+  prior.mean.head<3>() = s.v();
+  prior.mean.tail<3>() = start.bg;
+  prior.sigma << Eigen::Vector3d::Constant(opt.wheel.start_velocity_sigma_m_s),
+      Eigen::Vector3d::Constant(opt.init_acc_bias_sigma_m_s2),
+      Eigen::Vector3d::Constant(opt.init_gyr_bias_sigma_rad_s);
+  prior.active = true;
+}
+
 void adoptMovingStart(WindowState& state, const MovingStart& start, const Eigen::Vector3d& p0,
                       double yaw0, const EstimatorOptions& opt) {
   // The reference frame becomes the world frame: gravity along -z, and position and yaw of the

@@ -10,6 +10,7 @@
 
 #include "estimator/static_start.h"
 #include "rgbdi/estimator/estimator_options.h"
+#include "rgbdi/estimator/wheel_start.h"
 
 namespace rgbdi::estimator {
 
@@ -34,6 +35,12 @@ struct MovingStart {
 /// [rad], position `p0` [m], zero velocity, gyro bias the mean rate.
 void adoptRestingStart(WindowState& state, const Stillness& still, const Eigen::Vector3d& p0,
                        double yaw0, const EstimatorOptions& opt);
+
+/// Sets the single slot of the window from the wheels' start: attitude from its "up", yaw `yaw0`
+/// [rad], position `p0` [m], its velocity and gyro bias; the velocity prior is
+/// [wheel] start_velocity_sigma_m_s.
+void adoptWheelStart(WindowState& state, const WheelStart& start, const Eigen::Vector3d& p0,
+                     double yaw0, const EstimatorOptions& opt);
 
 /// Sets every slot of the window from `start`: the oldest body at `p0` [m] with yaw `yaw0` [rad].
 void adoptMovingStart(WindowState& state, const MovingStart& start, const Eigen::Vector3d& p0,

@@ -11,6 +11,7 @@
 
 #include "estimator/window_slot.h"
 #include "rgbdi/common/wheel_odometry.h"
+#include "rgbdi/estimator/ground_plane_gate.h"
 #include "rgbdi/estimator/wheel_options.h"
 #include "rgbdi/estimator/wheel_preintegration.h"
 
@@ -44,8 +45,8 @@ struct WindowWheels {
     WheelVerdict verdict = WheelVerdict::Slip;
   };
   std::vector<Episode> episodes;
-  /// [m] the ground plane's height (world z of the wheel frame where the constraint began).
-  std::optional<double> ground_z;
+  /// The floor's planes met (heights of the wheel frame) and the present one (ground plane).
+  GroundPlanes ground;
   int ground_plane_used = 0, ground_plane_gated = 0;  ///< frame constraints (summed over updates)
 
   /// Starts from the configuration (the time offset and its prior mean).

@@ -270,6 +270,7 @@ nlohmann::json slamSummary(const SlamSystem& sys, const RunInfo& run, const RunE
                   {"extrinsic_yaw_estimated", cfg.estimator.wheel.estimate_extrinsic_yaw},
                   {"time_offset_s", st.wheel_time_offset_s},
                   {"time_offset_estimated", cfg.estimator.wheel.estimate_time_offset},
+                  {"initialisations", st.wheel_initialisations},
                   {"left_out_episodes", wheelEpisodes(st, have_t ? run.stream_t0 : 0.0)}};
   if (cfg.estimator.wheel.enable && cfg.estimator.wheel.ground_plane_sigma_m > 0.0)
     s["wheel"]["ground_plane"] = {{"frames_used", st.ground_plane_used},

@@ -76,6 +76,7 @@ struct EstimatorStats {
   int blind_resets = 0;  ///< of which: no features for longer than fail_max_blind_s
   int static_initialisations = 0;
   int moving_initialisations = 0;  ///< from motion (depth-aided PnP or visual SfM)
+  int wheel_initialisations = 0;   ///< from the wheels and the IMU ([wheel] start_from_wheels)
   int visual_initialisations = 0;  ///< of which visual SfM (no depth)
   double first_pose_t_image = -1.0;
   /// [ms] thread CPU time of the stages, summed over all frames
@@ -170,6 +171,8 @@ class SlidingWindowEstimator : public mrpt::system::COutputLogger {
   void marginaliseAndSlide(bool newest_but_one_is_keyframe, FrameEstimate* out);
   /// Counts `why` as the reason the start `path` ("static start: ", ...) failed on this frame.
   void countStartWait(const char* path, const char* why);
+  /// [s] how far back the start from the wheels looks (its window and the readings' lag).
+  double wheelStartHistory_s() const;
   void reset(bool keep_anchor);
 
   EstimatorOptions opt_;

@@ -57,14 +57,27 @@ struct WheelOptions {
   /// frame), "blind" (intervals across blind frames: metres in which a ramp breaks the plane),
   /// "always" (also skid steering: the tracks' yaw slips in every turn).
   std::string direction_from_gyro = "blind";
-  /// [m] soft ground-plane constraint of a flat-floor robot: every window frame's wheel frame
-  /// held on the horizontal plane it started on, with this sigma on its height (0 = off).
-  double ground_plane_sigma_m = 0.0;
+  /// [m] soft ground-plane constraint of a flat-floor robot: every window frame found on the
+  /// floor (ground_plane_gate.h) holds its wheel frame on that horizontal plane with this sigma on
+  /// its height (0 = off).
+  double ground_plane_sigma_m = 0.01;
   /// [rad] ... and this one on its tilt (roll, pitch).
   double ground_plane_tilt_sigma_rad = 0.02;
   /// [unitless] a frame whose state is farther from the plane than this squared Mahalanobis
   /// distance (3 dof) gets no constraint in that update: ramps, bumps, steps switch it off.
   double ground_plane_gate_chi2 = 11.3;
+  /// Start from the wheels (rgbdi/estimator/wheel_start.h): the first frame that sees gets its
+  /// attitude, velocity and gyroscope bias from the wheels and the IMU over the last
+  /// start_window_s when the static start cannot start (the body moves, or vibrates).
+  bool start_from_wheels = true;
+  /// [s] the window of wheel readings and IMU samples the start uses.
+  double start_window_s = 0.4;
+  /// [m/s^2] gravity from the window's two halves may differ by this, and |gravity| from g.
+  double start_max_gravity_dev_m_s2 = 0.3;
+  /// [rad/s] gyro rate the wheels' yaw rate does not explain (the bias, or slip) at most this.
+  double start_max_rate_dev_rad_s = 0.03;
+  /// [m/s] prior sigma of the start's velocity (the wheels' speed).
+  double start_velocity_sigma_m_s = 0.05;
 
   /// True when the extrinsic yaw or the time offset is estimated (WheelCalibrationFactor).
   bool calibrating() const { return estimate_extrinsic_yaw || estimate_time_offset; }
