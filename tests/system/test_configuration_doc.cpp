@@ -346,6 +346,8 @@ const std::vector<Field> kFields = {
     {"relocalise", "refine_iterations", [](const Defaults& d) { return text(d.system.reloc.refine_iterations); }},
     {"relocalise", "refine_huber_m", [](const Defaults& d) { return text(d.system.reloc.refine_huber_m); }},
     {"relocalise", "refine_height_drift_sigma_per_m", [](const Defaults& d) { return text(d.system.reloc.refine_height_drift_sigma_per_m); }},
+    {"relocalise", "refine_min_view_cos", [](const Defaults& d) { return text(d.system.reloc.refine_min_view_cos); }},
+    {"relocalise", "refine_tilt_sigma_deg", [](const Defaults& d) { return text(d.system.reloc.refine_tilt_sigma_deg); }},
     {"relocalise", "refine_min_pair_fraction", [](const Defaults& d) { return text(d.system.reloc.refine_min_pair_fraction); }},
     {"relocalise", "refine_max_rms_m", [](const Defaults& d) { return text(d.system.reloc.refine_max_rms_m); }},
     {"relocalise", "refine_min_horizontal_constraint", [](const Defaults& d) { return text(d.system.reloc.refine_min_horizontal_constraint); }},

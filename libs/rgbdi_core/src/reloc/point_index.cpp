@@ -53,8 +53,55 @@ std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>
   return sum;
 }
 
+std::vector<Eigen::Vector3d> PointIndex::thinDirections(
+    const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& directions,
+    double voxel_m, std::vector<Eigen::Vector3d>* directions_out) {
+  // The same voxels and order as thin(): slot i of the result is thin()'s point i.
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> n;
+  directions_out->clear();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3i c(static_cast<int>(std::floor(p.x() / voxel_m)),
+                            static_cast<int>(std::floor(p.y() / voxel_m)),
+                            static_cast<int>(std::floor(p.z() / voxel_m)));
+    const auto [it, added] = slot.emplace(key(c), sum.size());
+    if (added) {
+      sum.push_back(p);
+      directions_out->push_back(directions[i]);
+      n.push_back(1);
+    } else {
+      sum[it->second] += p;
+      (*directions_out)[it->second] += directions[i];
+      ++n[it->second];
+    }
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    sum[i] /= n[i];
+    Eigen::Vector3d& d = (*directions_out)[i];
+    d = d.norm() > 1e-9 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+  }
+  return sum;
+}
+
 PointIndex::PointIndex(const std::vector<Eigen::Vector3d>& points, double voxel_m, double cell_m)
     : cell_m_(cell_m), points_(thin(points, voxel_m)) {
+  index();
+}
+
+PointIndex::PointIndex(const std::vector<Eigen::Vector3d>& points,
+                       const std::vector<Eigen::Vector3d>& view_directions, double voxel_m,
+                       double cell_m)
+    : cell_m_(cell_m) {
+  points_ = thinDirections(points, view_directions, voxel_m, &views_);
+  index();
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    if (normals_[i].dot(views_[i]) < 0.0) normals_[i] = -normals_[i];
+}
+
+void PointIndex::index() {
   for (std::size_t i = 0; i < points_.size(); ++i)
     cells_[key(cellOf(points_[i]))].push_back(static_cast<std::uint32_t>(i));
   normals_.assign(points_.size(), Eigen::Vector3d::Zero());
