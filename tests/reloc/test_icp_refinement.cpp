@@ -54,9 +54,9 @@ TEST(IcpRefinement, NormalsFaceTheCamerasThatSawThem) {
 TEST(IcpRefinement, ThinningAveragesTheDirectionsPerVoxel) {
   // Two samples in one 0.1 m voxel seen from x and from y: one point, the unit mean direction.
   std::vector<Eigen::Vector3d> dirs;
-  const std::vector<Eigen::Vector3d> thin = PointIndex::thinDirections(
-      {{0.01, 0.01, 0.01}, {0.03, 0.05, 0.01}, {0.5, 0.5, 0.5}},
-      {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, -1.0}}, 0.1, &dirs);
+  const std::vector<Eigen::Vector3d> thin =
+      PointIndex::thinDirections({{0.01, 0.01, 0.01}, {0.03, 0.05, 0.01}, {0.5, 0.5, 0.5}},
+                                 {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, -1.0}}, 0.1, &dirs);
   ASSERT_EQ(thin.size(), 2u);
   EXPECT_NEAR((thin[0] - Eigen::Vector3d(0.02, 0.03, 0.01)).norm(), 0.0, 1e-15);
   EXPECT_NEAR((dirs[0] - Eigen::Vector3d(1.0, 1.0, 0.0) / std::sqrt(2.0)).norm(), 0.0, 1e-15);
@@ -76,8 +76,8 @@ TEST(IcpRefinement, TheBackOfAPanelIsNotPairedWithItsFront) {
       local_views.emplace_back(1.0, 0.0, 0.0);
     }
   const PointIndex index(map_points, map_views, 1e-4, 0.15);
-  const GeometricRelocaliser::Refinement all = GeometricRelocaliser::refine(
-      local, index, Eigen::Isometry3d::Identity(), 0.15, 1, 1e9);
+  const GeometricRelocaliser::Refinement all =
+      GeometricRelocaliser::refine(local, index, Eigen::Isometry3d::Identity(), 0.15, 1, 1e9);
   EXPECT_EQ(all.pairs, 200);
   EXPECT_EQ(all.other_side, 0);
   EXPECT_NEAR(all.rms_m, 0.04, 1e-12);
@@ -91,7 +91,8 @@ TEST(IcpRefinement, TheBackOfAPanelIsNotPairedWithItsFront) {
   // Seen from the map's side (turned by the yaw of T: here a half turn), every sample pairs.
   sides.local_views.assign(local.size(), Eigen::Vector3d(1.0, 0.0, 0.0));
   std::vector<Eigen::Vector3d> turned;
-  for (const Eigen::Vector3d& p : map_points) turned.push_back(yawPose(M_PI, Eigen::Vector3d::Zero()).inverse() * p);
+  for (const Eigen::Vector3d& p : map_points)
+    turned.push_back(yawPose(M_PI, Eigen::Vector3d::Zero()).inverse() * p);
   const GeometricRelocaliser::Refinement front = GeometricRelocaliser::refine(
       turned, index, yawPose(M_PI, Eigen::Vector3d::Zero()), 0.15, 1, 1e9, {}, 0.0, true, sides);
   EXPECT_EQ(front.pairs, 200);
@@ -117,14 +118,14 @@ TEST(IcpRefinement, TheTiltOfTheSubmapIsSolvedAndTheAnchorPlaced) {
   extras.tilt_sigma_rad = 1.0;  // a weak prior: weighs (huber / sigma)^2 = 1e-4 pairs
   extras.anchor_part = anchor_part;
   // T0 = the motion's yaw and translation: the tilt about the anchor is what is left.
-  const GeometricRelocaliser::Refinement r = GeometricRelocaliser::refine(
-      local, index, motion, 0.15, 50, 0.01, {}, 0.0, true, extras);
+  const GeometricRelocaliser::Refinement r =
+      GeometricRelocaliser::refine(local, index, motion, 0.15, 50, 0.01, {}, 0.0, true, extras);
   EXPECT_LT(r.rms_m, 1e-4);
   EXPECT_NEAR(r.tilt_rad, 1.5 * M_PI / 180.0, 2e-5);
   EXPECT_NEAR((r.T * anchor_part - anchor_map).norm(), 0.0, 1e-4);
   const Eigen::Matrix3d E = r.T.linear().transpose() * motion.linear();
   EXPECT_NEAR(std::atan2(E(1, 0), E(0, 0)), 0.0, 5e-4);  // a tilt turns the yaw to second order
-  EXPECT_NEAR(r.T.linear()(2, 2), 1.0, 1e-15);  // the result stays yaw + translation
+  EXPECT_NEAR(r.T.linear()(2, 2), 1.0, 1e-15);           // the result stays yaw + translation
   // Without the tilt the same start cannot fit the surfaces.
   const GeometricRelocaliser::Refinement plain =
       GeometricRelocaliser::refine(local, index, motion, 0.15, 50, 0.01);

@@ -340,6 +340,7 @@ const std::vector<Field> kFields = {
     {"relocalise", "confirm_distance_m", [](const Defaults& d) { return text(d.system.reloc.confirm_distance_m); }},
     {"relocalise", "confirm_max_disagreement_m", [](const Defaults& d) { return text(d.system.reloc.confirm_max_disagreement_m); }},
     {"relocalise", "confirm_max_disagreement_deg", [](const Defaults& d) { return text(d.system.reloc.confirm_max_disagreement_deg); }},
+    {"relocalise", "confirm_join_mean", [](const Defaults& d) { return text(d.system.reloc.confirm_join_mean); }},
     {"relocalise", "refine_max_distance_m", [](const Defaults& d) { return text(d.system.reloc.refine_max_distance_m); }},
     {"relocalise", "refine_max_range_m", [](const Defaults& d) { return text(d.system.reloc.refine_max_range_m); }},
     {"relocalise", "refine_horizontal", [](const Defaults& d) { return text(d.system.reloc.refine_horizontal); }},

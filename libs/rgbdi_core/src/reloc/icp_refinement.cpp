@@ -13,8 +13,7 @@ Eigen::Matrix3d yawRotation(double yaw) {
 // Rotation by the vector w (axis * angle).
 Eigen::Matrix3d expRotation(const Eigen::Vector3d& w) {
   const double a = w.norm();
-  return a < 1e-15 ? Eigen::Matrix3d::Identity()
-                   : Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+  return a < 1e-15 ? Eigen::Matrix3d::Identity() : Eigen::AngleAxisd(a, w / a).toRotationMatrix();
 }
 }  // namespace
 
@@ -67,7 +66,8 @@ GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
       const Eigen::Vector3d e = q - a;
       Vector7d J;
       J << nt.dot(Eigen::Vector3d(-d.y(), d.x(), 0.0)), nt.x(), nt.y(), nt.z(), nt.z() * s,
-          nrm.dot(Eigen::Vector3d(0.0, -e.z(), e.y())), nrm.dot(Eigen::Vector3d(e.z(), 0.0, -e.x()));
+          nrm.dot(Eigen::Vector3d(0.0, -e.z(), e.y())),
+          nrm.dot(Eigen::Vector3d(e.z(), 0.0, -e.x()));
       const double w = std::abs(r) > huber_m ? huber_m / std::abs(r) : 1.0;
       H += w * J * J.transpose();
       g += w * J * r;
@@ -122,8 +122,8 @@ GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
     T = next;
     b += step(4);
     Rt = expRotation(Eigen::Vector3d(step(5), step(6), 0.0)) * Rt;
-    if (step.segment<3>(1).norm() < 1e-7 && std::abs(step(0)) < 1e-8 &&
-        std::abs(step(4)) < 1e-8 && step.tail<2>().norm() < 1e-8)
+    if (step.segment<3>(1).norm() < 1e-7 && std::abs(step(0)) < 1e-8 && std::abs(step(4)) < 1e-8 &&
+        step.tail<2>().norm() < 1e-8)
       break;
   }
   // The result stays yaw + translation (the pose graph's 4 DOF): the yaw of Rt R_T, and the

@@ -44,6 +44,7 @@ RelocOptions RelocOptions::load(IniReader& ini) {
       ini.getDouble(s, "confirm_max_disagreement_m", o.confirm_max_disagreement_m, 0.0, 100.0);
   o.confirm_max_disagreement_deg =
       ini.getDouble(s, "confirm_max_disagreement_deg", o.confirm_max_disagreement_deg, 0.0, 180.0);
+  o.confirm_join_mean = ini.getBool(s, "confirm_join_mean", o.confirm_join_mean);
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
   o.refine_max_range_m = ini.getDouble(s, "refine_max_range_m", o.refine_max_range_m, 0.1, 100.0);

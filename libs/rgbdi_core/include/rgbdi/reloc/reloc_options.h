@@ -77,6 +77,9 @@ struct RelocOptions {
   double confirm_distance_m = 0.75;           ///< [m]
   double confirm_max_disagreement_m = 0.10;   ///< [m]
   double confirm_max_disagreement_deg = 2.0;  ///< [deg]
+  /// The join uses the mean of the agreeing fits (true) or the last of them (false): single
+  /// fits scatter by centimetres and up to a degree.
+  bool confirm_join_mean = false;
   /// ICP refinement of a hypothesis on the 3-D depth samples (nearest neighbours within this
   /// distance, these many iterations).
   double refine_max_distance_m = 0.15;  ///< [m]
