@@ -9,14 +9,17 @@
 #
 #   scripts/reloc-acceptance.sh OUT [CASE ...]
 # CASE: PROFILE:SEED (variant 1, 15 s, positive) or one of the named negative cases:
-#   other_world (wheeled_circle seed 7 variant 0 in the seed-1 map), other_furniture
-#   ([sim] world_seed 7), twin_rooms, aliased_walls (positive: must join correctly),
+#   other_room (a world that is really another: wheeled_circle seed 7 variant 0 with
+#   [sim] world_seed 7, other furniture, and room_margin_m 1.0, walls 1 m farther out, in the
+#   seed-1 map), other_world (seed 7 variant 0 in the seed-1 map: the same geometry where it
+#   drives; kept as information), other_furniture ([sim] world_seed 7), twin_rooms, aliased_walls (positive: must join correctly),
 #   handheld41 (handheld seed 41 variant 1 30 s: must not join elsewhere).
 # Default: every profile with seeds 1 2 3 and every negative case. 15 Hz throughout; maps:
 # wheeled_circle --speed fast (one 26 s lap), the other profiles' default durations.
 # To save disk, a mapping sequence's images and rawlog may be deleted once its map is built:
 # touch OUT/NAME.mapped then keeps it from being generated again (its ground truth stays).
-# Environment: MAPS_ONLY=1 generates the sequences and maps of the cases and stops there (the
+# Environment: DROP_MAPPED=1 deletes a mapping sequence's images and rawlog as soon as its map
+# is built (and touches OUT/NAME.mapped). MAPS_ONLY=1 generates the sequences and maps of the cases and stops there (the
 # second runs need the code under test; the maps do not). RUN_CONFIG=FILE runs the second runs with --config FILE, into run directories
 # suffixed with TAG=... (so that one set of sequences and maps serves several configurations).
 set -euo pipefail
@@ -29,7 +32,7 @@ if [ ${#CASES[@]} -eq 0 ]; then
   for p in wheeled_circle handheld wheeled_slopes tracked_slopes; do
     for s in 1 2 3; do CASES+=("$p:$s"); done
   done
-  CASES+=(other_world other_furniture twin_rooms aliased_walls handheld41)
+  CASES+=(other_room other_world other_furniture twin_rooms aliased_walls handheld41)
 fi
 
 # gen NAME PROFILE SEED VARIANT DURATION [EXTRA SIM ARGS...]: a sequence under OUT/NAME.
@@ -57,6 +60,10 @@ slam() {
   [ -f "$OUT/$name/summary.json" ] && return 0
   "$BIN/rgbdi-slam" --input "$OUT/$seq/sequence.rawlog" --out "$OUT/$name" --quiet "$@" \
     > "$OUT/$name.log" 2>&1
+  if [ -n "${DROP_MAPPED:-}" ] && [[ " $* " != *" --load-map "* ]]; then
+    rm -rf "$OUT/$seq/sequence.rawlog" "$OUT/$seq/sequence_Images"
+    touch "$OUT/$seq.mapped"
+  fi
 }
 # row CASE MAPSEQ MAPRUN RUNSEQ RUN
 row() {
@@ -143,6 +150,14 @@ for c in "${CASES[@]}"; do
       gen other_world_seq wheeled_circle 7 0 15
       slam other_world_run$TAG other_world_seq "${RUN_ARGS[@]}" --load-map "$OUT/wheeled_circle_map_s1/map" --localize-only
       row other_world wheeled_circle_v0_s1 wheeled_circle_map_s1 other_world_seq other_world_run$TAG "$OUT"
+      ;;
+    other_room)
+      gen wheeled_circle_v0_s1 wheeled_circle 1 0 default
+      slam wheeled_circle_map_s1 wheeled_circle_v0_s1
+      printf '[sim]\nworld_seed = 7\nroom_margin_m = 1.0\n' > "$OUT/other_room.ini"
+      gen other_room_seq wheeled_circle 7 0 15 --config "$OUT/other_room.ini"
+      slam other_room_run$TAG other_room_seq "${RUN_ARGS[@]}" --load-map "$OUT/wheeled_circle_map_s1/map" --localize-only
+      row other_room wheeled_circle_v0_s1 wheeled_circle_map_s1 other_room_seq other_room_run$TAG "$OUT"
       ;;
     other_furniture)
       gen wheeled_circle_v0_s1 wheeled_circle 1 0 default

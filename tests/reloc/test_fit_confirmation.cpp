@@ -102,3 +102,25 @@ TEST(FitConfirmation, ThreeFitsMustAgreeWhenAsked) {
   EXPECT_FALSE(c.add(fitAt(3.25, 5.0, 30), p, unchanged));  // three, but 0.75 m < 1.5 m
   EXPECT_TRUE(c.add(fitAt(4.0, 5.0, 30), p, unchanged));
 }
+
+TEST(FitConfirmation, TheJoinCanUseTheMeanOfTheAgreeingFits) {
+  // The same three fits as above: the last one (2.05 m, 31 deg) by default, their mean
+  // (2.0333 m, 30.333 deg) with confirm_join_mean; a disagreeing fit before them is not in it.
+  RelocOptions o = options();
+  o.confirm_join_mean = true;
+  FitConfirmation c(o);
+  const Eigen::Vector3d p(1, 0, 0);
+  EXPECT_FALSE(c.add(fitAt(0.0, 3.0, 30), p, unchanged));  // replaced by the next
+  EXPECT_FALSE(c.add(fitAt(0.0, 2.0, 30), p, unchanged));
+  EXPECT_FALSE(c.add(fitAt(1.0, 2.05, 30), p, unchanged));
+  const auto A = c.add(fitAt(1.5, 2.05, 31), p, unchanged);
+  ASSERT_TRUE(A);
+  EXPECT_NEAR(A->translation().x(), (2.0 + 2.05 + 2.05) / 3.0, 1e-12);
+  const double yaw = std::atan2(A->linear()(1, 0), A->linear()(0, 0)) * 180.0 / M_PI;
+  // The circular mean of 30, 30, 31 deg: atan2 of the summed sines and cosines.
+  const double a = 30 * M_PI / 180, b = 31 * M_PI / 180;
+  EXPECT_NEAR(
+      yaw, std::atan2(2 * std::sin(a) + std::sin(b), 2 * std::cos(a) + std::cos(b)) * 180.0 / M_PI,
+      1e-12);
+  EXPECT_NEAR(yaw, 30.333, 1e-3);
+}

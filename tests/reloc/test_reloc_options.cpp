@@ -53,6 +53,8 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.refine_max_distance_m, d.refine_max_distance_m);
   EXPECT_EQ(o.refine_iterations, d.refine_iterations);
   EXPECT_EQ(o.refine_min_pair_fraction, d.refine_min_pair_fraction);
+  EXPECT_EQ(o.refine_min_view_cos, d.refine_min_view_cos);
+  EXPECT_EQ(o.refine_tilt_sigma_deg, d.refine_tilt_sigma_deg);
   EXPECT_EQ(o.refine_max_rms_m, d.refine_max_rms_m);
   EXPECT_EQ(o.refine_min_horizontal_constraint, d.refine_min_horizontal_constraint);
   EXPECT_EQ(o.min_floor_cells, d.min_floor_cells);
@@ -71,6 +73,10 @@ TEST(RelocOptions, BadValuesNameTheKey) {
             std::string::npos);
   EXPECT_NE(loadError("[relocalise]\nconfirm_fits = 1\n").find("confirm_fits"), std::string::npos);
   EXPECT_NE(loadError("[relocalise]\nsubmap_max_path_m = -1\n").find("submap_max_path_m"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalise]\nrefine_min_view_cos = 1.5\n").find("refine_min_view_cos"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalise]\nrefine_tilt_sigma_deg = -1\n").find("refine_tilt_sigma_deg"),
             std::string::npos);
   EXPECT_EQ(loadError("[relocalise]\ngeometric = false\n"), "");
 }

@@ -12,4 +12,20 @@ bool FitConfirmation::agree(const Eigen::Isometry3d& a, const Eigen::Isometry3d&
          yaw <= options_.confirm_max_disagreement_deg * M_PI / 180.0;
 }
 
+Eigen::Isometry3d FitConfirmation::mean(const std::vector<Eigen::Isometry3d>& alignments) {
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  double c = 0.0, s = 0.0;
+  for (const Eigen::Isometry3d& A : alignments) {
+    t += A.translation();
+    const double yaw = std::atan2(A.linear()(1, 0), A.linear()(0, 0));
+    c += std::cos(yaw);
+    s += std::sin(yaw);
+  }
+  Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+  if (alignments.empty()) return M;
+  M.linear() = Eigen::AngleAxisd(std::atan2(s, c), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  M.translation() = t / static_cast<double>(alignments.size());
+  return M;
+}
+
 }  // namespace rgbdi::reloc

@@ -3,6 +3,42 @@
 #include <cmath>
 
 namespace rgbdi::reloc {
+namespace {
+// The points thinned to one mean per voxel (first seen first), with the mean of `values`
+// (double or vector) per voxel.
+template <class Value>
+std::vector<Eigen::Vector3d> thinWith(const std::vector<Eigen::Vector3d>& points,
+                                      const std::vector<Value>& values, double voxel_m,
+                                      std::vector<Value>* values_out,
+                                      std::int64_t (*keyOf)(const Eigen::Vector3i&)) {
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> n;
+  values_out->clear();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3i c(static_cast<int>(std::floor(p.x() / voxel_m)),
+                            static_cast<int>(std::floor(p.y() / voxel_m)),
+                            static_cast<int>(std::floor(p.z() / voxel_m)));
+    const auto [it, added] = slot.emplace(keyOf(c), sum.size());
+    if (added) {
+      sum.push_back(p);
+      values_out->push_back(values[i]);
+      n.push_back(1);
+    } else {
+      sum[it->second] += p;
+      (*values_out)[it->second] += values[i];
+      ++n[it->second];
+    }
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    sum[i] /= n[i];
+    (*values_out)[i] /= n[i];
+  }
+  return sum;
+}
+}  // namespace
 
 std::int64_t PointIndex::key(const Eigen::Vector3i& c) {
   // 21 bits per axis: +-1 million cells.
@@ -25,36 +61,36 @@ std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>
 std::vector<Eigen::Vector3d> PointIndex::thin(const std::vector<Eigen::Vector3d>& points,
                                               const std::vector<double>& values, double voxel_m,
                                               std::vector<double>* values_out) {
-  std::unordered_map<std::int64_t, std::size_t> slot;
-  std::vector<Eigen::Vector3d> sum;
-  std::vector<int> n;
-  values_out->clear();
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d& p = points[i];
-    if (!p.allFinite()) continue;
-    const Eigen::Vector3i c(static_cast<int>(std::floor(p.x() / voxel_m)),
-                            static_cast<int>(std::floor(p.y() / voxel_m)),
-                            static_cast<int>(std::floor(p.z() / voxel_m)));
-    const auto [it, added] = slot.emplace(key(c), sum.size());
-    if (added) {
-      sum.push_back(p);
-      values_out->push_back(values[i]);
-      n.push_back(1);
-    } else {
-      sum[it->second] += p;
-      (*values_out)[it->second] += values[i];
-      ++n[it->second];
-    }
-  }
-  for (std::size_t i = 0; i < sum.size(); ++i) {
-    sum[i] /= n[i];
-    (*values_out)[i] /= n[i];
-  }
-  return sum;
+  return thinWith(points, values, voxel_m, values_out, &key);
+}
+
+std::vector<Eigen::Vector3d> PointIndex::thinDirections(
+    const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& directions,
+    double voxel_m, std::vector<Eigen::Vector3d>* directions_out) {
+  // The same voxels and order as thin(): slot i of the result is thin()'s point i.
+  std::vector<Eigen::Vector3d> thinned =
+      thinWith(points, directions, voxel_m, directions_out, &key);
+  for (Eigen::Vector3d& d : *directions_out)
+    d = d.norm() > 1e-9 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+  return thinned;
 }
 
 PointIndex::PointIndex(const std::vector<Eigen::Vector3d>& points, double voxel_m, double cell_m)
     : cell_m_(cell_m), points_(thin(points, voxel_m)) {
+  index();
+}
+
+PointIndex::PointIndex(const std::vector<Eigen::Vector3d>& points,
+                       const std::vector<Eigen::Vector3d>& view_directions, double voxel_m,
+                       double cell_m)
+    : cell_m_(cell_m) {
+  points_ = thinDirections(points, view_directions, voxel_m, &views_);
+  index();
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    if (normals_[i].dot(views_[i]) < 0.0) normals_[i] = -normals_[i];
+}
+
+void PointIndex::index() {
   for (std::size_t i = 0; i < points_.size(); ++i)
     cells_[key(cellOf(points_[i]))].push_back(static_cast<std::uint32_t>(i));
   normals_.assign(points_.size(), Eigen::Vector3d::Zero());

@@ -44,6 +44,7 @@ RelocOptions RelocOptions::load(IniReader& ini) {
       ini.getDouble(s, "confirm_max_disagreement_m", o.confirm_max_disagreement_m, 0.0, 100.0);
   o.confirm_max_disagreement_deg =
       ini.getDouble(s, "confirm_max_disagreement_deg", o.confirm_max_disagreement_deg, 0.0, 180.0);
+  o.confirm_join_mean = ini.getBool(s, "confirm_join_mean", o.confirm_join_mean);
   o.refine_max_distance_m =
       ini.getDouble(s, "refine_max_distance_m", o.refine_max_distance_m, 0.001, 10.0);
   o.refine_max_range_m = ini.getDouble(s, "refine_max_range_m", o.refine_max_range_m, 0.1, 100.0);
@@ -52,6 +53,9 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   o.refine_huber_m = ini.getDouble(s, "refine_huber_m", o.refine_huber_m, 0.0001, 1e12);
   o.refine_height_drift_sigma_per_m = ini.getDouble(s, "refine_height_drift_sigma_per_m",
                                                     o.refine_height_drift_sigma_per_m, 0.0, 1.0);
+  o.refine_min_view_cos = ini.getDouble(s, "refine_min_view_cos", o.refine_min_view_cos, -1.0, 1.0);
+  o.refine_tilt_sigma_deg =
+      ini.getDouble(s, "refine_tilt_sigma_deg", o.refine_tilt_sigma_deg, 0.0, 90.0);
   o.refine_min_pair_fraction =
       ini.getDouble(s, "refine_min_pair_fraction", o.refine_min_pair_fraction, 0.0, 1.0);
   o.refine_max_rms_m = ini.getDouble(s, "refine_max_rms_m", o.refine_max_rms_m, 0.0, 10.0);

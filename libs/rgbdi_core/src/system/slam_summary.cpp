@@ -190,9 +190,11 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
         e["overlap"] = f.overlap;
         e["conflict_fraction"] = f.conflict_fraction;
         e["refine_pairs"] = f.refine_pairs;
+        e["refine_samples"] = f.refine_samples;
         e["refine_rms_m"] = f.refine_rms_m;
         e["refine_horizontal_constraint"] = f.refine_horizontal_constraint;
         e["height_drift_per_m"] = f.height_drift_per_m;
+        e["tilt_deg"] = f.tilt_rad * 180.0 / M_PI;
       }
       if (f.outcome == reloc::FitOutcome::kFit) {
         const Eigen::Isometry3d P = f.T_map_part * f.T_anchor;  // the anchor in the map

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rgbdi/reloc/geometric_relocaliser.h"
 #include "rgbdi/reloc/reloc_options.h"
@@ -37,6 +38,7 @@ class FitConfirmation {
     if (!proposal_) {
       proposal_ = fit;
       agreeing_ = 1;
+      agreeing_fits_.assign(1, fit);
       return std::nullopt;
     }
     const Eigen::Isometry3d A_old = alignmentNow(*proposal_, anchorPose(proposal_->anchor_id));
@@ -44,15 +46,23 @@ class FitConfirmation {
       ++disagreements_;
       proposal_ = fit;
       agreeing_ = 1;
+      agreeing_fits_.assign(1, fit);
       return std::nullopt;
     }
     ++agreeing_;
+    agreeing_fits_.push_back(fit);
     if (agreeing_ < options_.confirm_fits ||
         fit.travelled_m - proposal_->travelled_m < options_.confirm_distance_m)
       return std::nullopt;  // agrees, but not enough yet: keep the older proposal
     proposal_.reset();
-    return A_new;
+    if (!options_.confirm_join_mean) return A_new;
+    std::vector<Eigen::Isometry3d> all;
+    for (const RelocFit& f : agreeing_fits_)
+      all.push_back(alignmentNow(f, anchorPose(f.anchor_id)));
+    return mean(all);
   }
+  /// The mean of yaw + translation alignments: mean translation, circular mean yaw.
+  static Eigen::Isometry3d mean(const std::vector<Eigen::Isometry3d>& alignments);
   /// Two alignments agree at the part's position p (part frame).
   bool agree(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
              const Eigen::Vector3d& p) const;
@@ -69,7 +79,8 @@ class FitConfirmation {
  private:
   RelocOptions options_;
   std::optional<RelocFit> proposal_;
-  int agreeing_ = 0;  ///< fits agreeing with the proposal, itself included
+  int agreeing_ = 0;                     ///< fits agreeing with the proposal, itself included
+  std::vector<RelocFit> agreeing_fits_;  ///< those fits
   FitOutcome last_outcome_ = FitOutcome::kTooLittle;
   int disagreements_ = 0;
 };

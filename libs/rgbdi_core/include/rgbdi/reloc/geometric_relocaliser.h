@@ -63,13 +63,33 @@ struct RelocFit {
   std::vector<int> place_scores;
   /// The part's frame -> the map's frame (yaw about z and a translation); set for kFit.
   Eigen::Isometry3d T_map_part = Eigen::Isometry3d::Identity();
-  double overlap = 0.0;                       ///< [fraction] of the winner
-  double conflict_fraction = 0.0;             ///< [fraction] of the winner
-  int refine_pairs = 0;                       ///< [count] ICP correspondences at the end
+  double overlap = 0.0;            ///< [fraction] of the winner
+  double conflict_fraction = 0.0;  ///< [fraction] of the winner
+  int refine_pairs = 0;            ///< [count] ICP correspondences at the end
+  int refine_samples =
+      0;  ///< [count] local samples judged (those on the map's other side excluded)
   double refine_rms_m = 0.0;                  ///< [m] their RMS distance
   double refine_horizontal_constraint = 0.0;  ///< see GeometricRelocaliser::Refinement
   double height_drift_per_m = 0.0;            ///< [m per m] solved by the refinement
+  double tilt_rad = 0.0;                      ///< [rad] submap tilt solved by the refinement
   double ms = 0.0;                            ///< [ms] wall time of the attempt
+};
+
+/// Optional parts of GeometricRelocaliser::refine().
+struct RefineExtras {
+  /// Per local point: the unit direction towards its camera (part frame). With a map built
+  /// with its views, a pair counts only when the map's normal (facing the map's cameras) has
+  /// a cosine of at least min_view_cos with it turned into the map: both sides saw the same
+  /// face (a run driven the other way sees the backs of what the map saw; the nearest map
+  /// point of a back is the front, and pairing them pulls the fit through the object).
+  std::vector<Eigen::Vector3d> local_views;
+  double min_view_cos = -1.0;  ///< [cos] -1: every pair
+  /// [rad] > 0: also solve a tilt of the submap (rotation about a horizontal axis through
+  /// the anchor, prior 0 +- this, weighed as one pair of huber_m noise): its gravity is the
+  /// odometry's, which can be off by degrees. The result stays yaw + translation, with the
+  /// anchor where the tilted fit puts it.
+  double tilt_sigma_rad = 0.0;
+  Eigen::Vector3d anchor_part = Eigen::Vector3d::Zero();  ///< [m] the anchor, part frame
 };
 
 class GeometricRelocaliser {
@@ -92,6 +112,12 @@ class GeometricRelocaliser {
     /// [m per m] height drift of the local samples solved with the pose (0 when not solved):
     /// a sample `s` metres of path before the anchor is moved up by s times this.
     double height_drift_per_m = 0.0;
+    /// [count] local points of the last step whose nearest map surface faces away from their
+    /// camera (seen from the other side by the map): neither pairs nor counted as samples.
+    int other_side = 0;
+    /// [rad] tilt of the submap solved (0 when not solved): the angle between its vertical and
+    /// the map's after the refinement.
+    double tilt_rad = 0.0;
   };
   /// 4-DOF point-to-plane ICP of `local` onto `map` from T (yaw about z, translation):
   /// nearest neighbours within max_distance_m, at most `iterations` Gauss-Newton steps, pairs
@@ -101,11 +127,12 @@ class GeometricRelocaliser {
   /// one pair of huber_m noise), is solved with the pose: the submap's floor and ramps drift a
   /// few centimetres in height over its path, and a ramp seen at the wrong height pushes a
   /// 4-DOF fit sideways. `horizontal` false: yaw, x and y stay as given (only the height and
-  /// the drift are solved; the pairs still judge the fit).
+  /// the drift are solved; the pairs still judge the fit). `extras`: see RefineExtras.
   static Refinement refine(const std::vector<Eigen::Vector3d>& local, const PointIndex& map,
                            const Eigen::Isometry3d& T, double max_distance_m, int iterations,
                            double huber_m, const std::vector<double>& path_m = {},
-                           double drift_sigma_per_m = 0.0, bool horizontal = true);
+                           double drift_sigma_per_m = 0.0, bool horizontal = true,
+                           const RefineExtras& extras = {});
   /// Median of map floor height - local floor height over cells both saw as floor, with the
   /// local plan placed by `a`; false with fewer than min_cells such cells.
   static bool floorOffset(const PlanGrid& map, const PlanGrid& local, const PlanAlignment& a,

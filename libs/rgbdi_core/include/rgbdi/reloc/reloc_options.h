@@ -77,6 +77,9 @@ struct RelocOptions {
   double confirm_distance_m = 0.75;           ///< [m]
   double confirm_max_disagreement_m = 0.10;   ///< [m]
   double confirm_max_disagreement_deg = 2.0;  ///< [deg]
+  /// The join uses the mean of the agreeing fits (true) or the last of them (false): single
+  /// fits scatter by centimetres and up to a degree.
+  bool confirm_join_mean = false;
   /// ICP refinement of a hypothesis on the 3-D depth samples (nearest neighbours within this
   /// distance, these many iterations).
   double refine_max_distance_m = 0.15;  ///< [m]
@@ -98,6 +101,15 @@ struct RelocOptions {
   /// the submap's height drifts a few centimetres over 3 m, and a ramp seen at the wrong height
   /// pushes a fit without it sideways. 0: off (4-DOF).
   double refine_height_drift_sigma_per_m = 0.02;
+  /// [cos] an ICP pair counts only when the map surface's normal, facing the cameras that saw it
+  /// in the map, has at least this cosine with the direction from the local sample to its
+  /// camera: both saw the same face (a run driven the other way sees the backs of what the map
+  /// saw). Samples failing it are left out of the pairs and of the pair fraction. -1: off.
+  double refine_min_view_cos = -1.0;
+  /// [deg] the refinement also solves a tilt of the submap (prior 0 +- this): its gravity is
+  /// the odometry's, off by 1-5 deg for seconds after a tracked robot tips over a step, which
+  /// at 3 m of depth misplaces the walls by several centimetres. 0: off.
+  double refine_tilt_sigma_deg = 0.0;
   /// After the refinement at least this fraction of the local samples (thinned) must have a map
   /// neighbour, at this RMS distance along the map's normals at most; otherwise the fit fails.
   double refine_min_pair_fraction = 0.5;  ///< [fraction]
