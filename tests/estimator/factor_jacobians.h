@@ -5,6 +5,8 @@
 #include <ceres/cost_function.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <random>
 #include <vector>
 
 #include "rgbdi/estimator/pose_manifold.h"
@@ -12,6 +14,27 @@
 namespace rgbdi::test {
 
 using Params = std::vector<std::vector<double>>;
+
+/// The pose parameter block of T (x y z qx qy qz qw, PoseManifold's layout).
+inline std::vector<double> poseBlock(const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.rotation());
+  return {
+      T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+/// Moves the first `count` blocks of p (poses) by a tangent step drawn from `n`, so that a
+/// Jacobian is checked away from the point the data was made at.
+template <class Rng>
+void perturbPoses(Params& p, Rng& rng, std::normal_distribution<double>& n, std::size_t count = 2) {
+  for (std::size_t b = 0; b < count; ++b) {
+    rgbdi::estimator::PoseManifold m;
+    const Eigen::Matrix<double, 6, 1> d =
+        Eigen::Matrix<double, 6, 1>::NullaryExpr([&] { return n(rng); });
+    std::vector<double> out(7);
+    m.Plus(p[b].data(), d.data(), out.data());
+    p[b] = out;
+  }
+}
 
 inline Eigen::VectorXd evaluateResidual(const ceres::CostFunction& f, const Params& params) {
   std::vector<const double*> ptrs;

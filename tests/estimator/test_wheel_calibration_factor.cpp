@@ -22,12 +22,7 @@ namespace {
 using test::analyticJacobian;
 using test::numericJacobian;
 using test::Params;
-
-std::vector<double> poseBlock(const Eigen::Isometry3d& T) {
-  const Eigen::Quaterniond q(T.rotation());
-  return {
-      T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
-}
+using test::poseBlock;
 
 Eigen::Matrix3d rotZ(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).matrix(); }
 
@@ -92,14 +87,7 @@ void expectJacobiansMatch(const ceres::CostFunction& f, const Params& p) {
 Params randomParams(std::mt19937_64& rng, const Params& base) {
   std::normal_distribution<double> n(0.0, 0.1);
   Params p = base;
-  for (std::size_t b = 0; b < 2; ++b) {
-    PoseManifold m;
-    const Eigen::Matrix<double, 6, 1> d =
-        Eigen::Matrix<double, 6, 1>::NullaryExpr([&] { return n(rng); });
-    std::vector<double> out(7);
-    m.Plus(p[b].data(), d.data(), out.data());
-    p[b] = out;
-  }
+  test::perturbPoses(p, rng, n);
   p[2][0] = 1.0 + n(rng);
   p[3][0] = 1.0 + n(rng);
   p[4][0] = n(rng);

@@ -20,12 +20,7 @@ namespace {
 using test::analyticJacobian;
 using test::numericJacobian;
 using test::Params;
-
-std::vector<double> poseBlock(const Eigen::Isometry3d& T) {
-  const Eigen::Quaterniond q(T.rotation());
-  return {
-      T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
-}
+using test::poseBlock;
 
 /// Readings of a robot driving a circle of radius rho at speed v (rho = 0: straight along x),
 /// from t0 at rate hz for n readings; its odometry frame starts at heading yaw0.

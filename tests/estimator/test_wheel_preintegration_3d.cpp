@@ -19,6 +19,7 @@ namespace {
 using test::analyticJacobian;
 using test::numericJacobian;
 using test::Params;
+using test::poseBlock;
 
 /// Readings at 50 Hz of a robot whose odometry goes straight along x at `speed(t)` [m/s] over
 /// [0, T] (piecewise constant between readings, so the readings' x is exact).
@@ -109,12 +110,6 @@ TEST(WheelPreintegration3d, RotationRowsHaveNoWeightAndTheTranslationThePlanarSi
   EXPECT_EQ(w.tail<3>(), Eigen::Vector3d::Zero());
 }
 
-std::vector<double> poseBlock(const Eigen::Isometry3d& T) {
-  const Eigen::Quaterniond q(T.rotation());
-  return {
-      T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
-}
-
 TEST(WheelFactor3d, ZeroAtTheTruthOnTheRampAndJacobiansMatchNumeric) {
   const auto readings = straightReadings(2.2, driveStopDrive);
   const std::vector<ImuSample> imu = pitchWhileStanding(-1.5, Eigen::Vector3d::Zero());
@@ -145,14 +140,7 @@ TEST(WheelFactor3d, ZeroAtTheTruthOnTheRampAndJacobiansMatchNumeric) {
   std::normal_distribution<double> n(0.0, 0.1);
   for (int trial = 0; trial < 5; ++trial) {
     Params p = params;
-    for (std::size_t b = 0; b < 2; ++b) {
-      PoseManifold m;
-      const Eigen::Matrix<double, 6, 1> d =
-          Eigen::Matrix<double, 6, 1>::NullaryExpr([&] { return n(rng); });
-      std::vector<double> out(7);
-      m.Plus(p[b].data(), d.data(), out.data());
-      p[b] = out;
-    }
+    test::perturbPoses(p, rng, n);
     p[2][0] = 1.0 + n(rng);
     p[3][0] = 1.0 + n(rng);
     for (int b = 0; b < 4; ++b) {
