@@ -3,17 +3,13 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "rgbdi/common/so3.h"
 #include "rgbdi/reloc/geometric_relocaliser.h"
 
 namespace rgbdi::reloc {
 namespace {
 Eigen::Matrix3d yawRotation(double yaw) {
   return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-}
-// Rotation by the vector w (axis * angle).
-Eigen::Matrix3d expRotation(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  return a < 1e-15 ? Eigen::Matrix3d::Identity() : Eigen::AngleAxisd(a, w / a).toRotationMatrix();
 }
 }  // namespace
 
@@ -121,7 +117,7 @@ GeometricRelocaliser::Refinement GeometricRelocaliser::refine(
     next.translation() = T.translation() + step.segment<3>(1);
     T = next;
     b += step(4);
-    Rt = expRotation(Eigen::Vector3d(step(5), step(6), 0.0)) * Rt;
+    Rt = expSO3(Eigen::Vector3d(step(5), step(6), 0.0)) * Rt;
     if (step.segment<3>(1).norm() < 1e-7 && std::abs(step(0)) < 1e-8 && std::abs(step(4)) < 1e-8 &&
         step.tail<2>().norm() < 1e-8)
       break;
