@@ -95,6 +95,14 @@ Eigen::Isometry3d mountedWheels() {
   return T;
 }
 
+/// The calibration in effect when nothing was learnt: the configured one with these scales.
+WheelCalibration calib(const WheelOptions& opt, double scale_v = 1.0, double scale_w = 1.0) {
+  WheelCalibration c = WheelCalibration::configured(opt);
+  c.scale_v = scale_v;
+  c.scale_w = scale_w;
+  return c;
+}
+
 void expectTruth(const WheelStart& s, const Drive& d, double t, double tol_up, double tol_v) {
   ASSERT_EQ(s.failure, nullptr) << s.failure;
   const Eigen::Matrix3d R = d.R_world_body(t);
@@ -111,7 +119,7 @@ TEST(WheelStart, TurningAtConstantSpeedGivesGravityVelocityAndBias) {
   opt.T_body_wheel = d.T_body_wheel;
   // The frame between two readings (the newest 10 ms old): the IMU carries the state to it.
   const double t = 1.99;
-  const WheelStart start = solveWheelStart(s.readings, 1.0, 1.0, s.imu, t, kG, opt);
+  const WheelStart start = solveWheelStart(s.readings, calib(opt), s.imu, t, kG, opt);
   // The span's mean velocity is the chord's (1 - (w h)^2 / 24 of the speed): 2e-5 m/s here.
   expectTruth(start, d, t, 1e-3, 1e-4);
   // Forward along the wheel frame's x: 0.5 m/s in the body frame through the extrinsic.
@@ -125,12 +133,12 @@ TEST(WheelStart, StraightAndStandingAreExact) {
   WheelOptions opt;
   opt.T_body_wheel = straight.T_body_wheel;
   const Streams s = record(straight, 1.0);
-  expectTruth(solveWheelStart(s.readings, 1.0, 1.0, s.imu, 1.0, kG, opt), straight, 1.0, 1e-9,
+  expectTruth(solveWheelStart(s.readings, calib(opt), s.imu, 1.0, kG, opt), straight, 1.0, 1e-9,
               1e-9);
   Drive standing = straight;
   standing.v = 0.0;
   const Streams r = record(standing, 1.0);
-  const WheelStart rest = solveWheelStart(r.readings, 1.0, 1.0, r.imu, 1.0, kG, opt);
+  const WheelStart rest = solveWheelStart(r.readings, calib(opt), r.imu, 1.0, kG, opt);
   expectTruth(rest, standing, 1.0, 1e-9, 1e-9);
   EXPECT_LT(rest.v_body.norm(), 1e-12);
 }
@@ -139,18 +147,41 @@ TEST(WheelStart, TheLearntForwardScaleGivesTheTrueSpeed) {
   Drive d;
   const Streams s = record(d, 1.0, 1.03);  // wheels 3 % large: they report 1/1.03 of the way
   const WheelOptions opt;
-  expectTruth(solveWheelStart(s.readings, 1.03, 1.0, s.imu, 1.0, kG, opt), d, 1.0, 1e-3, 1e-4);
+  expectTruth(solveWheelStart(s.readings, calib(opt, 1.03, 1.0), s.imu, 1.0, kG, opt), d, 1.0, 1e-3,
+              1e-4);
   // With scale 1 the speed is 3 % short, and gravity tilts by the missing centripetal part.
-  const WheelStart wrong = solveWheelStart(s.readings, 1.0, 1.0, s.imu, 1.0, kG, opt);
+  const WheelStart wrong = solveWheelStart(s.readings, calib(opt), s.imu, 1.0, kG, opt);
   ASSERT_EQ(wrong.failure, nullptr);
   EXPECT_NEAR(wrong.v_body.norm(), 0.5 / 1.03, 1e-4);
+}
+
+TEST(WheelStart, UsesTheCalibrationInEffectNotTheConfiguredOne) {
+  // Wheels mounted as mountedWheels() and stamped 30 ms early on the robot clock; the
+  // configuration says identity and 0 (what a run learnt online is in the calibration).
+  Drive d;
+  d.T_body_wheel = mountedWheels();
+  const Streams s = record(d, 2.0, 1.0, [](WheelOdometrySample& r) { r.t -= 0.03; });
+  const WheelOptions configured;
+  WheelCalibration learnt = calib(configured);
+  learnt.T_body_wheel = d.T_body_wheel;
+  learnt.time_offset_s = 0.03;
+  expectTruth(solveWheelStart(s.readings, learnt, s.imu, 1.95, kG, configured), d, 1.95, 1e-3,
+              1e-4);
+  const auto up = wheelInertialUp(s.readings, learnt, s.imu, 1.95, d.bg, kG, configured);
+  ASSERT_TRUE(up.has_value());
+  EXPECT_LT((*up - d.R_world_body(1.95).transpose() * d.up).norm(), 1e-3);
+  // The configured one (identity) takes the wheels' yaw rate about the body's z, 0.36 rad from
+  // the wheel frame's: 0.14 rad/s of the gyro rate unexplained.
+  EXPECT_STREQ(solveWheelStart(s.readings, calib(configured), s.imu, 1.95, kG, configured).failure,
+               "gyro rate and the wheels' yaw rate disagree");
 }
 
 TEST(WheelStart, RefusesWheelsWhoseYawRateTheGyroscopeDenies) {
   // The left wheel spins: the odometry turns 0.15 rad/s more than the body does.
   Drive d;
   const Streams s = record(d, 1.0, 1.0, [](WheelOdometrySample& r) { r.yaw_rad += 0.15 * r.t; });
-  const WheelStart start = solveWheelStart(s.readings, 1.0, 1.0, s.imu, 1.0, kG, WheelOptions{});
+  const WheelStart start =
+      solveWheelStart(s.readings, calib(WheelOptions{}), s.imu, 1.0, kG, WheelOptions{});
   EXPECT_STREQ(start.failure, "gyro rate and the wheels' yaw rate disagree");
 }
 
@@ -164,7 +195,8 @@ TEST(WheelStart, RefusesASpeedTheAccelerometerDenies) {
   const Streams s = record(d, 1.0, 1.0, [](WheelOdometrySample& r) {
     if (r.t > 0.7) r.x_m += 0.3 * (r.t - 0.7);
   });
-  const WheelStart start = solveWheelStart(s.readings, 1.0, 1.0, s.imu, 1.0, kG, WheelOptions{});
+  const WheelStart start =
+      solveWheelStart(s.readings, calib(WheelOptions{}), s.imu, 1.0, kG, WheelOptions{});
   EXPECT_STREQ(start.failure, "gravity from the two halves of the window disagrees");
 }
 
@@ -172,13 +204,13 @@ TEST(WheelStart, WaitsForReadingsAndImuCoveringTheWindow) {
   Drive d;
   const Streams s = record(d, 1.0);
   const WheelOptions opt;  // 0.4 s window
-  EXPECT_STREQ(solveWheelStart(s.readings, 1.0, 1.0, s.imu, 0.3, kG, opt).failure,
+  EXPECT_STREQ(solveWheelStart(s.readings, calib(opt), s.imu, 0.3, kG, opt).failure,
                "wheel readings shorter than the window");
-  EXPECT_STREQ(solveWheelStart({}, 1.0, 1.0, s.imu, 1.0, kG, opt).failure, "no wheel readings");
+  EXPECT_STREQ(solveWheelStart({}, calib(opt), s.imu, 1.0, kG, opt).failure, "no wheel readings");
   // The frame 0.2 s after the newest reading: more than reading_lag_s (0.1 s).
   Streams late = record(d, 1.2);
   while (late.readings.back().t > 1.0) late.readings.pop_back();
-  EXPECT_STREQ(solveWheelStart(late.readings, 1.0, 1.0, late.imu, 1.2, kG, opt).failure,
+  EXPECT_STREQ(solveWheelStart(late.readings, calib(opt), late.imu, 1.2, kG, opt).failure,
                "the wheel readings lag the frame");
 }
 
@@ -193,7 +225,7 @@ TEST(WheelInertialUp, SeesTheRampThatTheWindowStatesMayNot) {
   WheelOptions opt;
   opt.T_body_wheel = d.T_body_wheel;
   opt.ground_plane_sigma_m = 0.01;
-  const auto up = wheelInertialUp(s.readings, 1.0, s.imu, 1.0, d.bg, kG, opt);
+  const auto up = wheelInertialUp(s.readings, calib(opt), s.imu, 1.0, d.bg, kG, opt);
   ASSERT_TRUE(up.has_value());
   EXPECT_LT((*up - d.R_world_body(1.0).transpose() * d.up).norm(), 1e-9);
   // The gate: the tilt alone is (sin 0.1 / 0.02)^2 = 24.9 > 11.3, off the plane, which ends.
@@ -207,7 +239,7 @@ TEST(WheelInertialUp, SeesTheRampThatTheWindowStatesMayNot) {
   Drive level;
   level.T_body_wheel = mountedWheels();
   const Streams l = record(level, 1.0);
-  const auto up_level = wheelInertialUp(l.readings, 1.0, l.imu, 1.0, level.bg, kG, opt);
+  const auto up_level = wheelInertialUp(l.readings, calib(opt), l.imu, 1.0, level.bg, kG, opt);
   ASSERT_TRUE(up_level.has_value());
   const Eigen::Vector3d n = opt.T_body_wheel.rotation() * Eigen::Vector3d::UnitZ();
   EXPECT_LT(n.cross(up_level->normalized()).norm(), 1e-4);

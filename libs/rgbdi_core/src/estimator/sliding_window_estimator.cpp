@@ -173,7 +173,7 @@ bool SlidingWindowEstimator::tryStart(const frontend::FeatureFrame& frame, doubl
       static_cast<int>(frame.features.size()) >= opt_.fail_min_features) {
     // Moving (or vibrating): the wheels know the velocity, so the IMU knows gravity.
     const WindowWheels& wheels = state.wheels;
-    const WheelStart ws = solveWheelStart(wheels.readings, wheels.scale_v[0], wheels.scale_w[0],
+    const WheelStart ws = solveWheelStart(wheels.readings, wheels.calibration(opt_.wheel),
                                           parts_->imu, t, imu_opt_.gravity_m_s2, opt_.wheel);
     if (!ws.failure) {
       window.clear();

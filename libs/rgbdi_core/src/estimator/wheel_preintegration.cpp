@@ -19,7 +19,7 @@ Eigen::Matrix2d rot2(double a) {
 
 /// The pose of reading i with its yaw unwrapped against `ref` (readings wrap at +-pi).
 Pose2 unwrapped(const WheelOdometrySample& w, double ref) {
-  return {w.x_m, w.y_m, ref + std::remainder(w.yaw_rad - ref, 2.0 * M_PI)};
+  return {w.x_m, w.y_m, unwrappedYaw(w, ref)};
 }
 
 /// The wheel frame's rotation at increasing times relative to the start time, from the gyroscope

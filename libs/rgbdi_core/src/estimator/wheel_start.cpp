@@ -20,10 +20,7 @@ std::vector<OdoPose> odometryOnImuClock(const std::deque<WheelOdometrySample>& r
   std::vector<OdoPose> out;
   out.reserve(readings.size());
   for (const WheelOdometrySample& r : readings) {
-    double yaw = r.yaw_rad;
-    if (!out.empty()) {
-      yaw = out.back().yaw + std::remainder(r.yaw_rad - out.back().yaw, 2.0 * M_PI);
-    }
+    const double yaw = out.empty() ? r.yaw_rad : unwrappedYaw(r, out.back().yaw);
     out.push_back({r.t + time_offset_s, r.x_m, r.y_m, yaw});
   }
   return out;
@@ -65,9 +62,10 @@ struct WheelInertialWindow {
 };
 
 WheelInertialWindow makeWindow(const std::deque<WheelOdometrySample>& readings,
-                               const imu::ImuBuffer& imu, double t, const WheelOptions& opt) {
+                               const imu::ImuBuffer& imu, double t, double time_offset_s,
+                               const WheelOptions& opt) {
   WheelInertialWindow w;
-  w.odo = odometryOnImuClock(readings, opt.time_offset_s);
+  w.odo = odometryOnImuClock(readings, time_offset_s);
   if (w.odo.size() < 2) {
     w.failure = "no wheel readings";
     return w;
@@ -90,13 +88,14 @@ WheelInertialWindow makeWindow(const std::deque<WheelOdometrySample>& readings,
 
 /// The body velocity (body frame) at the middle of the span of length h centred on tau.
 Eigen::Vector3d bodyVelocity(const WheelInertialWindow& w, const imu::ImuBuffer& imu, double tau,
-                             const Eigen::Vector3d& bg, double scale_v, const WheelOptions& opt) {
+                             const Eigen::Vector3d& bg, const WheelCalibration& calib) {
   const OdoPose p0 = poseAt(w.odo, tau - 0.5 * w.h), p1 = poseAt(w.odo, tau + 0.5 * w.h);
   const Eigen::Vector2d d_local =
       Eigen::Rotation2Dd(-0.5 * (p0.yaw + p1.yaw)) * Eigen::Vector2d(p1.x - p0.x, p1.y - p0.y);
-  const Eigen::Vector3d v_wheel(scale_v * d_local.x() / w.h, scale_v * d_local.y() / w.h, 0.0);
+  const Eigen::Vector3d v_wheel(calib.scale_v * d_local.x() / w.h,
+                                calib.scale_v * d_local.y() / w.h, 0.0);
   const Eigen::Vector3d omega = meanRate(imu, tau - 0.5 * w.h, tau + 0.5 * w.h) - bg;
-  return opt.T_body_wheel.rotation() * v_wheel - omega.cross(opt.T_body_wheel.translation());
+  return calib.T_body_wheel.rotation() * v_wheel - omega.cross(calib.T_body_wheel.translation());
 }
 
 /// Gravity in the body frame at t0 from the body velocities v0 at t0 and v1 at t1 (body frames);
@@ -111,21 +110,21 @@ Eigen::Vector3d gravityBetween(const imu::ImuBuffer& imu, double t0, double t1,
 
 }  // namespace
 
-WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings, double scale_v,
-                           double scale_w, const imu::ImuBuffer& imu, double t, double gravity_m_s2,
-                           const WheelOptions& opt) {
-  const WheelInertialWindow w = makeWindow(readings, imu, t, opt);
+WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings,
+                           const WheelCalibration& calib, const imu::ImuBuffer& imu, double t,
+                           double gravity_m_s2, const WheelOptions& opt) {
+  const WheelInertialWindow w = makeWindow(readings, imu, t, calib.time_offset_s, opt);
   if (w.failure) return WheelStart::failed(w.failure);
   // Gyroscope bias: the rate the wheels' yaw rate does not explain.
   const OdoPose pa = poseAt(w.odo, w.t_a), pb = poseAt(w.odo, w.t_b);
-  const double wheel_yaw_rate = scale_w * (pb.yaw - pa.yaw) / (w.t_b - w.t_a);
+  const double wheel_yaw_rate = calib.scale_w * (pb.yaw - pa.yaw) / (w.t_b - w.t_a);
   const Eigen::Vector3d bg = meanRate(imu, w.t_a, w.t_b) -
-                             opt.T_body_wheel.rotation() * Eigen::Vector3d(0, 0, wheel_yaw_rate);
+                             calib.T_body_wheel.rotation() * Eigen::Vector3d(0, 0, wheel_yaw_rate);
   if (bg.norm() > opt.start_max_rate_dev_rad_s)
     return WheelStart::failed("gyro rate and the wheels' yaw rate disagree");
-  const Eigen::Vector3d v_a = bodyVelocity(w, imu, w.t_a, bg, scale_v, opt);
-  const Eigen::Vector3d v_c = bodyVelocity(w, imu, w.t_c, bg, scale_v, opt);
-  const Eigen::Vector3d v_b = bodyVelocity(w, imu, w.t_b, bg, scale_v, opt);
+  const Eigen::Vector3d v_a = bodyVelocity(w, imu, w.t_a, bg, calib);
+  const Eigen::Vector3d v_c = bodyVelocity(w, imu, w.t_c, bg, calib);
+  const Eigen::Vector3d v_b = bodyVelocity(w, imu, w.t_b, bg, calib);
   Eigen::Matrix3d R_ac, R_cb, R_ab;
   const Eigen::Vector3d g_first = gravityBetween(imu, w.t_a, w.t_c, v_a, v_c, bg, &R_ac);
   const Eigen::Vector3d g_second = R_ac * gravityBetween(imu, w.t_c, w.t_b, v_c, v_b, bg, &R_cb);
@@ -146,13 +145,14 @@ WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings, doub
 }
 
 std::optional<Eigen::Vector3d> wheelInertialUp(const std::deque<WheelOdometrySample>& readings,
-                                               double scale_v, const imu::ImuBuffer& imu, double t,
+                                               const WheelCalibration& calib,
+                                               const imu::ImuBuffer& imu, double t,
                                                const Eigen::Vector3d& bg, double gravity_m_s2,
                                                const WheelOptions& opt) {
-  const WheelInertialWindow w = makeWindow(readings, imu, t, opt);
+  const WheelInertialWindow w = makeWindow(readings, imu, t, calib.time_offset_s, opt);
   if (w.failure) return std::nullopt;
-  const Eigen::Vector3d v_a = bodyVelocity(w, imu, w.t_a, bg, scale_v, opt);
-  const Eigen::Vector3d v_b = bodyVelocity(w, imu, w.t_b, bg, scale_v, opt);
+  const Eigen::Vector3d v_a = bodyVelocity(w, imu, w.t_a, bg, calib);
+  const Eigen::Vector3d v_b = bodyVelocity(w, imu, w.t_b, bg, calib);
   Eigen::Matrix3d R_ab;
   const Eigen::Vector3d g_a = gravityBetween(imu, w.t_a, w.t_b, v_a, v_b, bg, &R_ab);
   if (std::abs(g_a.norm() - gravity_m_s2) > opt.start_max_gravity_dev_m_s2) return std::nullopt;

@@ -10,9 +10,10 @@ void judgeNewFrames(WindowState& state, const imu::ImuBuffer& imu, const WheelOp
   WindowWheels& wheels = state.wheels;
   for (WindowSlot& s : state.frames) {
     if (s.ground_judged) continue;
+    const WheelCalibration calib = wheels.calibration(opt);
     const std::optional<Eigen::Vector3d> up =
-        wheelInertialUp(wheels.readings, wheels.scale_v[0], imu, s.t, s.bg(), gravity_m_s2, opt);
-    const double wheel_z = (s.T() * opt.T_body_wheel).translation().z();
+        wheelInertialUp(wheels.readings, calib, imu, s.t, s.bg(), gravity_m_s2, opt);
+    const double wheel_z = (s.T() * calib.T_body_wheel).translation().z();
     s.ground_z = judgeGroundContact(up, wheel_z, &wheels.ground, opt);
     s.ground_judged = true;
   }

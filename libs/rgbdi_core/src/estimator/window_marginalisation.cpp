@@ -11,8 +11,6 @@
 #include "rgbdi/estimator/rolling_shutter_reprojection_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
-#include "rgbdi/estimator/wheel_calibration_factor.h"
-#include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 
 namespace rgbdi::estimator {
@@ -82,15 +80,8 @@ KeyframeState marginaliseOldestSlot(WindowState& state, const WindowCostModel& m
     if (pre) wheels.count(verdict, s0.t, window[1].t);
     if (pre && verdict == WheelVerdict::Consistent) {
       const WheelOptions& wo = model.wheel;
-      if (wo.calibrating())
-        info->add({std::make_shared<WheelCalibrationFactor>(*pre, wo.T_body_wheel),
-                   nullptr,
-                   {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w, wheels.extrinsic_yaw,
-                    wheels.time_offset}});
-      else
-        info->add({std::make_shared<WheelFactor>(*pre, wo.T_body_wheel),
-                   nullptr,
-                   {s0.pose, window[1].pose, wheels.scale_v, wheels.scale_w}});
+      WheelTerm term = wheels.factor(*pre, s0.pose, window[1].pose, wo);
+      info->add({std::move(term.cost), nullptr, std::move(term.blocks)});
       if (wo.calibrating() && wheels.calib_prior_pending) {
         if (wo.estimate_extrinsic_yaw)
           info->add({std::make_shared<ScalarPrior>(wheels.prior_mean_yaw,

@@ -11,8 +11,6 @@
 #include "rgbdi/estimator/ground_plane_factor.h"
 #include "rgbdi/estimator/scalar_prior.h"
 #include "rgbdi/estimator/speed_bias_prior.h"
-#include "rgbdi/estimator/wheel_calibration_factor.h"
-#include "rgbdi/estimator/wheel_factor.h"
 #include "rgbdi/imu/imu_factor.h"
 #include "rgbdi/imu/preintegration.h"
 
@@ -132,14 +130,9 @@ WindowUpdate WindowOptimisation::run(WindowState& state, bool single_step) {
     add(new imu::ImuFactor(b.preint.get(), model_.g_world), nullptr, {a.pose, a.sb, b.pose, b.sb});
   }
   for (const auto& [k, pre] : wheel_intervals) {
-    if (wo.calibrating()) {
-      add(new WheelCalibrationFactor(pre, wo.T_body_wheel), nullptr,
-          {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w, wheels.extrinsic_yaw,
-           wheels.time_offset});
-      continue;
-    }
-    add(new WheelFactor(pre, model_.wheel.T_body_wheel), nullptr,
-        {window[k - 1].pose, window[k].pose, wheels.scale_v, wheels.scale_w});
+    WheelTerm term = wheels.factor(pre, window[k - 1].pose, window[k].pose, wo);
+    factors.push_back(std::move(term.cost));
+    solver.addResidual(factors.back().get(), nullptr, term.blocks);
   }
   if (model_.wheel.enable && model_.wheel.ground_plane_sigma_m > 0.0) {
     // The flat floor, for the frames the gate found on it (window_ground_plane.h).

@@ -131,6 +131,28 @@ void WindowWheels::init(const WheelOptions& opt) {
   prior_mean_td = opt.time_offset_s;
 }
 
+WheelCalibration WindowWheels::calibration(const WheelOptions& opt) const {
+  WheelCalibration c;
+  c.scale_v = scale_v[0];
+  c.scale_w = scale_w[0];
+  c.T_body_wheel = T_body_wheel(opt);
+  c.time_offset_s = time_offset[0];
+  return c;
+}
+
+WheelTerm WindowWheels::factor(const WheelPreintegration& pre, double* pose_a, double* pose_b,
+                               const WheelOptions& opt) {
+  WheelTerm t;
+  if (opt.calibrating()) {
+    t.cost = std::make_unique<WheelCalibrationFactor>(pre, opt.T_body_wheel);
+    t.blocks = {pose_a, pose_b, scale_v, scale_w, extrinsic_yaw, time_offset};
+  } else {
+    t.cost = std::make_unique<WheelFactor>(pre, opt.T_body_wheel);
+    t.blocks = {pose_a, pose_b, scale_v, scale_w};
+  }
+  return t;
+}
+
 Eigen::Isometry3d WindowWheels::T_body_wheel(const WheelOptions& opt) const {
   if (!opt.estimate_extrinsic_yaw) return opt.T_body_wheel;
   Eigen::Isometry3d T = opt.T_body_wheel;

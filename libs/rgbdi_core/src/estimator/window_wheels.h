@@ -4,8 +4,11 @@
 // intervals that left the window.
 #pragma once
 
+#include <ceres/cost_function.h>
+
 #include <Eigen/Geometry>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -16,6 +19,12 @@
 #include "rgbdi/estimator/wheel_preintegration.h"
 
 namespace rgbdi::estimator {
+
+/// A wheel factor and the parameter blocks it reads, in its order.
+struct WheelTerm {
+  std::unique_ptr<ceres::CostFunction> cost;
+  std::vector<double*> blocks;
+};
 
 /// What the window made of an interval's wheel odometry.
 enum class WheelVerdict { Consistent, Slip, Stuck, Lifted };
@@ -54,6 +63,13 @@ struct WindowWheels {
   /// The wheel frame in the body frame: the configured one, turned by the learnt yaw when it is
   /// estimated (exactly the configured one otherwise).
   Eigen::Isometry3d T_body_wheel(const WheelOptions& opt) const;
+  /// The odometry's calibration in effect (the scales, T_body_wheel(opt), the time offset).
+  WheelCalibration calibration(const WheelOptions& opt) const;
+  /// The factor of the interval `pre` between the poses `pose_a` and `pose_b`, for the solve and
+  /// the marginalisation alike: with the extrinsic yaw and time offset blocks when [wheel]
+  /// calibrates online (WheelCalibrationFactor), else on the scales alone (WheelFactor).
+  WheelTerm factor(const WheelPreintegration& pre, double* pose_a, double* pose_b,
+                   const WheelOptions& opt);
   /// Clamps the calibration to its bounds (after a solve).
   void clampCalibration(const WheelOptions& opt);
   /// Appends a reading (older than the newest one or not finite: ignored).

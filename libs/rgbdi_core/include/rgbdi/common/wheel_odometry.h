@@ -32,4 +32,10 @@ inline bool isFinite(const WheelOdometrySample& w) {
          std::isfinite(w.v_lateral_m_s) && std::isfinite(w.yaw_rate_rad_s);
 }
 
+/// The reading's heading unwrapped against `ref_rad` (sources wrap it at +-pi): the angle equal
+/// to it modulo 2 pi nearest to `ref_rad`.
+inline double unwrappedYaw(const WheelOdometrySample& w, double ref_rad) {
+  return ref_rad + std::remainder(w.yaw_rad - ref_rad, 2.0 * M_PI);
+}
+
 }  // namespace rgbdi

@@ -86,4 +86,22 @@ struct WheelOptions {
   static WheelOptions load(IniReader& ini);
 };
 
+/// The wheel odometry's calibration in effect: the scales (true = scale x reported) and the
+/// extrinsic and time offset as learnt online, the configured ones when not estimated. Whatever
+/// reads the odometry outside the factors (the start from the wheels, the ground plane's gate)
+/// takes it, so it agrees with the factors after a reset that keeps the learnt calibration.
+struct WheelCalibration {
+  double scale_v = 1.0, scale_w = 1.0;
+  Eigen::Isometry3d T_body_wheel = Eigen::Isometry3d::Identity();
+  double time_offset_s = 0.0;  ///< [s] t_imu = t_wheel + this
+
+  /// The configured calibration, scales 1.
+  static WheelCalibration configured(const WheelOptions& opt) {
+    WheelCalibration c;
+    c.T_body_wheel = opt.T_body_wheel;
+    c.time_offset_s = opt.time_offset_s;
+    return c;
+  }
+};
+
 }  // namespace rgbdi::estimator

@@ -50,11 +50,11 @@ struct WheelStart {
 };
 
 /// The start at IMU-clock time `t` from the readings (robot clock, time order) and the IMU
-/// (covering [t - start_window_s - reading_lag_s, t]); `scale_v`,
-/// `scale_w`: the odometry's scales (true = scale x reported); `gravity_m_s2`: |g|.
-WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings, double scale_v,
-                           double scale_w, const imu::ImuBuffer& imu, double t, double gravity_m_s2,
-                           const WheelOptions& opt);
+/// (covering [t - start_window_s - reading_lag_s, t]); `calib`: the odometry's calibration in
+/// effect (scales, extrinsic, time offset); `gravity_m_s2`: |g|; `opt`: the start's limits.
+WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings,
+                           const WheelCalibration& calib, const imu::ImuBuffer& imu, double t,
+                           double gravity_m_s2, const WheelOptions& opt);
 
 /// The same window's gravity with a known gyroscope bias `bg` (the window's), for the ground
 /// plane's gate (doc/wheels.md "Ground plane"): "up" times g in the body frame at t (as
@@ -62,7 +62,8 @@ WheelStart solveWheelStart(const std::deque<WheelOdometrySample>& readings, doub
 /// the readings or the IMU do not cover the window or |gravity| differs from g by more than
 /// start_max_gravity_dev_m_s2 (slip, a bump's shock).
 std::optional<Eigen::Vector3d> wheelInertialUp(const std::deque<WheelOdometrySample>& readings,
-                                               double scale_v, const imu::ImuBuffer& imu, double t,
+                                               const WheelCalibration& calib,
+                                               const imu::ImuBuffer& imu, double t,
                                                const Eigen::Vector3d& bg, double gravity_m_s2,
                                                const WheelOptions& opt);
 
