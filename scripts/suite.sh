@@ -3,7 +3,7 @@
 # generated sequences, per-condition tables, and the paired comparison of two builds.
 #   scripts/suite.sh plan [--tier quick|full]
 #   scripts/suite.sh run [--tier quick|full] [--label NAME] [--build DIR] [--sim-build DIR]
-#                        [--jobs 1|2] [--only REGEX] [--duration S]
+#                        [--jobs 1|2] [--only REGEX] [--duration S] [--resume]
 #   scripts/suite.sh report LABEL
 #   scripts/suite.sh compare OLD_LABEL NEW_LABEL
 # SUITE_OUT (default out/suite) holds runs/<label>/; SUITE_CACHE (default SUITE_OUT/cache) the

@@ -3,7 +3,7 @@
 
   suite.py plan    [--tier quick|full]
   suite.py run     [--tier T] [--label L] [--build DIR] [--sim-build DIR] [--jobs 1|2]
-                   [--only REGEX] [--duration S]
+                   [--only REGEX] [--duration S] [--resume]
   suite.py report  LABEL
   suite.py compare OLD_LABEL NEW_LABEL
 
@@ -16,6 +16,7 @@ import datetime
 import json
 import os
 import re
+import signal
 import sys
 import threading
 import time
@@ -23,6 +24,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import suite_cache  # noqa: E402
+import suite_journal  # noqa: E402
 import suite_report  # noqa: E402
 import suite_rows  # noqa: E402
 import suite_run  # noqa: E402
@@ -86,9 +88,18 @@ def cmd_plan(args):
               f"extra {r['extra_args']}")
 
 
-def _pool(jobs, fn, items):
+def _pool(jobs, fn, items, stop=None):
+    """fn over items, `jobs` at a time; on Ctrl-C (or SIGTERM) `stop` is set, so that no new item
+    starts, the running ones are waited for, and KeyboardInterrupt goes on."""
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as ex:
-        return list(ex.map(fn, items))
+        try:
+            return list(ex.map(fn, items))
+        except KeyboardInterrupt:
+            if stop is not None:
+                stop.set()
+            print("suite: interrupted; waiting for the running rows to end (they are run again "
+                  "on --resume)", file=sys.stderr, flush=True)
+            raise
 
 
 def cmd_run(args):
@@ -127,14 +138,30 @@ def cmd_run(args):
             skipped.append((r["id"], f"recording {r['recording']} not found"))
         else:
             todo.append(r)
+    setup = {"tier": args.tier, "only": args.only, "duration_override_s": args.duration,
+             "extra_config": extra_config, "rgbdi_slam": os.path.abspath(tools["slam"]),
+             "rgbdi_sim": os.path.abspath(tools["sim"]), "sim_version": cache.sim_version,
+             "jobs": args.jobs, "rows": [r["id"] for r in todo]}
+    try:
+        journal = suite_journal.Journal(out, setup, args.resume)
+    except (suite_journal.JournalError, OSError) as e:
+        raise SystemExit(f"suite: {e}")
+    if journal.rows:
+        print(f"suite: resuming {args.label}: {len(journal.rows)} of {len(todo)} rows done in "
+              f"{len(journal.sessions)} earlier sessions", file=sys.stderr, flush=True)
+    pending = [r for r in todo if r["id"] not in journal.rows]
+    stop = threading.Event()  # Ctrl-C / SIGTERM: no new row starts, the running ones are dropped
 
     def generate(r):
+        if stop.is_set():
+            return r["id"], None, None, "interrupted"
         try:
             path, info = cache.ensure(r)
             if info:
                 print(f"suite: generated {r['id']} in "
                       f"{sum(s['wall_s'] for s in info['steps'].values()):.0f} s",
                       file=sys.stderr, flush=True)
+                journal.record_generation(r["id"], info["steps"])
             return r["id"], path, info, None
         except (RuntimeError, OSError, ValueError) as e:
             print(f"suite: {r['id']}: {e}", file=sys.stderr, flush=True)
@@ -142,57 +169,77 @@ def cmd_run(args):
 
     def run(r):
         path, _, err = gen[r["id"]]
+        if stop.is_set():
+            return None
         if err:
             res = {k: r[k] for k in ("id", "condition", "profile", "seed", "rate", "fps",
                                      "layout", "duration_s")}
             res["status"] = "sequence generation failed: " + err
-            return res
-        res = suite_run.run_slam(tools["slam"], r, path, out, extra_config=extra_config)
+        else:
+            res = suite_run.run_slam(tools["slam"], r, path, out, extra_config=extra_config)
+        if stop.is_set() or res.get("exit_status") in (130, -2, -15):
+            return None  # stopped with the suite (Ctrl-C, SIGTERM): run again on --resume
         print(f"suite: {r['id']}: {res['status']}"
               + (f", ATE final {res['ate_final']:.4f} m" if res["status"] == "ok" else ""),
               file=sys.stderr, flush=True)
+        journal.record_row(res)
         return res
 
     gen = {}
     cap_gb = os.environ.get("SUITE_CACHE_MAX_GB")
     pruned = []
-    if cap_gb is None:
-        # all sequences first, then the runs: the runs' wall time is not mixed with generation
-        t_gen = time.monotonic()
-        gen = {rid: (path, info, err) for rid, path, info, err in _pool(args.jobs, generate, todo)}
-        gen_wall = time.monotonic() - t_gen
-        t_run = time.monotonic()
-        results = _pool(args.jobs, run, todo)
-        run_wall = time.monotonic() - t_run
+    interrupted = False
+    t_run = time.monotonic()
+    gen_wall_now = None
+    try:
+        if cap_gb is None:
+            # all sequences first, then the runs: the runs' wall time is not mixed with generation
+            t_gen = time.monotonic()
+            gen = {rid: (path, info, err)
+                   for rid, path, info, err in _pool(args.jobs, generate, pending, stop)}
+            gen_wall_now = time.monotonic() - t_gen
+            t_run = time.monotonic()
+            _pool(args.jobs, run, pending, stop)
+        else:
+            # a bounded cache: generate, run, then evict least recently used entries of other rows
+            try:
+                cap_bytes = float(cap_gb) * 1e9
+            except ValueError:
+                raise SystemExit(f"suite: SUITE_CACHE_MAX_GB '{cap_gb}' is not a number")
+            in_use, lock = set(), threading.Lock()
+
+            def gen_and_run(r):
+                if stop.is_set():
+                    return None
+                entry = cache.entry(r)
+                with lock:
+                    in_use.add(entry)
+                rid, path, info, err = generate(r)
+                gen[rid] = (path, info, err)
+                res = run(r)
+                with lock:
+                    in_use.discard(entry)
+                    keep = set(in_use)
+                pruned.extend(cache.prune(cap_bytes, keep))
+                return res
+
+            _pool(args.jobs, gen_and_run, pending, stop)
+    except KeyboardInterrupt:
+        interrupted = True
+    run_wall_now = time.monotonic() - t_run
+    session_wall = time.monotonic() - t_start
+    journal.record_session(session_wall, len(journal.rows))
+    results = [journal.rows[r["id"]] for r in todo if r["id"] in journal.rows]
+    steps = [s for rid, st in journal.generation.items() for s in st.values()]
+    gen_cpu = sum(s["cpu_s"] for s in steps)
+    if cap_gb is None and not journal.sessions[:-1] and gen_wall_now is not None:
+        gen_wall, run_wall = gen_wall_now, run_wall_now
     else:
-        # a bounded cache: generate, run, then evict least recently used entries of other rows
-        try:
-            cap_bytes = float(cap_gb) * 1e9
-        except ValueError:
-            raise SystemExit(f"suite: SUITE_CACHE_MAX_GB '{cap_gb}' is not a number")
-        in_use, lock = set(), threading.Lock()
-
-        def gen_and_run(r):
-            entry = cache.entry(r)
-            with lock:
-                in_use.add(entry)
-            rid, path, info, err = generate(r)
-            gen[rid] = (path, info, err)
-            res = run(r)
-            with lock:
-                in_use.discard(entry)
-                keep = set(in_use)
-            pruned.extend(cache.prune(cap_bytes, keep))
-            return res
-
-        t_run = time.monotonic()
-        results = _pool(args.jobs, gen_and_run, todo)
-        run_wall = time.monotonic() - t_run
-        gen_wall = sum(s["wall_s"] for _, info, _ in gen.values() if info
-                       for s in info["steps"].values()) / args.jobs
-    gen_cpu = sum(s["cpu_s"] for _, info, _ in gen.values() if info
-                  for s in info["steps"].values())
-    generated = sum(1 for _, info, _ in gen.values() if info)
+        # bounded cache or several sessions: generation wall = its summed wall / jobs, and the
+        # runs' wall is every session's wall (which includes generation when bounded)
+        gen_wall = sum(s["wall_s"] for s in steps) / args.jobs
+        run_wall = sum(journal.sessions)
+    generated = len(journal.generation)
     header = {
         "tier": args.tier, "label": args.label, "date_utc":
             datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M"),
@@ -200,9 +247,11 @@ def cmd_run(args):
         "sim_version": cache.sim_version, "rows": len(rows), "runs": len(results),
         "sim_keys_accepted": accepted, "sim_keys_refused": refused, "skipped": skipped,
         "generated": generated, "generation_wall_s": gen_wall, "generation_cpu_s": gen_cpu,
-        "runs_wall_s": run_wall, "total_wall_s": time.monotonic() - t_start, "jobs": args.jobs,
+        "runs_wall_s": run_wall, "total_wall_s": sum(journal.sessions), "jobs": args.jobs,
         "only": args.only, "duration_override_s": args.duration, "cache_max_gb": cap_gb,
-        "cache_entries_pruned": len(pruned), "extra_config": extra_config}
+        "cache_entries_pruned": len(pruned), "extra_config": extra_config,
+        "sessions": len(journal.sessions),
+        "rows_not_run": [r["id"] for r in todo if r["id"] not in journal.rows]}
     with open(os.path.join(out, "results.json"), "w") as f:
         json.dump({"header": header, "results": results}, f, indent=1)
     suite_report.write_csv(results, os.path.join(out, "results.csv"),
@@ -212,6 +261,10 @@ def cmd_run(args):
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write(text)
     print(text)
+    if interrupted or header["rows_not_run"]:
+        print(f"suite: {len(header['rows_not_run'])} rows not run; 'suite.sh run --resume' with the "
+              "same options runs them", file=sys.stderr)
+        return 130 if interrupted else 1
     return 0 if all(r["status"] == "ok" for r in results) else 1
 
 
@@ -239,6 +292,12 @@ def report_text(h, results):
                      "generated just before its run, so the runs' wall time includes generation "
                      "(generation wall = its summed wall / jobs); "
                      f"{h['cache_entries_pruned']} entries evicted.")
+    if h.get("sessions", 1) > 1:
+        lines.append(f"Run in {h['sessions']} sessions (interrupted and resumed with --resume): "
+                     "the walls below are the sessions' sums.")
+    if h.get("rows_not_run"):
+        lines.append(f"Not run yet ({len(h['rows_not_run'])} rows: interrupted): "
+                     + ", ".join(h["rows_not_run"]) + ".")
     lines.append(f"{h['runs']} runs ({h['jobs']} at a time): wall {h['runs_wall_s'] / 60:.1f} min."
                  f" Generation of {h['generated']} sequences: wall "
                  f"{h['generation_wall_s'] / 60:.1f} min, CPU {h['generation_cpu_s'] / 60:.1f} "
@@ -323,6 +382,9 @@ def main(argv):
     r.add_argument("--only", default=None, help="only rows whose id matches this regex")
     r.add_argument("--duration", type=float, default=None,
                    help="override the rows' duration [s] (quick checks of the machinery)")
+    r.add_argument("--resume", action="store_true",
+                   help="run only the rows the label's journal does not hold (an interrupted "
+                   "run with the same options)")
     rp = sub.add_parser("report", help="print the tables of a label again")
     rp.add_argument("label")
     c = sub.add_parser("compare", help="paired comparison of two labels")
@@ -333,7 +395,12 @@ def main(argv):
             "compare": cmd_compare}[a.command](a) or 0
 
 
+def _sigterm(signum, frame):
+    raise KeyboardInterrupt
+
+
 if __name__ == "__main__":
+    signal.signal(signal.SIGTERM, _sigterm)
     try:
         sys.exit(main(sys.argv[1:]))
     except ValueError as e:  # a bad suite file, named with the entry

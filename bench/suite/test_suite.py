@@ -9,6 +9,7 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
+import suite_journal  # noqa: E402
 import suite_rows  # noqa: E402
 import suite_run  # noqa: E402
 import suite_stats  # noqa: E402
@@ -276,6 +277,50 @@ class CachePruning(unittest.TestCase):
             self.assertEqual(prune_cache(d, 200, {b}), ["a", "c"])
             self.assertEqual(sorted(os.listdir(d)), ["b", "d", "e.tmp1"])
             self.assertEqual(prune_cache(d, 1000, set()), [])
+
+
+class Journal(unittest.TestCase):
+    SETUP = {"tier": "full", "only": None, "rows": ["a", "b", "c"]}
+
+    def test_rows_and_sessions_survive_and_resume_skips_them(self):
+        with tempfile.TemporaryDirectory() as d:
+            j = suite_journal.Journal(d, self.SETUP, resume=False)
+            j.record_generation("a", {"sim": {"wall_s": 10.0, "cpu_s": 9.0}})
+            j.record_row({"id": "a", "status": "ok"})
+            j.record_row({"id": "b", "status": "failed"})
+            j.record_row({"id": "c", "status": "sequence generation failed: disk full"})
+            j.record_session(100.0, 3)
+            r = suite_journal.Journal(d, self.SETUP, resume=True)
+            self.assertEqual(list(r.rows), ["a", "b"])
+            self.assertEqual(r.rows["b"]["status"], "failed")
+            self.assertEqual(r.generation, {"a": {"sim": {"wall_s": 10.0, "cpu_s": 9.0}}})
+            self.assertEqual(r.sessions, [100.0])
+            # without --resume the journal starts again
+            self.assertEqual(suite_journal.Journal(d, self.SETUP, resume=False).rows, {})
+            self.assertEqual(suite_journal.Journal(d, self.SETUP, resume=True).rows, {})
+
+    def test_a_line_cut_by_a_kill_is_dropped_and_the_file_repaired(self):
+        with tempfile.TemporaryDirectory() as d:
+            j = suite_journal.Journal(d, self.SETUP, resume=False)
+            j.record_row({"id": "a", "status": "ok"})
+            with open(j.path, "a") as f:
+                f.write('{"row": {"id": "b", "sta')
+            r = suite_journal.Journal(d, self.SETUP, resume=True)
+            self.assertEqual(list(r.rows), ["a"])
+            r.record_row({"id": "b", "status": "ok"})
+            self.assertEqual(list(suite_journal.Journal(d, self.SETUP, resume=True).rows),
+                             ["a", "b"])
+
+    def test_another_setup_is_refused_naming_what_differs(self):
+        with tempfile.TemporaryDirectory() as d:
+            suite_journal.Journal(d, self.SETUP, resume=False)
+            other = dict(self.SETUP, tier="quick")
+            with self.assertRaisesRegex(suite_journal.JournalError, r"another setup \(tier differ"):
+                suite_journal.Journal(d, other, resume=True)
+            with open(os.path.join(d, suite_journal.FILE_NAME), "w") as f:
+                f.write('{"setup": {}}\nnot json\n{"session_wall_s": 1}\n')
+            with self.assertRaisesRegex(suite_journal.JournalError, "line 2 is not JSON"):
+                suite_journal.Journal(d, {}, resume=True)
 
 
 class RunFigures(unittest.TestCase):
