@@ -34,6 +34,11 @@ REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 # cache bytes per 640 x 480 frame: raw colour + 16-bit depth inside a rawlog (bag and rawlog
 # layouts), PNG + compressed range files beside it (files layout)
 BYTES_PER_FRAME = {"bag": 1.5e6, "rawlog": 1.5e6, "files": 0.5e6}
+# while a bag row is generated the simulator's bag and rawlog and the converted rawlog coexist
+GENERATION_PEAK_FACTOR = {"bag": 3.0, "rawlog": 1.0, "files": 1.0}
+# [s] assumed for a hybrid row, whose recording's length the plan does not know (the suite's
+# recordings are 60-90 s)
+HYBRID_DURATION_BOUND_S = 120.0
 COMPARE_METRICS = ["ate_odometry", "ate_online", "ate_final", "cpu_s"]
 ACCURACY_METRICS = ["ate_odometry", "ate_online", "ate_final"]
 TITLES = {"ate_odometry": "ATE odometry", "ate_online": "ATE online", "ate_final": "ATE final",
@@ -69,6 +74,12 @@ def load_rows(args):
 def frames_of(definition, row):
     d = suite_rows.planned_duration_s(definition, row)
     return None if d is None else int(d * row["fps"])
+
+
+def generation_peak_bytes(definition, row):
+    """Disk a row's generation needs at its peak (an upper bound for hybrid rows)."""
+    d = suite_rows.planned_duration_s(definition, row) or HYBRID_DURATION_BOUND_S
+    return d * row["fps"] * BYTES_PER_FRAME[row["layout"]] * GENERATION_PEAK_FACTOR[row["layout"]]
 
 
 def cmd_plan(args):
@@ -141,7 +152,7 @@ def cmd_run(args):
     setup = {"tier": args.tier, "only": args.only, "duration_override_s": args.duration,
              "extra_config": extra_config, "rgbdi_slam": os.path.abspath(tools["slam"]),
              "rgbdi_sim": os.path.abspath(tools["sim"]), "sim_version": cache.sim_version,
-             "jobs": args.jobs, "rows": [r["id"] for r in todo]}
+             "rows": [r["id"] for r in todo]}
     try:
         journal = suite_journal.Journal(out, setup, args.resume)
     except (suite_journal.JournalError, OSError) as e:
@@ -207,6 +218,7 @@ def cmd_run(args):
             except ValueError:
                 raise SystemExit(f"suite: SUITE_CACHE_MAX_GB '{cap_gb}' is not a number")
             in_use, lock = set(), threading.Lock()
+            reserved = {}  # row id -> disk its generation may still need [bytes]
 
             def gen_and_run(r):
                 if stop.is_set():
@@ -214,7 +226,14 @@ def cmd_run(args):
                 entry = cache.entry(r)
                 with lock:
                     in_use.add(entry)
+                    # room for what the generations under way will write, before they write it
+                    reserved[r["id"]] = generation_peak_bytes(d, r)
+                    keep = set(in_use)
+                    room = cap_bytes - sum(reserved.values())
+                pruned.extend(cache.prune(max(room, 0.0), keep))
                 rid, path, info, err = generate(r)
+                with lock:
+                    reserved.pop(r["id"], None)
                 gen[rid] = (path, info, err)
                 res = run(r)
                 with lock:

@@ -279,6 +279,20 @@ class CachePruning(unittest.TestCase):
             self.assertEqual(prune_cache(d, 1000, set()), [])
 
 
+class GenerationPeak(unittest.TestCase):
+    def test_bag_rows_hold_three_copies_and_hybrid_rows_a_bound(self):
+        import suite
+        d = {"profiles": {"handheld": {"own_duration_s": 40}}}
+        bag = {"duration_s": 30, "fps": 15, "layout": "bag", "profile": "handheld"}
+        self.assertEqual(suite.generation_peak_bytes(d, bag), 30 * 15 * 1.5e6 * 3)
+        files = {"duration_s": None, "fps": 30, "layout": "files", "profile": "handheld",
+                 "speed_preset": None, "sim_keys": {}}
+        self.assertEqual(suite.generation_peak_bytes(d, files), 40 * 30 * 0.5e6)
+        hybrid = {"duration_s": None, "fps": 15, "layout": "bag", "profile": "recorded",
+                  "speed_preset": None, "sim_keys": {}}
+        self.assertEqual(suite.generation_peak_bytes(d, hybrid), 120 * 15 * 1.5e6 * 3)
+
+
 class Journal(unittest.TestCase):
     SETUP = {"tier": "full", "only": None, "rows": ["a", "b", "c"]}
 
