@@ -199,6 +199,11 @@ TEST(MapReuse, ARunDrivenTheOtherWayRelocalisesByGeometry) {
     ASSERT_EQ(a_traj[i].isometry().matrix(), c_traj[i].isometry().matrix()) << i;
   }
   EXPECT_EQ(c.sys->geoReloc()->report().results, rep.results);
+  // Tracking after the join: fits were taken and added edges, the same in both runs.
+  std::cout << "tracking fits " << rep.track_fits << " of " << rep.track_results << std::endl;
+  EXPECT_GE(rep.track_fits, 1u);
+  EXPECT_EQ(lc->stats().tracking_fits, rep.track_fits);
+  EXPECT_EQ(c.sys->geoReloc()->report().track_fits, rep.track_fits);
 }
 
 // In localize-only mode a geometric relocalisation holds to the end of the run: every online

@@ -24,6 +24,22 @@ GeoRelocStage::~GeoRelocStage() = default;
 
 void GeoRelocStage::finish() { worker_->finish(); }
 
+bool GeoRelocStage::takeTrackingAtEnd(loop::LoopCloser& closer) {
+  bool solved = false;
+  for (const Pending& p : pending_) {
+    worker_->waitHandled(p.job);
+    reloc::RelocFit fit;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      fit = std::move(results_[p.job - 1]);
+      results_[p.job - 1] = reloc::RelocFit();
+    }
+    if (fit.track && takeTrack(fit, closer)) solved = true;
+  }
+  pending_.clear();
+  return solved;
+}
+
 GeoRelocReport GeoRelocStage::report() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return report_;

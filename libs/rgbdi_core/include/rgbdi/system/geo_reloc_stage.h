@@ -63,6 +63,11 @@ class GeoRelocStage {
   /// due results (may join: returns true when the graph was solved), then starts an attempt
   /// when due. `cam`: the colour camera of the keyframes.
   bool afterKeyframe(loop::LoopCloser& closer, const PinholeCamera& cam);
+  /// End of the run, loop-closing thread stopped: waits for the tracking fits still on their
+  /// way and takes them (their edges correct the final trajectory; a defined point, so offline
+  /// runs stay deterministic); search results not yet taken are dropped (no join at the end).
+  /// Returns true when the graph was solved.
+  bool takeTrackingAtEnd(loop::LoopCloser& closer);
   /// Stops the worker (results not yet taken are dropped: the run has ended).
   void finish();
   /// Safe from any thread.
