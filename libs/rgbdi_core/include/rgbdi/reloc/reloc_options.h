@@ -130,7 +130,7 @@ struct RelocOptions {
   /// horizontal constraint, the neighbourhood free-space check) adds loop edges from the part's
   /// latest track_keyframes keyframes to the nearest map keyframes (within join_max_distance_m),
   /// so the pose graph averages many fits instead of keeping the join's one. 0: off.
-  double track_interval_m = 0.25;  ///< [m]
+  double track_interval_m = 0.0;  ///< [m] (0.25 measured: doc/maps.md)
   /// A tracking fit that moves the newest keyframe farther than this, or turns it by more, from
   /// where the pose graph has it now is refused (it must not pull the run somewhere else).
   double track_max_correction_m = 0.10;   ///< [m]
