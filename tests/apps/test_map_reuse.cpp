@@ -39,11 +39,12 @@ struct SessionRun {
 };
 
 SessionRun run(const sim::SimOptions& so, std::shared_ptr<const map::MapData> map = nullptr,
-               bool localize_only = false, bool threaded = true) {
+               bool localize_only = false, bool threaded = true, double track_interval_m = 0.0) {
   SessionRun r;
   r.seq = std::make_unique<sim::SimulatedSequence>(so);
   auto ini = IniReader::fromText(sim::slamConfigText(*r.seq), "generated config.ini");
-  const system::SystemConfig cfg = system::SystemConfig::load(ini);
+  system::SystemConfig cfg = system::SystemConfig::load(ini);
+  cfg.reloc.track_interval_m = track_interval_m;  // tracking after the join (off by default)
   system::SlamSystemOptions opt;
   opt.map = std::move(map);
   opt.localize_only = localize_only;
@@ -172,7 +173,8 @@ TEST(MapReuse, ARunInAnotherWorldNeverRelocalises) {
 // places the run, and a threaded run gives exactly the sequential run's poses.
 TEST(MapReuse, ARunDrivenTheOtherWayRelocalisesByGeometry) {
   const FirstRun& first = firstRun();
-  SessionRun b = run(circle(12.0, 1), first.map);
+  // With tracking after the join (its edges must be the same threaded and sequential).
+  SessionRun b = run(circle(12.0, 1), first.map, /*localize_only=*/false, /*threaded=*/true, 0.25);
   const system::SlamSystem& sys = *b.sys;
   ASSERT_EQ(sys.mapState(), system::MapState::kLocalised);
   const loop::LoopCloser* lc = sys.loopCloser();
@@ -191,7 +193,7 @@ TEST(MapReuse, ARunDrivenTheOtherWayRelocalisesByGeometry) {
   std::cout << "map-frame ATE " << ate << " m" << std::endl;
   EXPECT_LE(ate, 0.03);
 
-  SessionRun c = run(circle(12.0, 1), first.map, /*localize_only=*/false, /*threaded=*/false);
+  SessionRun c = run(circle(12.0, 1), first.map, /*localize_only=*/false, /*threaded=*/false, 0.25);
   const Trajectory a_traj = sys.finalTrajectory(), c_traj = c.sys->finalTrajectory();
   ASSERT_EQ(a_traj.size(), c_traj.size());
   for (std::size_t i = 0; i < a_traj.size(); ++i) {
@@ -199,6 +201,15 @@ TEST(MapReuse, ARunDrivenTheOtherWayRelocalisesByGeometry) {
     ASSERT_EQ(a_traj[i].isometry().matrix(), c_traj[i].isometry().matrix()) << i;
   }
   EXPECT_EQ(c.sys->geoReloc()->report().results, rep.results);
+  // Tracking after the join: fits were taken and some added edges (the loop closer may still
+  // refuse a fit: free space, no map keyframe near), the same in both runs.
+  const std::uint64_t edges_by = lc->stats().tracking_fits;
+  std::cout << "tracking fits " << rep.track_fits << " of " << rep.track_results << ", " << edges_by
+            << " added edges" << std::endl;
+  EXPECT_GE(edges_by, 1u);
+  EXPECT_LE(edges_by, rep.track_fits);
+  EXPECT_EQ(c.sys->geoReloc()->report().track_fits, rep.track_fits);
+  EXPECT_EQ(c.sys->loopCloser()->stats().tracking_fits, edges_by);
 }
 
 // In localize-only mode a geometric relocalisation holds to the end of the run: every online

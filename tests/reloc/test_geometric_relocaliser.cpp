@@ -253,3 +253,74 @@ TEST(GeometricRelocaliser, ThinningAveragesAValuePerVoxel) {
   EXPECT_DOUBLE_EQ(values[1], 5.0);
   EXPECT_TRUE(thin[0].isApprox(Eigen::Vector3d(0.02, 0.015, 0.01)));
 }
+
+// Tracking after a join: the part's samples are already in the map's frame by its present poses,
+// which are off by a small known offset; the ICP from the identity must return its inverse.
+namespace {
+RelocJob trackJobOf(const std::vector<DepthSample>& samples, std::uint64_t anchor_id) {
+  RelocJob j = jobOf(samples);
+  j.track = true;
+  j.anchor_id = anchor_id;
+  j.part_poses = {{anchor_id, j.T_anchor}};
+  return j;
+}
+}  // namespace
+
+TEST(GeometricRelocaliser, TrackingCorrectsAKnownOffsetOfThePresentPose) {
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  const std::vector<DepthSample> world = asymmetricRoom(cam);
+  const GeometricRelocaliser reloc(world, options());
+  // The present pose is off by 1 deg about the camera and (3, -2, 1) cm.
+  const double yaw = 1.0 * M_PI / 180.0;
+  const Eigen::Vector3d shift(0.03, -0.02, 0.01);
+  const Eigen::Isometry3d off = yawPose(0.0, cam + shift) * yawPose(yaw, Eigen::Vector3d::Zero()) *
+                                yawPose(0.0, -cam);  // samples -> where the present pose puts them
+  std::vector<DepthSample> local;
+  for (const DepthSample& d : world) local.push_back({off * d.origin, off * d.point});
+  const RelocFit f = reloc.track(trackJobOf(local, 42));
+  ASSERT_EQ(f.outcome, FitOutcome::kFit) << toString(f.outcome);
+  EXPECT_TRUE(f.track);
+  const Eigen::Isometry3d expected = off.inverse();
+  EXPECT_NEAR((f.T_map_part * local.front().origin - world.front().origin).norm(), 0.0, 2e-3);
+  EXPECT_NEAR(Eigen::AngleAxisd(f.T_map_part.linear().transpose() * expected.linear()).angle(), 0.0,
+              1e-3);
+  EXPECT_NEAR(f.correction_m, shift.norm(), 2e-3);  // the anchor's move: the shift undone
+  EXPECT_NEAR(f.correction_rad, yaw, 1e-3);
+  ASSERT_EQ(f.part_poses.size(), 1u);
+  EXPECT_EQ(f.part_poses.front().first, 42u);
+}
+
+TEST(GeometricRelocaliser, TrackingRefusesAFitFarFromThePresentPose) {
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  const std::vector<DepthSample> world = asymmetricRoom(cam);
+  RelocOptions o = options();
+  const GeometricRelocaliser reloc(world, o);
+  // 12 cm off along x: the ICP finds it (neighbours within 15 cm), the bound (10 cm) refuses it.
+  const RelocFit far = reloc.track(trackJobOf(moved(world, 0.0, Eigen::Vector3d(0.12, 0, 0)), 1));
+  EXPECT_EQ(far.outcome, FitOutcome::kTooFar) << toString(far.outcome);
+  EXPECT_NEAR(far.correction_m, 0.12, 2e-3);
+  // The same with a bound of 15 cm is a fit.
+  o.track_max_correction_m = 0.15;
+  const GeometricRelocaliser loose(world, o);
+  const RelocFit near = loose.track(trackJobOf(moved(world, 0.0, Eigen::Vector3d(0.12, 0, 0)), 1));
+  EXPECT_EQ(near.outcome, FitOutcome::kFit) << toString(near.outcome);
+  // 3 deg about the camera: beyond track_max_correction_deg (2).
+  const Eigen::Isometry3d turn =
+      yawPose(0.0, cam) * yawPose(3.0 * M_PI / 180.0, Eigen::Vector3d::Zero()) * yawPose(0.0, -cam);
+  std::vector<DepthSample> turned;
+  for (const DepthSample& d : world) turned.push_back({turn * d.origin, turn * d.point});
+  const RelocFit t = reloc.track(trackJobOf(turned, 1));
+  EXPECT_EQ(t.outcome, FitOutcome::kTooFar) << toString(t.outcome);
+  EXPECT_NEAR(t.correction_rad, 3.0 * M_PI / 180.0, 1e-3);
+  EXPECT_LT(t.correction_m, 2e-3);  // turned about the anchor: it does not move
+}
+
+TEST(GeometricRelocaliser, TrackingOfAPoseThatIsRightChangesNothing) {
+  const Eigen::Vector3d cam(at(30), at(20), kCamZ);
+  const std::vector<DepthSample> world = asymmetricRoom(cam);
+  const GeometricRelocaliser reloc(world, options());
+  const RelocFit f = reloc.track(trackJobOf(world, 1));
+  ASSERT_EQ(f.outcome, FitOutcome::kFit);
+  EXPECT_LT(f.correction_m, 1e-6);
+  EXPECT_LT(f.correction_rad, 1e-6);
+}

@@ -60,6 +60,12 @@ TEST(RelocOptions, DefaultsEqualTheShippedConfig) {
   EXPECT_EQ(o.min_floor_cells, d.min_floor_cells);
   EXPECT_EQ(o.join_keyframes, d.join_keyframes);
   EXPECT_EQ(o.join_max_distance_m, d.join_max_distance_m);
+  EXPECT_EQ(o.track_interval_m, d.track_interval_m);
+  EXPECT_EQ(o.track_max_correction_m, d.track_max_correction_m);
+  EXPECT_EQ(o.track_max_correction_deg, d.track_max_correction_deg);
+  EXPECT_EQ(o.track_keyframes, d.track_keyframes);
+  EXPECT_EQ(o.track_sigma_pos_m, d.track_sigma_pos_m);
+  EXPECT_EQ(o.track_sigma_yaw_deg, d.track_sigma_yaw_deg);
 }
 
 TEST(RelocOptions, BadValuesNameTheKey) {
@@ -77,6 +83,10 @@ TEST(RelocOptions, BadValuesNameTheKey) {
   EXPECT_NE(loadError("[relocalise]\nrefine_min_view_cos = 1.5\n").find("refine_min_view_cos"),
             std::string::npos);
   EXPECT_NE(loadError("[relocalise]\nrefine_tilt_sigma_deg = -1\n").find("refine_tilt_sigma_deg"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalise]\ntrack_sigma_pos_m = 0\n").find("track_sigma_pos_m"),
+            std::string::npos);
+  EXPECT_NE(loadError("[relocalise]\ntrack_keyframes = 0\n").find("track_keyframes"),
             std::string::npos);
   EXPECT_EQ(loadError("[relocalise]\ngeometric = false\n"), "");
 }

@@ -40,6 +40,8 @@ const char* toString(FitOutcome o) {
       return "not confirmed by ICP";
     case FitOutcome::kFit:
       return "fit";
+    case FitOutcome::kTooFar:
+      return "too far from the present pose";
   }
   return "?";
 }
@@ -110,8 +112,6 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   };
   PlanGrid local;
   const std::size_t used = chooseSubmap(job, options_, &local, &f.submap_path_m);
-  const std::vector<DepthSample> submap(job.samples.begin(),
-                                        job.samples.begin() + static_cast<long>(used));
   f.local_obstacles = static_cast<int>(local.count(CellState::kOccupied));
   if (f.local_obstacles < options_.submap_min_occupied_cells) return finish(FitOutcome::kTooLittle);
   const Eigen::Vector2d pivot = (job.T_anchor.translation()).head<2>();
@@ -142,45 +142,88 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   const Eigen::Rotation2Dd R(a.yaw);
   const Eigen::Vector2d t2 = a.t - R.toRotationMatrix() * a.pivot;
   Eigen::Isometry3d T = yawPose(a.yaw, Eigen::Vector3d(t2.x(), t2.y(), dz));
-  if (options_.refine_iterations > 0) {
-    // Each sample's keyframe path before the anchor (for the height drift).
-    std::vector<Eigen::Vector3d> pts, views;
-    std::vector<double> paths;
-    std::size_t span = 0;
-    for (std::size_t i = 0; i < submap.size(); ++i) {
-      while (span < job.spans.size() && job.spans[span].end <= i) ++span;
-      if ((submap[i].point - submap[i].origin).norm() > options_.refine_max_range_m) continue;
-      pts.push_back(submap[i].point);
-      views.push_back((submap[i].origin - submap[i].point).normalized());
-      paths.push_back(span < job.spans.size() ? job.spans[span].path_m : 0.0);
-    }
-    std::vector<double> local_paths;
-    const std::vector<Eigen::Vector3d> local_points =
-        PointIndex::thin(pts, paths, options_.grid.resolution_m, &local_paths);
-    RefineExtras extras;
-    PointIndex::thinDirections(pts, views, options_.grid.resolution_m, &extras.local_views);
-    extras.min_view_cos = options_.refine_min_view_cos;
-    extras.tilt_sigma_rad = options_.refine_tilt_sigma_deg * M_PI / 180.0;
-    extras.anchor_part = job.T_anchor.translation();
-    const Refinement r3 =
-        refine(local_points, points_, T, options_.refine_max_distance_m, options_.refine_iterations,
-               options_.refine_huber_m, local_paths, options_.refine_height_drift_sigma_per_m,
-               options_.refine_horizontal, extras);
-    f.height_drift_per_m = r3.height_drift_per_m;
-    f.tilt_rad = r3.tilt_rad;
-    T = r3.T;
-    f.refine_pairs = r3.pairs;
-    f.refine_samples = static_cast<int>(local_points.size()) - r3.other_side;
-    f.refine_rms_m = r3.rms_m;
-    f.refine_horizontal_constraint = r3.horizontal_constraint;
-    // A fit the 3-D samples do not confirm (few pairs, far apart at the end, or free to slide
-    // along a wall) is no fit.
-    if (r3.pairs < options_.refine_min_pair_fraction * static_cast<double>(f.refine_samples) ||
-        r3.rms_m > options_.refine_max_rms_m ||
-        r3.horizontal_constraint < options_.refine_min_horizontal_constraint)
-      return finish(FitOutcome::kUnrefined);
-  }
+  if (options_.refine_iterations > 0 && !refineSubmap(job, used, &T, &f))
+    return finish(FitOutcome::kUnrefined);
   f.T_map_part = T;
+  return finish(FitOutcome::kFit);
+}
+
+bool GeometricRelocaliser::refineSubmap(const RelocJob& job, std::size_t used, Eigen::Isometry3d* T,
+                                        RelocFit* f) const {
+  // Each sample's keyframe path before the anchor (for the height drift).
+  std::vector<Eigen::Vector3d> pts, views;
+  std::vector<double> paths;
+  std::size_t span = 0;
+  for (std::size_t i = 0; i < used; ++i) {
+    while (span < job.spans.size() && job.spans[span].end <= i) ++span;
+    if ((job.samples[i].point - job.samples[i].origin).norm() > options_.refine_max_range_m)
+      continue;
+    pts.push_back(job.samples[i].point);
+    views.push_back((job.samples[i].origin - job.samples[i].point).normalized());
+    paths.push_back(span < job.spans.size() ? job.spans[span].path_m : 0.0);
+  }
+  std::vector<double> local_paths;
+  const std::vector<Eigen::Vector3d> local_points =
+      PointIndex::thin(pts, paths, options_.grid.resolution_m, &local_paths);
+  RefineExtras extras;
+  PointIndex::thinDirections(pts, views, options_.grid.resolution_m, &extras.local_views);
+  extras.min_view_cos = options_.refine_min_view_cos;
+  extras.tilt_sigma_rad = options_.refine_tilt_sigma_deg * M_PI / 180.0;
+  extras.anchor_part = job.T_anchor.translation();
+  const Refinement r3 =
+      refine(local_points, points_, *T, options_.refine_max_distance_m, options_.refine_iterations,
+             options_.refine_huber_m, local_paths, options_.refine_height_drift_sigma_per_m,
+             options_.refine_horizontal, extras);
+  f->height_drift_per_m = r3.height_drift_per_m;
+  f->tilt_rad = r3.tilt_rad;
+  *T = r3.T;
+  f->refine_pairs = r3.pairs;
+  f->refine_samples = static_cast<int>(local_points.size()) - r3.other_side;
+  f->refine_rms_m = r3.rms_m;
+  f->refine_horizontal_constraint = r3.horizontal_constraint;
+  // A fit the 3-D samples do not confirm (few pairs, far apart at the end, or free to slide
+  // along a wall) is no fit.
+  if (r3.pairs < options_.refine_min_pair_fraction * static_cast<double>(f->refine_samples) ||
+      r3.rms_m > options_.refine_max_rms_m ||
+      r3.horizontal_constraint < options_.refine_min_horizontal_constraint)
+    return false;
+  return true;
+}
+
+RelocFit GeometricRelocaliser::track(const RelocJob& job) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  RelocFit f;
+  f.job = job.number;
+  f.segment = job.segment;
+  f.anchor_id = job.anchor_id;
+  f.T_anchor = job.T_anchor;
+  f.travelled_m = job.travelled_m;
+  f.t_query = job.t_query;
+  f.track = true;
+  f.part_poses = job.part_poses;
+  const auto finish = [&](FitOutcome o) {
+    f.outcome = o;
+    f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return f;
+  };
+  // The keyframes within submap_path_m of the anchor (no search: no need of more structure).
+  std::size_t used = job.samples.size();
+  f.submap_path_m = 0.0;
+  for (const RelocJob::Span& sp : job.spans) {
+    if (sp.path_m > options_.submap_path_m) break;
+    used = sp.end;
+    f.submap_path_m = sp.path_m;
+  }
+  if (used < 10 || options_.refine_iterations <= 0) return finish(FitOutcome::kTooLittle);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (!refineSubmap(job, used, &T, &f)) return finish(FitOutcome::kUnrefined);
+  f.T_map_part = T;
+  const Eigen::Vector3d a = job.T_anchor.translation();
+  f.correction_m = (T * a - a).norm();
+  f.correction_rad = std::abs(std::atan2(T.linear()(1, 0), T.linear()(0, 0)));
+  if (f.correction_m > options_.track_max_correction_m ||
+      f.correction_rad > options_.track_max_correction_deg * M_PI / 180.0)
+    return finish(FitOutcome::kTooFar);
   return finish(FitOutcome::kFit);
 }
 

@@ -65,6 +65,15 @@ RelocOptions RelocOptions::load(IniReader& ini) {
   o.join_keyframes = ini.getInt(s, "join_keyframes", o.join_keyframes, 1, 1000);
   o.join_max_distance_m =
       ini.getDouble(s, "join_max_distance_m", o.join_max_distance_m, 0.0, 100.0);
+  o.track_interval_m = ini.getDouble(s, "track_interval_m", o.track_interval_m, 0.0, 1000.0);
+  o.track_max_correction_m =
+      ini.getDouble(s, "track_max_correction_m", o.track_max_correction_m, 0.0, 100.0);
+  o.track_max_correction_deg =
+      ini.getDouble(s, "track_max_correction_deg", o.track_max_correction_deg, 0.0, 180.0);
+  o.track_keyframes = ini.getInt(s, "track_keyframes", o.track_keyframes, 1, 1000);
+  o.track_sigma_pos_m = ini.getDouble(s, "track_sigma_pos_m", o.track_sigma_pos_m, 1e-6, 100.0);
+  o.track_sigma_yaw_deg =
+      ini.getDouble(s, "track_sigma_yaw_deg", o.track_sigma_yaw_deg, 1e-6, 180.0);
   return o;
 }
 

@@ -24,6 +24,22 @@ GeoRelocStage::~GeoRelocStage() = default;
 
 void GeoRelocStage::finish() { worker_->finish(); }
 
+bool GeoRelocStage::takeTrackingAtEnd(loop::LoopCloser& closer) {
+  bool solved = false;
+  for (const Pending& p : pending_) {
+    worker_->waitHandled(p.job);
+    reloc::RelocFit fit;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      fit = std::move(results_[p.job - 1]);
+      results_[p.job - 1] = reloc::RelocFit();
+    }
+    if (fit.track && takeTrack(fit, closer)) solved = true;
+  }
+  pending_.clear();
+  return solved;
+}
+
 GeoRelocReport GeoRelocStage::report() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return report_;
@@ -42,17 +58,22 @@ void GeoRelocStage::handle(reloc::RelocJob& job) {
     std::lock_guard<std::mutex> lock(mutex_);
     report_.map_build_ms = ms;
   }
-  reloc::RelocFit fit = relocaliser_->fit(job);
+  reloc::RelocFit fit = job.track ? relocaliser_->track(job) : relocaliser_->fit(job);
   std::lock_guard<std::mutex> lock(mutex_);
-  ++report_.searched;
-  report_.ms_total += fit.ms;
-  report_.ms_max = std::max(report_.ms_max, fit.ms);
+  if (job.track) {
+    report_.track_ms_total += fit.ms;
+    report_.track_ms_max = std::max(report_.track_ms_max, fit.ms);
+  } else {
+    ++report_.searched;
+    report_.ms_total += fit.ms;
+    report_.ms_max = std::max(report_.ms_max, fit.ms);
+  }
   if (results_.size() < job.number) results_.resize(job.number);
   results_[job.number - 1] = std::move(fit);
 }
 
-reloc::RelocJob GeoRelocStage::makeJob(const loop::LoopCloser& closer,
-                                       const PinholeCamera& cam) const {
+reloc::RelocJob GeoRelocStage::makeJob(const loop::LoopCloser& closer, const PinholeCamera& cam,
+                                       bool track) const {
   const std::vector<loop::LoopKeyframe>& kfs = closer.keyframes();
   const loop::LoopKeyframe& newest = kfs.back();
   reloc::RelocJob j;
@@ -62,14 +83,47 @@ reloc::RelocJob GeoRelocStage::makeJob(const loop::LoopCloser& closer,
   j.travelled_m = newest.travelled_m;
   j.t_query = newest.t - closer.timeShift();
   // Newest first, up to the longest path a submap may need (GeometricRelocaliser picks).
-  const double max_path = std::max(options_.submap_path_m, options_.submap_max_path_m);
+  // Tracking: only the submap ICP uses (no search, no longer path for more structure).
+  const double max_path =
+      track ? options_.submap_path_m : std::max(options_.submap_path_m, options_.submap_max_path_m);
+  j.track = track;
   for (auto it = kfs.rbegin(); it != kfs.rend() && it->segment == newest.segment; ++it) {
     const double path = newest.travelled_m - it->travelled_m;
     if (path > max_path) break;
-    reloc::appendDepthSamples(*it, closer.pose(it->id), cam, T_body_cam_, &j.samples);
+    const Eigen::Isometry3d T = closer.pose(it->id);
+    reloc::appendDepthSamples(*it, T, cam, T_body_cam_, &j.samples);
     j.spans.push_back({path, j.samples.size()});
+    if (track && j.part_poses.size() < static_cast<std::size_t>(options_.track_keyframes))
+      j.part_poses.emplace_back(it->id, T);
   }
   return j;
+}
+
+bool GeoRelocStage::takeTrack(const reloc::RelocFit& fit, loop::LoopCloser& closer) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    GeoRelocReport& r = report_;
+    ++r.track_results;
+    if (fit.outcome == reloc::FitOutcome::kFit) {
+      ++r.track_fits;
+      r.track_correction_max_m = std::max(r.track_correction_max_m, fit.correction_m);
+    } else if (fit.outcome == reloc::FitOutcome::kTooFar) {
+      ++r.track_too_far;
+    } else if (fit.outcome == reloc::FitOutcome::kUnrefined) {
+      ++r.track_unrefined;
+    } else {
+      ++r.track_too_little;
+    }
+  }
+  if (fit.outcome != reloc::FitOutcome::kFit) return false;
+  // Where the fit puts the keyframes: the correction applied to their poses at the job's
+  // keyframe (the graph may have been solved since: the edges carry the fit's own relation).
+  std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>> placed;
+  for (const auto& [id, T] : fit.part_poses) placed.emplace_back(id, fit.T_map_part * T);
+  return closer
+      .trackByAlignment(fit.segment, placed, options_.join_max_distance_m,
+                        options_.track_sigma_pos_m, options_.track_sigma_yaw_deg * M_PI / 180.0)
+      .solved;
 }
 
 bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera& cam) {
@@ -78,6 +132,7 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
   if (newest.segment != segment_) {
     segment_ = newest.segment;
     last_attempt_travelled_ = -1e300;
+    last_track_travelled_ = -1e300;
   }
   bool solved = false;
   // Results due now (offline: wait for them; live: only those ready).
@@ -94,6 +149,10 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
       std::lock_guard<std::mutex> lock(mutex_);
       fit = results_[p.job - 1];
       results_[p.job - 1] = reloc::RelocFit();  // taken: free its memory
+    }
+    if (fit.track) {
+      if (takeTrack(fit, closer)) solved = true;
+      continue;
     }
     if (closer.connectedToOrigin(fit.segment)) continue;  // placed meanwhile (visually)
     taken_.push_back(fit);
@@ -122,6 +181,8 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
         case reloc::FitOutcome::kFit:
           ++r.fits;
           break;
+        case reloc::FitOutcome::kTooFar:  // tracking only
+          break;
       }
       r.disagreements = static_cast<std::uint64_t>(confirm_.disagreements());
       r.last_outcome = reloc::toString(fit.outcome);
@@ -141,15 +202,30 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
         ++report_.joined;
       }
       solved = true;
-      pending_.clear();  // the part is placed: later attempts are moot
+      pending_.clear();                            // the part is placed: later attempts are moot
+      last_track_travelled_ = newest.travelled_m;  // tracking from track_interval_m on
     }
+  }
+  const bool busy = live_ && worker_->handled() < worker_->submitted();
+  // Tracking while the part is in the map's frame.
+  if (closer.connectedToOrigin(newest.segment) && options_.track_interval_m > 0.0 &&
+      newest.travelled_m - last_track_travelled_ >= options_.track_interval_m && !busy) {
+    last_track_travelled_ = newest.travelled_m;
+    reloc::RelocJob job = makeJob(closer, cam, true);
+    job.number = ++jobs_;
+    pending_.push_back(
+        {job.number, keyframes_ + static_cast<std::uint64_t>(options_.result_lag_keyframes)});
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++report_.track_attempts;
+    }
+    worker_->submit(std::move(job));
   }
   // A new attempt while the part is not placed.
   if (!closer.connectedToOrigin(newest.segment) &&
-      newest.travelled_m - last_attempt_travelled_ >= options_.attempt_interval_m &&
-      !(live_ && worker_->handled() < worker_->submitted())) {
+      newest.travelled_m - last_attempt_travelled_ >= options_.attempt_interval_m && !busy) {
     last_attempt_travelled_ = newest.travelled_m;
-    reloc::RelocJob job = makeJob(closer, cam);
+    reloc::RelocJob job = makeJob(closer, cam, false);
     job.number = ++jobs_;
     pending_.push_back(
         {job.number, keyframes_ + static_cast<std::uint64_t>(options_.result_lag_keyframes)});

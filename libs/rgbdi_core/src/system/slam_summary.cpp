@@ -166,7 +166,21 @@ nlohmann::json mapSessionSummary(const SlamSystem& sys, const RunInfo& run) {
         {"ms_per_attempt_mean",
          r.searched > 0 ? r.ms_total / static_cast<double>(r.searched) : 0.0},
         {"ms_per_attempt_max", r.ms_max},
-        {"map_plan_build_ms", r.map_build_ms}};
+        {"map_plan_build_ms", r.map_build_ms},
+        {"tracking",
+         {{"attempts", r.track_attempts},
+          {"results", r.track_results},
+          {"fits", r.track_fits},
+          {"not_confirmed_by_icp", r.track_unrefined},
+          {"too_far_from_present_pose", r.track_too_far},
+          {"too_little_depth", r.track_too_little},
+          {"edges_added_by", lc ? lc->stats().tracking_fits : 0},
+          {"refused_by_free_space", lc ? lc->stats().tracking_refused_free_space : 0},
+          {"refused_no_map_keyframe_near", lc ? lc->stats().tracking_refused_no_neighbour : 0},
+          {"largest_correction_m", r.track_correction_max_m},
+          {"ms_per_fit_mean",
+           r.track_results > 0 ? r.track_ms_total / static_cast<double>(r.track_results) : 0.0},
+          {"ms_per_fit_max", r.track_ms_max}}}};
     // Every search whose result was taken: when, what it found, where it put the part.
     nlohmann::json list = nlohmann::json::array();
     for (const reloc::RelocFit& f : g->taken()) {

@@ -114,7 +114,10 @@ void SlamSystem::endOfStream() {
   spare_images_ = {};  // no image comes any more: their buffers are not kept for the end's work
   vio_.endOfStream();  // flushes the window: its keyframes go to loop closing
   loop_stage_->finish();
-  if (geo_reloc_) geo_reloc_->finish();
+  if (geo_reloc_) {
+    geo_reloc_->takeTrackingAtEnd(*closer_);
+    geo_reloc_->finish();
+  }
   if (closer_) closer_->finish();  // solves for loops accepted since the last solve
   computeFinalKeyframePoses();
   // The map follows the final poses (keyframes outside the graph included).

@@ -38,6 +38,7 @@ struct LoopRecord {
   double disagreement_sigmas = 0.0;
   bool shows_drift = true;  ///< beyond the correction gate (or between segments, or external)
   bool geometric = false;   ///< an edge of a geometric join (joinByAlignment), not a verified view
+  bool tracking = false;    ///< an edge of a tracking fit (trackByAlignment) after the join
 };
 
 /// One relocalisation: a part joined to another by verified loops.
@@ -79,6 +80,11 @@ struct LoopStats {
   /// near the part's keyframes.
   std::uint64_t geometric_refused_free_space = 0;
   std::uint64_t geometric_refused_no_neighbour = 0;
+  /// trackByAlignment: fits that added loop edges, and those refused (free space, no map
+  /// keyframe near).
+  std::uint64_t tracking_fits = 0;
+  std::uint64_t tracking_refused_free_space = 0;
+  std::uint64_t tracking_refused_no_neighbour = 0;
   double features_ms_total = 0.0;     ///< ORB extraction (done by the caller, added by it)
   double recognition_ms_total = 0.0;  ///< index query + insertion
   double verification_ms_total = 0.0;
@@ -139,6 +145,16 @@ class LoopCloser {
   /// `t_query`: [s] run clock, for the JoinRecord. Returns the update (solved when joined).
   LoopUpdate joinByAlignment(int segment, const Eigen::Isometry3d& T_origin_part, int max_keyframes,
                              double max_distance_m, double t_query);
+
+  /// Keeps a part already joined to a loaded map registered to it (geometric relocalisation's
+  /// tracking): `placed` holds some of the part's keyframes (id, T_map_body where a fit against
+  /// the map puts them). Each gets a loop edge from the loaded map's keyframe nearest it (within
+  /// max_distance_m) with the given sigmas ([m], [rad]), after the neighbourhood free-space
+  /// check of joins against the map's keyframes only; then the graph is solved. Nothing when
+  /// the part is not joined to the map, no map is loaded, or a check refuses it.
+  LoopUpdate trackByAlignment(
+      int segment, const std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>>& placed,
+      double max_distance_m, double sigma_pos_m, double sigma_yaw_rad);
 
   /// Correction of `segment` (T_corrected * T_odom^-1); identity for a segment not seen yet.
   Eigen::Isometry3d drift(int segment) const;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "rgbdi/reloc/plan_grid.h"
@@ -33,6 +34,11 @@ struct RelocJob {
     std::size_t end = 0;
   };
   std::vector<Span> spans;
+  /// A tracking job (GeometricRelocaliser::track): the part is already in the map's frame and
+  /// `samples` are placed by its present map-frame poses; `part_poses` are its latest
+  /// keyframes' poses then (id, T_map_body), newest first, for the loop edges of the fit.
+  bool track = false;
+  std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>> part_poses;
 };
 
 enum class FitOutcome {
@@ -42,6 +48,7 @@ enum class FitOutcome {
   kNoHeight,   ///< the place fits, but the height offset could not be found
   kUnrefined,  ///< the ICP refinement found too few pairs or ended too far from the map
   kFit,        ///< one place
+  kTooFar,     ///< a tracking fit that would move the part too far from its present pose
 };
 const char* toString(FitOutcome o);
 
@@ -73,6 +80,12 @@ struct RelocFit {
   double height_drift_per_m = 0.0;            ///< [m per m] solved by the refinement
   double tilt_rad = 0.0;                      ///< [rad] submap tilt solved by the refinement
   double ms = 0.0;                            ///< [ms] wall time of the attempt
+  bool track = false;                         ///< the result of a tracking job
+  /// Tracking: the job's part_poses, and the correction of the fit (the anchor's move [m] and
+  /// turn [rad]; T_map_part is then the correction from the present map frame).
+  std::vector<std::pair<std::uint64_t, Eigen::Isometry3d>> part_poses;
+  double correction_m = 0.0;
+  double correction_rad = 0.0;
 };
 
 /// Optional parts of GeometricRelocaliser::refine().
@@ -97,6 +110,12 @@ class GeometricRelocaliser {
   /// The map's depth samples (map frame).
   GeometricRelocaliser(const std::vector<DepthSample>& map_samples, const RelocOptions& options);
   RelocFit fit(const RelocJob& job) const;
+  /// Tracking (job.track): the ICP of the job's latest submap_path_m of samples (already in the
+  /// map's frame by the part's present poses) from the identity, no search; kFit when it passes
+  /// the checks of a fit and moves the anchor at most track_max_correction_m / _deg (kTooFar
+  /// beyond, kUnrefined when the ICP refuses it, kTooLittle with fewer than 10 samples).
+  /// T_map_part is the correction (present map frame -> refined).
+  RelocFit track(const RelocJob& job) const;
   const ScanSearch& search() const { return search_; }
   const PointIndex& mapPoints() const { return points_; }
 
@@ -145,6 +164,9 @@ class GeometricRelocaliser {
                                   double* path_m);
 
  private:
+  /// The ICP of fit() and track(): refines T (part frame -> map) with the first `used` samples
+  /// of the job, fills f's refine_* fields; false when the checks refuse it.
+  bool refineSubmap(const RelocJob& job, std::size_t used, Eigen::Isometry3d* T, RelocFit* f) const;
   RelocOptions options_;
   ScanSearch search_;
   PointIndex points_;

@@ -123,6 +123,23 @@ struct RelocOptions {
   /// keyframe nearest each (within join_max_distance_m of where the fit puts it).
   int join_keyframes = 6;            ///< [count]
   double join_max_distance_m = 1.5;  ///< [m]
+  /// Tracking after the join (what a lidar localiser does): once the part is in the map's frame
+  /// (a geometric or visual join), every track_interval_m of path its latest submap_path_m of
+  /// depth is refined against the map's samples by the same ICP, started at the part's present
+  /// map-frame pose (no search), and a fit passing the join's checks (pair fraction, RMS,
+  /// horizontal constraint, the neighbourhood free-space check) adds loop edges from the part's
+  /// latest track_keyframes keyframes to the nearest map keyframes (within join_max_distance_m),
+  /// so the pose graph averages many fits instead of keeping the join's one. 0: off.
+  double track_interval_m = 0.0;  ///< [m] (0.25 measured: doc/maps.md)
+  /// A tracking fit that moves the newest keyframe farther than this, or turns it by more, from
+  /// where the pose graph has it now is refused (it must not pull the run somewhere else).
+  double track_max_correction_m = 0.10;   ///< [m]
+  double track_max_correction_deg = 2.0;  ///< [deg]
+  int track_keyframes = 3;                ///< [count] loop edges per tracking fit
+  /// Sigmas of a tracking fit's loop edges (a geometric join's have the pose graph's
+  /// loop_sigma_pos_m / loop_sigma_yaw_deg).
+  double track_sigma_pos_m = 0.05;   ///< [m]
+  double track_sigma_yaw_deg = 1.0;  ///< [deg]
 
   /// Reads and validates every [relocalise] key (ConfigError names file, key and range).
   static RelocOptions load(IniReader& ini);

@@ -5,7 +5,10 @@
 // loop keyframe k is taken back on the loop-closing thread at keyframe k + result_lag_keyframes
 // (offline: waiting for it, a defined point, so threaded and sequential runs agree; live: only
 // once it is ready). Fits go through FitConfirmation; a confirmed one becomes a join
-// (LoopCloser::joinByAlignment), unless visual relocalisation placed the part first.
+// (LoopCloser::joinByAlignment), unless visual relocalisation placed the part first. Once the
+// part is in the map's frame (either way), every track_interval_m of path its latest depth is
+// refined against the map by ICP from its present pose on the same thread, with the same lag,
+// and a passing fit adds loop edges (LoopCloser::trackByAlignment): tracking.
 #pragma once
 
 #include <atomic>
@@ -42,6 +45,12 @@ struct GeoRelocReport {
   std::uint64_t searched = 0;           ///< searches the worker finished
   double ms_total = 0.0, ms_max = 0.0;  ///< [ms] wall time of the searches (worker thread)
   double map_build_ms = 0.0;            ///< [ms] the map's plan, built on the worker thread
+  /// Tracking after the join (RelocOptions::track_*): fits started and taken, by outcome (the
+  /// loop edges they added: LoopStats::tracking_*), and their cost on the worker thread.
+  std::uint64_t track_attempts = 0, track_results = 0, track_fits = 0, track_unrefined = 0,
+                track_too_far = 0, track_too_little = 0;
+  double track_ms_total = 0.0, track_ms_max = 0.0;  ///< [ms]
+  double track_correction_max_m = 0.0;  ///< [m] largest correction of an accepted tracking fit
 };
 
 class GeoRelocStage {
@@ -54,6 +63,11 @@ class GeoRelocStage {
   /// due results (may join: returns true when the graph was solved), then starts an attempt
   /// when due. `cam`: the colour camera of the keyframes.
   bool afterKeyframe(loop::LoopCloser& closer, const PinholeCamera& cam);
+  /// End of the run, loop-closing thread stopped: waits for the tracking fits still on their
+  /// way and takes them (their edges correct the final trajectory; a defined point, so offline
+  /// runs stay deterministic); search results not yet taken are dropped (no join at the end).
+  /// Returns true when the graph was solved.
+  bool takeTrackingAtEnd(loop::LoopCloser& closer);
   /// Stops the worker (results not yet taken are dropped: the run has ended).
   void finish();
   /// Safe from any thread.
@@ -63,7 +77,12 @@ class GeoRelocStage {
 
  private:
   void handle(reloc::RelocJob& job);
-  reloc::RelocJob makeJob(const loop::LoopCloser& closer, const PinholeCamera& cam) const;
+  /// A search job (track false: up to submap_max_path_m of path) or a tracking job (the part in
+  /// the map's frame, submap_path_m of path, its latest track_keyframes poses).
+  reloc::RelocJob makeJob(const loop::LoopCloser& closer, const PinholeCamera& cam,
+                          bool track) const;
+  /// Takes a tracking result: loop edges when it passed (true when the graph was solved).
+  bool takeTrack(const reloc::RelocFit& fit, loop::LoopCloser& closer);
 
   reloc::RelocOptions options_;
   std::shared_ptr<const map::MapData> map_;
@@ -87,6 +106,7 @@ class GeoRelocStage {
   std::uint64_t jobs_ = 0;
   int segment_ = -1;
   double last_attempt_travelled_ = -1e300;
+  double last_track_travelled_ = -1e300;
   std::unique_ptr<StageWorker<reloc::RelocJob>> worker_;  ///< last: joined first
 };
 
