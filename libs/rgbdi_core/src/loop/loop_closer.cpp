@@ -231,8 +231,7 @@ bool LoopCloser::tryJoin(const LoopKeyframe& kf, LoopUpdate& update) {
     const FreeSpaceTally tally = joinFreeSpace(kf, own.A, own.target_component);
     j.check_compared = tally.compared;
     j.check_conflicts = tally.conflicts;
-    if (tally.compared >= options_.verify.freespace_min_samples &&
-        tally.conflicts > options_.relocalize_check_max_conflict_fraction * tally.compared) {
+    if (refusedByFreeSpace(tally, options_.relocalize_check_max_conflict_fraction)) {
       ++stats_.joins_refused_free_space;
       stats_.join_matches_dropped += best.size();
       std::vector<PendingJoin> kept;
@@ -284,13 +283,19 @@ FreeSpaceTally LoopCloser::neighbourhoodFreeSpace(
   std::vector<int> target_segments;
   for (const SegmentState& s : graph_.segments())
     if (s.component == target_component) target_segments.push_back(s.segment);
-  const auto in_target = [&](const LoopKeyframe& k) {
+  return freeSpaceAgainst(part, keyframes_.size(), [&](const LoopKeyframe& k) {
     return std::find(target_segments.begin(), target_segments.end(), k.segment) !=
            target_segments.end();
-  };
+  });
+}
+
+FreeSpaceTally LoopCloser::freeSpaceAgainst(
+    const std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>>& part, std::size_t count,
+    const KeyframeFilter& in_target) const {
   const double r2 = options_.relocalize_check_radius_m * options_.relocalize_check_radius_m;
   FreeSpaceTally tally;
-  for (const LoopKeyframe& t : keyframes_) {
+  for (std::size_t i = 0; i < std::min(count, keyframes_.size()); ++i) {
+    const LoopKeyframe& t = keyframes_[i];
     if (!in_target(t)) continue;
     const Eigen::Isometry3d T_t = graph_.pose(t.id);
     for (const auto& [p, T_p] : part)
@@ -298,6 +303,29 @@ FreeSpaceTally LoopCloser::neighbourhoodFreeSpace(
         tally += verifier_.compareFreeSpace(*p, T_p, t, T_t);
   }
   return tally;
+}
+
+bool LoopCloser::refusedByFreeSpace(const FreeSpaceTally& tally,
+                                    double max_conflict_fraction) const {
+  return tally.compared >= options_.verify.freespace_min_samples &&
+         tally.conflicts > max_conflict_fraction * tally.compared;
+}
+
+const LoopKeyframe* LoopCloser::nearestKeyframe(const Eigen::Vector3d& p, double max_distance_m,
+                                                std::size_t count,
+                                                const KeyframeFilter& in_target) const {
+  double best = max_distance_m * max_distance_m;
+  const LoopKeyframe* nearest = nullptr;
+  for (std::size_t i = 0; i < std::min(count, keyframes_.size()); ++i) {
+    const LoopKeyframe& t = keyframes_[i];
+    if (!in_target(t)) continue;
+    const double d2 = (graph_.pose(t.id).translation() - p).squaredNorm();
+    if (d2 < best) {
+      best = d2;
+      nearest = &t;
+    }
+  }
+  return nearest;
 }
 
 LoopUpdate LoopCloser::joinByAlignment(int segment, const Eigen::Isometry3d& T_origin_part,
@@ -312,16 +340,10 @@ LoopUpdate LoopCloser::joinByAlignment(int segment, const Eigen::Isometry3d& T_o
   // Each to the nearest keyframe of the origin's part.
   std::vector<std::pair<const LoopKeyframe*, std::uint64_t>> edges;  // (part keyframe, map id)
   for (const auto& [p, T_p] : part) {
-    double best = max_distance_m * max_distance_m;
-    const LoopKeyframe* nearest = nullptr;
-    for (const LoopKeyframe& t : keyframes_) {
-      if (t.segment == segment || !connectedToOrigin(t.segment)) continue;
-      const double d2 = (graph_.pose(t.id).translation() - T_p.translation()).squaredNorm();
-      if (d2 < best) {
-        best = d2;
-        nearest = &t;
-      }
-    }
+    const LoopKeyframe* nearest = nearestKeyframe(
+        T_p.translation(), max_distance_m, keyframes_.size(), [&](const LoopKeyframe& t) {
+          return t.segment != segment && connectedToOrigin(t.segment);
+        });
     if (nearest) edges.emplace_back(p, nearest->id);
   }
   if (edges.empty()) {
@@ -339,9 +361,7 @@ LoopUpdate LoopCloser::joinByAlignment(int segment, const Eigen::Isometry3d& T_o
     const FreeSpaceTally tally = neighbourhoodFreeSpace(checked, 0);
     j.check_compared = tally.compared;
     j.check_conflicts = tally.conflicts;
-    if (tally.compared >= options_.verify.freespace_min_samples &&
-        tally.conflicts >
-            options_.relocalize_check_max_conflict_fraction_geometric * tally.compared) {
+    if (refusedByFreeSpace(tally, options_.relocalize_check_max_conflict_fraction_geometric)) {
       ++stats_.geometric_refused_free_space;
       return update;
     }

@@ -14,19 +14,12 @@ LoopUpdate LoopCloser::trackByAlignment(
   // keyframes come first in keyframes_).
   std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>> part;
   std::vector<std::uint64_t> nearest_map;
+  const auto any_keyframe = [](const LoopKeyframe&) { return true; };
   for (const auto& [id, T_map_body] : placed) {
     const auto it = slot_of_.find(id);
     if (it == slot_of_.end() || keyframes_[it->second].segment != segment) continue;
-    double best = max_distance_m * max_distance_m;
-    const LoopKeyframe* nearest = nullptr;
-    for (std::size_t i = 0; i < map_keyframes_; ++i) {
-      const double d2 =
-          (graph_.pose(keyframes_[i].id).translation() - T_map_body.translation()).squaredNorm();
-      if (d2 < best) {
-        best = d2;
-        nearest = &keyframes_[i];
-      }
-    }
+    const LoopKeyframe* nearest =
+        nearestKeyframe(T_map_body.translation(), max_distance_m, map_keyframes_, any_keyframe);
     if (!nearest) continue;
     part.emplace_back(&keyframes_[it->second], T_map_body);
     nearest_map.push_back(nearest->id);
@@ -38,18 +31,8 @@ LoopUpdate LoopCloser::trackByAlignment(
   if (options_.relocalize_check_keyframes > 0) {
     // The join's free-space check, against the map's keyframes only (the part itself is in the
     // map's component now).
-    const double r2 = options_.relocalize_check_radius_m * options_.relocalize_check_radius_m;
-    FreeSpaceTally tally;
-    for (std::size_t i = 0; i < map_keyframes_; ++i) {
-      const LoopKeyframe& t = keyframes_[i];
-      const Eigen::Isometry3d T_t = graph_.pose(t.id);
-      for (const auto& [p, T_p] : part)
-        if ((T_t.translation() - T_p.translation()).squaredNorm() <= r2)
-          tally += verifier_.compareFreeSpace(*p, T_p, t, T_t);
-    }
-    if (tally.compared >= options_.verify.freespace_min_samples &&
-        tally.conflicts >
-            options_.relocalize_check_max_conflict_fraction_geometric * tally.compared) {
+    const FreeSpaceTally tally = freeSpaceAgainst(part, map_keyframes_, any_keyframe);
+    if (refusedByFreeSpace(tally, options_.relocalize_check_max_conflict_fraction_geometric)) {
       ++stats_.tracking_refused_free_space;
       return update;
     }

@@ -96,8 +96,10 @@ std::size_t GeometricRelocaliser::chooseSubmap(const RelocJob& job, const RelocO
   return job.spans[k].end;
 }
 
-RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+/// A fit's record with what it inherits from its job.
+RelocFit fitOfJob(const RelocJob& job) {
   RelocFit f;
   f.job = job.number;
   f.segment = job.segment;
@@ -105,11 +107,22 @@ RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
   f.T_anchor = job.T_anchor;
   f.travelled_m = job.travelled_m;
   f.t_query = job.t_query;
-  const auto finish = [&](FitOutcome o) {
-    f.outcome = o;
-    f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return f;
-  };
+  return f;
+}
+
+/// The fit with its outcome and the milliseconds since t0.
+RelocFit finished(RelocFit f, FitOutcome o, std::chrono::steady_clock::time_point t0) {
+  f.outcome = o;
+  f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return f;
+}
+
+}  // namespace
+
+RelocFit GeometricRelocaliser::fit(const RelocJob& job) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  RelocFit f = fitOfJob(job);
+  const auto finish = [&](FitOutcome o) { return finished(f, o, t0); };
   PlanGrid local;
   const std::size_t used = chooseSubmap(job, options_, &local, &f.submap_path_m);
   f.local_obstacles = static_cast<int>(local.count(CellState::kOccupied));
@@ -192,20 +205,10 @@ bool GeometricRelocaliser::refineSubmap(const RelocJob& job, std::size_t used, E
 
 RelocFit GeometricRelocaliser::track(const RelocJob& job) const {
   const auto t0 = std::chrono::steady_clock::now();
-  RelocFit f;
-  f.job = job.number;
-  f.segment = job.segment;
-  f.anchor_id = job.anchor_id;
-  f.T_anchor = job.T_anchor;
-  f.travelled_m = job.travelled_m;
-  f.t_query = job.t_query;
+  RelocFit f = fitOfJob(job);
   f.track = true;
   f.part_poses = job.part_poses;
-  const auto finish = [&](FitOutcome o) {
-    f.outcome = o;
-    f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return f;
-  };
+  const auto finish = [&](FitOutcome o) { return finished(f, o, t0); };
   // The keyframes within submap_path_m of the anchor (no search: no need of more structure).
   std::size_t used = job.samples.size();
   f.submap_path_m = 0.0;

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -223,6 +224,19 @@ class LoopCloser {
   FreeSpaceTally neighbourhoodFreeSpace(
       const std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>>& part,
       int target_component) const;
+  /// Which keyframes a check or a search looks at.
+  using KeyframeFilter = std::function<bool(const LoopKeyframe&)>;
+  /// Free-space evidence of the placed part keyframes against those of the first `count`
+  /// keyframes that `in_target` accepts and lie within relocalize_check_radius_m of one.
+  FreeSpaceTally freeSpaceAgainst(
+      const std::vector<std::pair<const LoopKeyframe*, Eigen::Isometry3d>>& part, std::size_t count,
+      const KeyframeFilter& in_target) const;
+  /// Enough samples compared and more than `max_conflict_fraction` of them in conflict.
+  bool refusedByFreeSpace(const FreeSpaceTally& tally, double max_conflict_fraction) const;
+  /// Among the first `count` keyframes that `in_target` accepts, the one nearest to p within
+  /// max_distance_m (the first of equals), or null.
+  const LoopKeyframe* nearestKeyframe(const Eigen::Vector3d& p, double max_distance_m,
+                                      std::size_t count, const KeyframeFilter& in_target) const;
 };
 
 }  // namespace rgbdi::loop
