@@ -207,33 +207,29 @@ bool GeoRelocStage::afterKeyframe(loop::LoopCloser& closer, const PinholeCamera&
     }
   }
   const bool busy = live_ && worker_->handled() < worker_->submitted();
-  // Tracking while the part is in the map's frame.
-  if (closer.connectedToOrigin(newest.segment) && options_.track_interval_m > 0.0 &&
-      newest.travelled_m - last_track_travelled_ >= options_.track_interval_m && !busy) {
-    last_track_travelled_ = newest.travelled_m;
-    reloc::RelocJob job = makeJob(closer, cam, true);
+  // A job for the stage's thread, its result taken result_lag_keyframes later.
+  const auto submit = [&](bool track, std::uint64_t& counter) {
+    reloc::RelocJob job = makeJob(closer, cam, track);
     job.number = ++jobs_;
     pending_.push_back(
         {job.number, keyframes_ + static_cast<std::uint64_t>(options_.result_lag_keyframes)});
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      ++report_.track_attempts;
+      ++counter;
     }
     worker_->submit(std::move(job));
+  };
+  // Tracking while the part is in the map's frame.
+  if (closer.connectedToOrigin(newest.segment) && options_.track_interval_m > 0.0 &&
+      newest.travelled_m - last_track_travelled_ >= options_.track_interval_m && !busy) {
+    last_track_travelled_ = newest.travelled_m;
+    submit(true, report_.track_attempts);
   }
   // A new attempt while the part is not placed.
   if (!closer.connectedToOrigin(newest.segment) &&
       newest.travelled_m - last_attempt_travelled_ >= options_.attempt_interval_m && !busy) {
     last_attempt_travelled_ = newest.travelled_m;
-    reloc::RelocJob job = makeJob(closer, cam, false);
-    job.number = ++jobs_;
-    pending_.push_back(
-        {job.number, keyframes_ + static_cast<std::uint64_t>(options_.result_lag_keyframes)});
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++report_.attempts;
-    }
-    worker_->submit(std::move(job));
+    submit(false, report_.attempts);
   }
   return solved;
 }
